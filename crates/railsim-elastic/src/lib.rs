@@ -1,0 +1,1 @@
+//! Elastic contact kernels (stub, being written).

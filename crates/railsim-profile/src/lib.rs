@@ -1,0 +1,1 @@
+//! Wheel and rail profiles (stub, being written).
