@@ -1,1 +1,32 @@
-//! Elastic contact kernels (stub, being written).
+//! Elastic contact mechanics kernels for railsim.
+//!
+//! Place in the data flow: the geometry stage in `railsim-contact` locates contact patches and
+//! produces, per patch, either relative curvatures (A, B) or a grid of undeformed gaps, plus
+//! the creepages. This crate turns those into normal pressures and tangential tractions:
+//!
+//! - [`hertz`]: Hertz ellipses from curvatures (Carlson's elliptic integrals), with a fast
+//!   tabulated variant for the time-stepping loop;
+//! - [`kalker`]: Kalker's linear-theory creep coefficients C11, C22, C23, C33 and the linear
+//!   creep forces;
+//! - [`fastsim`]: Kalker's simplified theory (FASTSIM), per strip and on a Hertz ellipse;
+//! - [`polach`]: Polach's closed-form creep-force model;
+//! - [`halfspace`]: a Boussinesq–Love boundary-element solver for the normal problem, used as
+//!   the reference against which the fast models are measured.
+//!
+//! It knows nothing of wheels and rails: everything is expressed in a contact frame with x the
+//! rolling direction, y lateral and z the common normal. Units are SI throughout (m, N, Pa,
+//! rad; spin creepage in 1/m). Forces follow Kalker's convention: they act on the upper body
+//! and oppose the creepage (see [`Creepages`]).
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
+
+pub mod error;
+pub mod hertz;
+pub mod material;
+
+pub use error::ElasticError;
+pub use hertz::{
+    HertzCoeffs, HertzSolution, carlson_rd, carlson_rf, hertz_coeffs, hertz_coeffs_fast,
+    hertz_from_approach, hertz_from_load, stripes_epsilon, try_carlson_rd, try_carlson_rf,
+};
+pub use material::Material;
