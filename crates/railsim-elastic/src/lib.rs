@@ -22,6 +22,7 @@
 
 pub mod error;
 pub mod hertz;
+pub mod kalker;
 pub mod material;
 
 pub use error::ElasticError;
@@ -29,4 +30,5 @@ pub use hertz::{
     HertzCoeffs, HertzSolution, carlson_rd, carlson_rf, hertz_coeffs, hertz_coeffs_fast,
     hertz_from_approach, hertz_from_load, stripes_epsilon, try_carlson_rd, try_carlson_rf,
 };
+pub use kalker::{Creepages, KalkerCoeffs, TangentialForces, kalker_coeffs, linear_kalker};
 pub use material::Material;
