@@ -1,0 +1,1 @@
+//! Equivalent conicity (work in progress).
