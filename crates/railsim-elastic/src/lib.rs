@@ -21,11 +21,16 @@
 #![deny(rustdoc::broken_intra_doc_links)]
 
 pub mod error;
+pub mod fastsim;
 pub mod hertz;
 pub mod kalker;
 pub mod material;
 
 pub use error::ElasticError;
+pub use fastsim::{
+    Flexibilities, StripTraction, TractionBound, blended_flexibilities, fastsim_ellipse,
+    fastsim_strip, flexibilities,
+};
 pub use hertz::{
     HertzCoeffs, HertzSolution, carlson_rd, carlson_rf, hertz_coeffs, hertz_coeffs_fast,
     hertz_from_approach, hertz_from_load, stripes_epsilon, try_carlson_rd, try_carlson_rf,
