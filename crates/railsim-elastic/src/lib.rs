@@ -25,6 +25,7 @@ pub mod fastsim;
 pub mod hertz;
 pub mod kalker;
 pub mod material;
+pub mod polach;
 
 pub use error::ElasticError;
 pub use fastsim::{
@@ -37,3 +38,4 @@ pub use hertz::{
 };
 pub use kalker::{Creepages, KalkerCoeffs, TangentialForces, kalker_coeffs, linear_kalker};
 pub use material::Material;
+pub use polach::{PolachParams, polach};
