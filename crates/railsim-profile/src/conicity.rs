@@ -1,1 +1,367 @@
-//! Equivalent conicity (work in progress).
+//! Rigid 2-D wheelset/track geometry: rolling-radius difference and equivalent conicity.
+//!
+//! A side product of the profile geometry, computed the textbook way (contact-theory §6.1):
+//! a rigid wheelset with zero yaw on rigid rails; for a lateral displacement `y_ws` the roll
+//! angle and height are adjusted so that both wheels touch their rails, each contact being the
+//! point of minimum vertical gap (equivalent to a common normal in 2-D).
+//!
+//! Frames and signs:
+//! * Track frame: Y lateral, **positive to the left**, Z up. The left rail is placed with
+//!   [`place_rail`] (its side frame is the track frame); the right rail is its mirror image.
+//! * Wheelset: `y_ws` positive to the left, roll φ positive when the left wheel rises. The
+//!   wheel profile point y (= S) of the left wheel lies at axial distance
+//!   `fb/2 - y_fb + y` from the wheelset centre (fb = flange-back spacing, y_fb = flange-back
+//!   position on the profile, -70 mm for S1002), radius r0 - z; the right wheel is the mirror
+//!   image.
+//! * **Δr = r_L - r_R**; for y_ws > 0 the left wheel runs toward its flange and Δr > 0.
+//! * Contact angles are the slope angle of the wheel profile at the contact in the side frame
+//!   of that wheel (positive when the surface rises toward the field side: ≈ +1.4° on the
+//!   S1002 tread, ≈ +70° on the flange flank).
+
+use crate::{ArcCurve, DEFAULT_DS, Profile, ProfileError, place_rail};
+
+/// Wheelset and track data for the rigid contact geometry.
+#[derive(Clone, Copy, Debug)]
+pub struct WheelsetTrackSetup {
+    /// [m] track gauge, measured `gauge_depth` below the top of rail (1.435)
+    pub gauge: f64,
+    /// [m] depth below the top of rail at which the gauge is measured (0.014)
+    pub gauge_depth: f64,
+    /// [rad] rail inclination toward the track centre (atan(1/40)); 0 for an inclined file
+    pub inclination_rad: f64,
+    /// [m] flange-back spacing (1.360)
+    pub flange_back_spacing: f64,
+    /// [m] lateral position y of the flange back on the wheel profile (-0.070 for S1002)
+    pub flange_back_y: f64,
+    /// [m] nominal rolling radius (radius at profile z = 0), 0.460
+    pub r0: f64,
+}
+
+impl Default for WheelsetTrackSetup {
+    fn default() -> Self {
+        WheelsetTrackSetup {
+            gauge: 1.435,
+            gauge_depth: 0.014,
+            inclination_rad: (1.0f64 / 40.0).atan(),
+            flange_back_spacing: 1.360,
+            flange_back_y: -0.070,
+            r0: 0.460,
+        }
+    }
+}
+
+/// Rigid contact state of the wheelset at one lateral displacement.
+#[derive(Clone, Copy, Debug)]
+pub struct DeltaRSample {
+    /// [m] lateral wheelset displacement, positive to the left
+    pub y_ws: f64,
+    /// [m] rolling-radius difference r_L - r_R
+    pub delta_r: f64,
+    /// [m] rolling radius of the left wheel
+    pub r_left: f64,
+    /// [m] rolling radius of the right wheel
+    pub r_right: f64,
+    /// [m] contact position on the left wheel profile (profile y = S)
+    pub y_contact_wheel_left: f64,
+    /// [m] contact position on the right wheel profile (profile y = S)
+    pub y_contact_wheel_right: f64,
+    /// [m] contact position on the left rail, side frame (from the track centre)
+    pub y_contact_rail_left: f64,
+    /// [m] contact position on the right rail, side frame (from the track centre)
+    pub y_contact_rail_right: f64,
+    /// [rad] contact angle on the left wheel
+    pub contact_angle_left: f64,
+    /// [rad] contact angle on the right wheel
+    pub contact_angle_right: f64,
+    /// [rad] wheelset roll angle (positive: left wheel up)
+    pub roll: f64,
+    /// [m] height of the wheelset centre above the top of rail
+    pub z_ws: f64,
+}
+
+/// Precomputed rigid wheelset/track geometry (one wheel and one rail profile, used on both
+/// sides).
+#[derive(Clone, Debug)]
+pub struct WheelsetTrack {
+    wheel: ArcCurve,
+    rail: ArcCurve,
+    /// [m] axial position of the wheel profile origin
+    a0: f64,
+    r0: f64,
+    /// coarse scan stride in wheel nodes
+    stride: usize,
+}
+
+/// Result of the minimum-gap search on one side.
+#[derive(Clone, Copy, Debug)]
+struct Side {
+    gap: f64,
+    s_wheel: f64,
+    y_rail: f64,
+}
+
+impl WheelsetTrack {
+    /// Builds the geometry: the wheel profile (crate wheel frame) and the rail profile (as read,
+    /// placed with [`place_rail`] using the setup's gauge and inclination) become interpolating
+    /// [`ArcCurve`]s at 0.05 mm.
+    pub fn new(
+        wheel: &Profile,
+        rail: &Profile,
+        setup: &WheelsetTrackSetup,
+    ) -> Result<Self, ProfileError> {
+        let (placed, _) = place_rail(rail, setup.inclination_rad, setup.gauge, setup.gauge_depth)?;
+        let w = ArcCurve::from_profile(wheel, 0.0, DEFAULT_DS)?;
+        let r = ArcCurve::from_profile(&placed, 0.0, DEFAULT_DS)?;
+        let stride = ((0.25e-3 / w.ds()).round() as usize).max(1);
+        Ok(WheelsetTrack {
+            wheel: w,
+            rail: r,
+            a0: 0.5 * setup.flange_back_spacing - setup.flange_back_y,
+            r0: setup.r0,
+            stride,
+        })
+    }
+
+    /// Vertical gap at wheel arc length `s` for lateral offset `y` and roll `phi` (wheelset
+    /// centre at height 0), with the rail y; `None` where no rail lies below.
+    #[inline]
+    fn gap(&self, s: f64, y: f64, sn: f64, cs: f64) -> Option<(f64, f64)> {
+        let w = self.wheel.eval(s);
+        let yw = self.a0 + w.p[0];
+        let zw = w.p[1] - self.r0;
+        let yt = y + cs * yw - sn * zw;
+        let zt = sn * yw + cs * zw;
+        let sr = self.rail.s_at_y(yt)?;
+        Some((zt - self.rail.eval(sr).p[1], yt))
+    }
+
+    /// Minimum vertical gap on the left side for offset `y`, roll `phi`.
+    fn side(&self, y: f64, phi: f64) -> Option<Side> {
+        let (sn, cs) = phi.sin_cos();
+        let nodes = self.wheel.nodes().len();
+        let ds = self.wheel.ds();
+        let step = self.stride as f64 * ds;
+        let samples: Vec<(f64, f64)> = (0..nodes)
+            .step_by(self.stride)
+            .map(|k| {
+                let s = k as f64 * ds;
+                (s, self.gap(s, y, sn, cs).map_or(f64::INFINITY, |g| g.0))
+            })
+            .collect();
+        let gmin = samples.iter().map(|v| v.1).fold(f64::INFINITY, f64::min);
+        if !gmin.is_finite() {
+            return None;
+        }
+        let mut best: Option<Side> = None;
+        for k in 0..samples.len() {
+            let g = samples[k].1;
+            let left = if k > 0 {
+                samples[k - 1].1
+            } else {
+                f64::INFINITY
+            };
+            let right = samples.get(k + 1).map_or(f64::INFINITY, |v| v.1);
+            if !(g <= left && g <= right && g <= gmin + 1e-4) {
+                continue;
+            }
+            // Golden-section refinement on [s - step, s + step].
+            let f = |s: f64| self.gap(s, y, sn, cs).map_or(f64::INFINITY, |g| g.0);
+            let (mut a, mut b) = (samples[k].0 - step, samples[k].0 + step);
+            let r = 0.5 * (5f64.sqrt() - 1.0);
+            let mut c = b - r * (b - a);
+            let mut d = a + r * (b - a);
+            let (mut fc, mut fd) = (f(c), f(d));
+            for _ in 0..60 {
+                if fc <= fd {
+                    b = d;
+                    d = c;
+                    fd = fc;
+                    c = b - r * (b - a);
+                    fc = f(c);
+                } else {
+                    a = c;
+                    c = d;
+                    fc = fd;
+                    d = a + r * (b - a);
+                    fd = f(d);
+                }
+                if b - a < 1e-12 {
+                    break;
+                }
+            }
+            let s = 0.5 * (a + b);
+            let (s, g) = if f(s) <= g {
+                (s, f(s))
+            } else {
+                (samples[k].0, g)
+            };
+            if best.is_none_or(|bs| g < bs.gap) {
+                let y_rail = self.gap(s, y, sn, cs).map_or(f64::NAN, |v| v.1);
+                best = Some(Side {
+                    gap: g,
+                    s_wheel: s,
+                    y_rail,
+                });
+            }
+        }
+        best
+    }
+
+    /// Rigid contact at lateral displacement `y_ws` [m] (positive to the left): roll and
+    /// height solved so that both wheels touch (Illinois false position on the gap difference,
+    /// which increases with roll), contacts at the minimum vertical gap.
+    pub fn contact(&self, y_ws: f64) -> Result<DeltaRSample, ProfileError> {
+        let fail = |what: &str| ProfileError::InvalidArgument {
+            source_name: "WheelsetTrack::contact".into(),
+            what: what.into(),
+            found: format!("y_ws = {y_ws} m"),
+            expected: "a displacement with both wheels over their rails".into(),
+        };
+        let diff = |phi: f64| -> Option<(f64, Side, Side)> {
+            let l = self.side(y_ws, phi)?;
+            let r = self.side(-y_ws, -phi)?;
+            Some((l.gap - r.gap, l, r))
+        };
+        let (mut a, mut b) = (-0.05, 0.05);
+        let (mut fa, _, _) = diff(a).ok_or_else(|| fail("no contact"))?;
+        let (mut fb, _, _) = diff(b).ok_or_else(|| fail("no contact"))?;
+        if !(fa < 0.0 && fb > 0.0) {
+            return Err(fail("roll bracket"));
+        }
+        let mut side = 0;
+        let mut phi = 0.0;
+        for _ in 0..200 {
+            phi = (a * fb - b * fa) / (fb - fa);
+            if !(phi > a && phi < b) {
+                phi = 0.5 * (a + b);
+            }
+            let (f, _, _) = diff(phi).ok_or_else(|| fail("no contact"))?;
+            if f == 0.0 || b - a < 1e-13 {
+                break;
+            }
+            if f < 0.0 {
+                a = phi;
+                fa = f;
+                if side == -1 {
+                    fb *= 0.5;
+                }
+                side = -1;
+            } else {
+                b = phi;
+                fb = f;
+                if side == 1 {
+                    fa *= 0.5;
+                }
+                side = 1;
+            }
+            if (b - a).abs() < 1e-13 {
+                break;
+            }
+        }
+        let (_, l, r) = diff(phi).ok_or_else(|| fail("no contact"))?;
+        let wl = self.wheel.eval(l.s_wheel);
+        let wr = self.wheel.eval(r.s_wheel);
+        let r_left = self.r0 - wl.p[1];
+        let r_right = self.r0 - wr.p[1];
+        Ok(DeltaRSample {
+            y_ws,
+            delta_r: r_left - r_right,
+            r_left,
+            r_right,
+            y_contact_wheel_left: wl.p[0],
+            y_contact_wheel_right: wr.p[0],
+            y_contact_rail_left: l.y_rail,
+            y_contact_rail_right: r.y_rail,
+            contact_angle_left: wl.t[1].atan2(wl.t[0]) + phi,
+            contact_angle_right: wr.t[1].atan2(wr.t[0]) - phi,
+            roll: phi,
+            z_ws: -l.gap,
+        })
+    }
+}
+
+/// Rolling-radius difference and contact data at each lateral displacement in `y_ws` [m]
+/// (positive to the left) for `wheel` on `rail` (see [`WheelsetTrack`]).
+pub fn rolling_radius_difference(
+    wheel: &Profile,
+    rail: &Profile,
+    setup: &WheelsetTrackSetup,
+    y_ws: &[f64],
+) -> Result<Vec<DeltaRSample>, ProfileError> {
+    let g = WheelsetTrack::new(wheel, rail, setup)?;
+    y_ws.iter().map(|&y| g.contact(y)).collect()
+}
+
+/// Linear interpolation in a Δr table (samples sorted by `y_ws`); clamps outside.
+pub fn delta_r_interp(samples: &[DeltaRSample], y: f64) -> f64 {
+    let n = samples.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    if y <= samples[0].y_ws {
+        return samples[0].delta_r;
+    }
+    if y >= samples[n - 1].y_ws {
+        return samples[n - 1].delta_r;
+    }
+    let i = samples.partition_point(|s| s.y_ws <= y).clamp(1, n - 1);
+    let (a, b) = (&samples[i - 1], &samples[i]);
+    a.delta_r + (b.delta_r - a.delta_r) * (y - a.y_ws) / (b.y_ws - a.y_ws)
+}
+
+/// Equivalent conicity by harmonic linearisation (first harmonic / describing function,
+/// contact-theory §6.1; the linearisation idea behind UIC 519 / EN 15302):
+/// λ_e(ŷ) = 1/(2ŷ) · (1/π) ∫₀^{2π} Δr(ŷ sin θ) sin θ dθ, with `delta_r` [m] as a function of
+/// y [m] and the amplitude ŷ [m] (> 0). Midpoint rule with 4000 points. e0 and r0 do not
+/// enter.
+pub fn equivalent_conicity_harmonic(delta_r: impl Fn(f64) -> f64, amplitude: f64) -> f64 {
+    let n = 4000;
+    let h = 2.0 * std::f64::consts::PI / n as f64;
+    let sum: f64 = (0..n)
+        .map(|i| {
+            let th = (i as f64 + 0.5) * h;
+            delta_r(amplitude * th.sin()) * th.sin()
+        })
+        .sum();
+    sum * h / (std::f64::consts::PI * 2.0 * amplitude)
+}
+
+/// Equivalent conicity by the kinematic (integration) definition (contact-theory §6.1, the
+/// kind of evaluation EN 15302 bases its reference method on): integrate Klingel's kinematic
+/// equation y'' = -Δr(y)/(2 e0 r0) from y = ŷ, y' = 0 (RK4 in the travelled distance), measure
+/// the wavelength L of one full period, and return λ_e = 4π² e0 r0 / L² together with L [m].
+/// `e0` [m] is half the contact-point spacing, `r0` [m] the nominal radius (λ_e itself does not
+/// depend on them). `None` if no full period is found within 1 km.
+pub fn equivalent_conicity_kinematic(
+    delta_r: impl Fn(f64) -> f64,
+    amplitude: f64,
+    e0: f64,
+    r0: f64,
+) -> Option<(f64, f64)> {
+    let k = 1.0 / (2.0 * e0 * r0);
+    let acc = |y: f64| -k * delta_r(y);
+    let h = 1e-3;
+    let (mut y, mut v, mut x) = (amplitude, 0.0, 0.0);
+    let mut crossings = 0;
+    for _ in 0..1_000_000 {
+        let k1 = (v, acc(y));
+        let k2 = (v + 0.5 * h * k1.1, acc(y + 0.5 * h * k1.0));
+        let k3 = (v + 0.5 * h * k2.1, acc(y + 0.5 * h * k2.0));
+        let k4 = (v + h * k3.1, acc(y + h * k3.0));
+        let yn = y + h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+        let vn = v + h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+        // Count sign changes of the slope y' (extrema): the second is the return to y = ŷ.
+        if (v < 0.0 && vn >= 0.0) || (v > 0.0 && vn <= 0.0) {
+            crossings += 1;
+            if crossings == 2 {
+                let l = x + h * v / (v - vn);
+                let lam = 4.0 * std::f64::consts::PI.powi(2) * e0 * r0 / (l * l);
+                return Some((lam, l));
+            }
+        }
+        y = yn;
+        v = vn;
+        x += h;
+    }
+    None
+}

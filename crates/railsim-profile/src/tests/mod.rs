@@ -1,3 +1,4 @@
 //! Unit tests of the crate.
+mod conicity;
 mod errors;
 mod geometry;

@@ -1,0 +1,129 @@
+//! Rigid wheelset geometry: S1002 on UIC60 1:40, gauge 1435, fb 1360 (contact-theory §6.2).
+
+use crate::analytic::{s1002, uic60};
+use crate::conicity::*;
+
+#[test]
+fn s1002_uic60_1to40_conicity() {
+    let t0 = std::time::Instant::now();
+    let g = WheelsetTrack::new(&s1002(), &uic60(), &WheelsetTrackSetup::default()).unwrap();
+    // Centred: contact at S = +3.25 mm, r = 459.906 mm, 1.39 deg (§5.3).
+    let c0 = g.contact(0.0).unwrap();
+    eprintln!(
+        "y=0: S = {:.3} mm, r = {:.4} mm, angle {:.3} deg, roll {:.2e}",
+        c0.y_contact_wheel_left * 1e3,
+        c0.r_left * 1e3,
+        c0.contact_angle_left.to_degrees(),
+        c0.roll
+    );
+    assert!((c0.y_contact_wheel_left * 1e3 - 3.25).abs() < 0.1);
+    assert!((c0.r_left * 1e3 - 459.906).abs() < 0.002);
+    assert!((c0.contact_angle_left.to_degrees() - 1.39).abs() < 0.05);
+    assert!(c0.delta_r.abs() < 1e-9);
+    // Antisymmetry.
+    let p = g.contact(0.002).unwrap();
+    let m = g.contact(-0.002).unwrap();
+    assert!(
+        (p.delta_r + m.delta_r).abs() < 1e-8,
+        "{} {}",
+        p.delta_r,
+        m.delta_r
+    );
+    // Table on [0, 6.5] mm every 0.02 mm, mirrored.
+    let n = 325;
+    let half: Vec<DeltaRSample> = (0..=n)
+        .map(|i| g.contact(i as f64 * 0.02e-3).unwrap())
+        .collect();
+    let mut table: Vec<DeltaRSample> = half[1..]
+        .iter()
+        .rev()
+        .map(|s| DeltaRSample {
+            y_ws: -s.y_ws,
+            delta_r: -s.delta_r,
+            ..*s
+        })
+        .collect();
+    table.extend(half.iter().copied());
+    eprintln!("{} contact solutions in {:.2?}", n + 2, t0.elapsed());
+    // Δr at 1..4 mm within 3% of §6.2; contact positions.
+    let reference = [
+        (1, 0.637, -9.36, 6.54),
+        (2, 0.805, -11.15, 8.73),
+        (3, 0.994, -13.11, 10.45),
+        (4, 1.235, -15.37, 11.89),
+    ];
+    for (y, dr, sl, sr) in reference {
+        let s = &half[y * 50];
+        eprintln!(
+            "y = {y} mm: dr = {:.4} mm (ref {dr}), S_L = {:.2} (ref {sl}), S_R = {:.2} (ref {sr})",
+            s.delta_r * 1e3,
+            s.y_contact_wheel_left * 1e3,
+            s.y_contact_wheel_right * 1e3
+        );
+        assert!((s.delta_r * 1e3 / dr - 1.0).abs() < 0.03);
+        assert!((s.y_contact_wheel_left * 1e3 - sl).abs() < 0.3);
+        assert!((s.y_contact_wheel_right * 1e3 - sr).abs() < 0.3);
+    }
+    // Contact jumps: largest change of the left contact position per step.
+    let jump = |lo: f64, hi: f64| {
+        half.windows(2)
+            .filter(|w| w[0].y_ws >= lo && w[1].y_ws <= hi)
+            .map(|w| {
+                (
+                    w[1].y_contact_wheel_left - w[0].y_contact_wheel_left,
+                    w[1].y_ws,
+                )
+            })
+            .fold(
+                (0.0f64, 0.0f64),
+                |a, b| if b.0.abs() > a.0.abs() { b } else { a },
+            )
+    };
+    let (j1, y1) = jump(0.0, 1e-3);
+    let (j2, y2) = jump(5e-3, 6.5e-3);
+    eprintln!(
+        "tread jump {:.2} mm at y = {:.2} mm; flange jump {:.2} mm at y = {:.2} mm",
+        j1 * 1e3,
+        y1 * 1e3,
+        j2 * 1e3,
+        y2 * 1e3
+    );
+    assert!(j1 < -5e-3 && y1 > 0.2e-3 && y1 <= 0.26e-3);
+    assert!(j2 < -2e-3 && y2 > 6.1e-3 && y2 <= 6.4e-3);
+    let s7 = g.contact(7e-3).unwrap();
+    eprintln!(
+        "y = 7 mm: S_L = {:.2} mm, r_L = {:.2} mm, angle {:.1} deg",
+        s7.y_contact_wheel_left * 1e3,
+        s7.r_left * 1e3,
+        s7.contact_angle_left.to_degrees()
+    );
+    // Equivalent conicity.
+    let f = |y: f64| delta_r_interp(&table, y);
+    for (a, h_ref, k_ref) in [
+        (1.0, 0.375, 0.370),
+        (2.0, 0.232, 0.229),
+        (3.0, 0.185, 0.184),
+        (4.0, 0.166, 0.165),
+    ] {
+        let lh = equivalent_conicity_harmonic(f, a * 1e-3);
+        let (lk, l) = equivalent_conicity_kinematic(f, a * 1e-3, 0.75, 0.46).unwrap();
+        eprintln!(
+            "lambda_e({a} mm): harmonic {lh:.4} (ref {h_ref}), kinematic {lk:.4} (ref {k_ref}), L = {l:.2} m"
+        );
+        assert!((lh - h_ref).abs() < 0.01);
+        assert!((lk - k_ref).abs() < 0.01);
+    }
+    let l3 = equivalent_conicity_harmonic(f, 3e-3);
+    assert!((l3 - 0.185).abs() < 0.01);
+}
+
+#[test]
+fn conicity_of_a_linear_cone() {
+    // Δr = 2 λ y gives λ_e = λ for both definitions, and Klingel's wavelength.
+    let f = |y: f64| 2.0 * 0.2 * y;
+    assert!((equivalent_conicity_harmonic(f, 3e-3) - 0.2).abs() < 1e-9);
+    let (lk, l) = equivalent_conicity_kinematic(f, 3e-3, 0.75, 0.46).unwrap();
+    assert!((lk - 0.2).abs() < 1e-5, "{lk}");
+    let klingel = 2.0 * std::f64::consts::PI * (0.75f64 * 0.46 / 0.2).sqrt();
+    assert!((l - klingel).abs() < 1e-3);
+}
