@@ -9,7 +9,7 @@
 
 use crate::{Profile, ProfileKind};
 
-/// Section A, field-side 1:15 cone: lower limit [mm].
+/// Section A, field-side 1:15 cone: lower limit \[mm\].
 const S_AB: f64 = 32.15796;
 const S_BC: f64 = -26.0;
 const S_CD: f64 = -35.0;
@@ -83,7 +83,7 @@ fn section_index(s: f64) -> usize {
     }
 }
 
-/// S1002 wheel profile F(S) [mm] at S [mm] (EN 13715 / UIC 510-2, DLR coefficients).
+/// S1002 wheel profile F(S) \[mm\] at S \[mm\] (EN 13715 / UIC 510-2, DLR coefficients).
 ///
 /// S is lateral from the measuring circle, positive toward the field side (flange back at
 /// S = -70); F is the radial offset from the measuring-circle radius, positive downward (flange
@@ -97,7 +97,7 @@ pub fn s1002_f(s_mm: f64) -> f64 {
     section(section_index(s_mm), s_mm)
 }
 
-/// Half width [mm] of the blending zones at the S1002 breakpoints S = -26 and S = -35.
+/// Half width \[mm\] of the blending zones at the S1002 breakpoints S = -26 and S = -35.
 pub const S1002_BLEND_HALF_WIDTH_MM: f64 = 0.05;
 
 /// [`s1002_f`] with the two breakpoint mismatches (S = -26 and S = -35) blended over
@@ -115,7 +115,7 @@ pub fn s1002_f_blended(s_mm: f64) -> f64 {
     s1002_f(s_mm)
 }
 
-/// The S1002 wheel profile in the crate's wheel frame: y = S, z = -F(S) [m], sampled every
+/// The S1002 wheel profile in the crate's wheel frame: y = S, z = -F(S) \[m\], sampled every
 /// 0.05 mm in y from -70 mm (flange back) to +60 mm (field side), 2601 points, with the
 /// breakpoint mismatches blended ([`s1002_f_blended`]).
 pub fn s1002() -> Profile {
@@ -135,17 +135,17 @@ pub fn s1002() -> Profile {
 
 /// Geometry of the reconstructed UIC60 head (mm, u lateral, z_d downward from the crown top).
 pub(crate) mod uic {
-    /// Crown radius [mm].
+    /// Crown radius \[mm\].
     pub const R_CROWN: f64 = 300.0;
-    /// Second radius [mm].
+    /// Second radius \[mm\].
     pub const R_80: f64 = 80.0;
-    /// Gauge-corner radius [mm].
+    /// Gauge-corner radius \[mm\].
     pub const R_13: f64 = 13.0;
-    /// Lateral end of the crown arc [mm].
+    /// Lateral end of the crown arc \[mm\].
     pub const U_CROWN_END: f64 = 10.5;
-    /// Half head width at the R13/flank tangency [mm].
+    /// Half head width at the R13/flank tangency \[mm\].
     pub const HALF_WIDTH: f64 = 36.0;
-    /// Depth [mm] below the crown at which the analytic flank stops.
+    /// Depth \[mm\] below the crown at which the analytic flank stops.
     pub const ZD_MAX: f64 = 38.0;
 
     /// Derived data: (R80 centre, R13 centre, R80/R13 tangency u, flank tangency (u, z_d)).
@@ -165,7 +165,7 @@ pub(crate) mod uic {
     }
 }
 
-/// UIC60 (60E1) head depth z_d [mm], downward from the crown top, at lateral position u [mm]
+/// UIC60 (60E1) head depth z_d \[mm\], downward from the crown top, at lateral position u \[mm\]
 /// from the rail's symmetry axis (uncanted, symmetric), or `None` where the analytic head is not
 /// defined (|u| beyond the flank at z_d = 38 mm, about 37.19 mm).
 ///

@@ -23,17 +23,17 @@ use crate::{ArcCurve, DEFAULT_DS, Profile, ProfileError, place_rail};
 /// Wheelset and track data for the rigid contact geometry.
 #[derive(Clone, Copy, Debug)]
 pub struct WheelsetTrackSetup {
-    /// [m] track gauge, measured `gauge_depth` below the top of rail (1.435)
+    /// \[m\] track gauge, measured `gauge_depth` below the top of rail (1.435)
     pub gauge: f64,
-    /// [m] depth below the top of rail at which the gauge is measured (0.014)
+    /// \[m\] depth below the top of rail at which the gauge is measured (0.014)
     pub gauge_depth: f64,
-    /// [rad] rail inclination toward the track centre (atan(1/40)); 0 for an inclined file
+    /// \[rad\] rail inclination toward the track centre (atan(1/40)); 0 for an inclined file
     pub inclination_rad: f64,
-    /// [m] flange-back spacing (1.360)
+    /// \[m\] flange-back spacing (1.360)
     pub flange_back_spacing: f64,
-    /// [m] lateral position y of the flange back on the wheel profile (-0.070 for S1002)
+    /// \[m\] lateral position y of the flange back on the wheel profile (-0.070 for S1002)
     pub flange_back_y: f64,
-    /// [m] nominal rolling radius (radius at profile z = 0), 0.460
+    /// \[m\] nominal rolling radius (radius at profile z = 0), 0.460
     pub r0: f64,
 }
 
@@ -53,29 +53,29 @@ impl Default for WheelsetTrackSetup {
 /// Rigid contact state of the wheelset at one lateral displacement.
 #[derive(Clone, Copy, Debug)]
 pub struct DeltaRSample {
-    /// [m] lateral wheelset displacement, positive to the left
+    /// \[m\] lateral wheelset displacement, positive to the left
     pub y_ws: f64,
-    /// [m] rolling-radius difference r_L - r_R
+    /// \[m\] rolling-radius difference r_L - r_R
     pub delta_r: f64,
-    /// [m] rolling radius of the left wheel
+    /// \[m\] rolling radius of the left wheel
     pub r_left: f64,
-    /// [m] rolling radius of the right wheel
+    /// \[m\] rolling radius of the right wheel
     pub r_right: f64,
-    /// [m] contact position on the left wheel profile (profile y = S)
+    /// \[m\] contact position on the left wheel profile (profile y = S)
     pub y_contact_wheel_left: f64,
-    /// [m] contact position on the right wheel profile (profile y = S)
+    /// \[m\] contact position on the right wheel profile (profile y = S)
     pub y_contact_wheel_right: f64,
-    /// [m] contact position on the left rail, side frame (from the track centre)
+    /// \[m\] contact position on the left rail, side frame (from the track centre)
     pub y_contact_rail_left: f64,
-    /// [m] contact position on the right rail, side frame (from the track centre)
+    /// \[m\] contact position on the right rail, side frame (from the track centre)
     pub y_contact_rail_right: f64,
-    /// [rad] contact angle on the left wheel
+    /// \[rad\] contact angle on the left wheel
     pub contact_angle_left: f64,
-    /// [rad] contact angle on the right wheel
+    /// \[rad\] contact angle on the right wheel
     pub contact_angle_right: f64,
-    /// [rad] wheelset roll angle (positive: left wheel up)
+    /// \[rad\] wheelset roll angle (positive: left wheel up)
     pub roll: f64,
-    /// [m] height of the wheelset centre above the top of rail
+    /// \[m\] height of the wheelset centre above the top of rail
     pub z_ws: f64,
 }
 
@@ -85,7 +85,7 @@ pub struct DeltaRSample {
 pub struct WheelsetTrack {
     wheel: ArcCurve,
     rail: ArcCurve,
-    /// [m] axial position of the wheel profile origin
+    /// \[m\] axial position of the wheel profile origin
     a0: f64,
     r0: f64,
     /// coarse scan stride in wheel nodes
@@ -207,7 +207,7 @@ impl WheelsetTrack {
         best
     }
 
-    /// Rigid contact at lateral displacement `y_ws` [m] (positive to the left): roll and
+    /// Rigid contact at lateral displacement `y_ws` \[m\] (positive to the left): roll and
     /// height solved so that both wheels touch (Illinois false position on the gap difference,
     /// which increases with roll), contacts at the minimum vertical gap.
     pub fn contact(&self, y_ws: f64) -> Result<DeltaRSample, ProfileError> {
@@ -280,7 +280,7 @@ impl WheelsetTrack {
     }
 }
 
-/// Rolling-radius difference and contact data at each lateral displacement in `y_ws` [m]
+/// Rolling-radius difference and contact data at each lateral displacement in `y_ws` \[m\]
 /// (positive to the left) for `wheel` on `rail` (see [`WheelsetTrack`]).
 pub fn rolling_radius_difference(
     wheel: &Profile,
@@ -311,8 +311,8 @@ pub fn delta_r_interp(samples: &[DeltaRSample], y: f64) -> f64 {
 
 /// Equivalent conicity by harmonic linearisation (first harmonic / describing function,
 /// contact-theory §6.1; the linearisation idea behind UIC 519 / EN 15302):
-/// λ_e(ŷ) = 1/(2ŷ) · (1/π) ∫₀^{2π} Δr(ŷ sin θ) sin θ dθ, with `delta_r` [m] as a function of
-/// y [m] and the amplitude ŷ [m] (> 0). Midpoint rule with 4000 points. e0 and r0 do not
+/// λ_e(ŷ) = 1/(2ŷ) · (1/π) ∫₀^{2π} Δr(ŷ sin θ) sin θ dθ, with `delta_r` \[m\] as a function of
+/// y \[m\] and the amplitude ŷ \[m\] (> 0). Midpoint rule with 4000 points. e0 and r0 do not
 /// enter.
 pub fn equivalent_conicity_harmonic(delta_r: impl Fn(f64) -> f64, amplitude: f64) -> f64 {
     let n = 4000;
@@ -329,8 +329,8 @@ pub fn equivalent_conicity_harmonic(delta_r: impl Fn(f64) -> f64, amplitude: f64
 /// Equivalent conicity by the kinematic (integration) definition (contact-theory §6.1, the
 /// kind of evaluation EN 15302 bases its reference method on): integrate Klingel's kinematic
 /// equation y'' = -Δr(y)/(2 e0 r0) from y = ŷ, y' = 0 (RK4 in the travelled distance), measure
-/// the wavelength L of one full period, and return λ_e = 4π² e0 r0 / L² together with L [m].
-/// `e0` [m] is half the contact-point spacing, `r0` [m] the nominal radius (λ_e itself does not
+/// the wavelength L of one full period, and return λ_e = 4π² e0 r0 / L² together with L \[m\].
+/// `e0` \[m\] is half the contact-point spacing, `r0` \[m\] the nominal radius (λ_e itself does not
 /// depend on them). `None` if no full period is found within 1 km.
 pub fn equivalent_conicity_kinematic(
     delta_r: impl Fn(f64) -> f64,

@@ -2,17 +2,17 @@
 
 use crate::{Profile, ProfileError, SmoothingSpline};
 
-/// Default resampling step [m] of [`ArcCurve`] (0.05 mm).
+/// Default resampling step \[m\] of [`ArcCurve`] (0.05 mm).
 pub const DEFAULT_DS: f64 = 5e-5;
 
 /// A point of an [`ArcCurve`].
 #[derive(Clone, Copy, Debug)]
 pub struct CurvePoint {
-    /// [m] position (y, z) in the profile frame
+    /// \[m\] position (y, z) in the profile frame
     pub p: [f64; 2],
-    /// [-] unit tangent, pointing toward increasing s (= increasing y, toward the field side)
+    /// \[-\] unit tangent, pointing toward increasing s (= increasing y, toward the field side)
     pub t: [f64; 2],
-    /// [1/m] signed curvature dθ/ds, θ = atan2(t_z, t_y) (counter-clockwise positive in the
+    /// \[1/m\] signed curvature dθ/ds, θ = atan2(t_z, t_y) (counter-clockwise positive in the
     /// (y, z) plane): positive where the outline bends upward (z'' > 0, e.g. the S1002 flange
     /// tip), negative where it bends downward (a rail crown, the S1002 R13 flange root)
     pub kappa: f64,
@@ -29,15 +29,15 @@ pub struct CurvePoint {
 pub struct ArcCurve {
     /// nodes at s = k ds
     nodes: Vec<CurvePoint>,
-    /// [m] node spacing
+    /// \[m\] node spacing
     ds: f64,
-    /// [m] total length
+    /// \[m\] total length
     length: f64,
 }
 
 impl ArcCurve {
     /// Fits a [`SmoothingSpline`] with parameter `smoothing` to the profile points and
-    /// resamples it every `ds` [m] of arc length (use [`DEFAULT_DS`] = 0.05 mm).
+    /// resamples it every `ds` \[m\] of arc length (use [`DEFAULT_DS`] = 0.05 mm).
     pub fn from_profile(p: &Profile, smoothing: f64, ds: f64) -> Result<Self, ProfileError> {
         let sp = SmoothingSpline::fit(&p.points, None, smoothing)?;
         Self::from_spline(&sp, ds).map_err(|e| match e {
@@ -56,7 +56,7 @@ impl ArcCurve {
         })
     }
 
-    /// Resamples a spline every `ds` [m] (see [`ArcCurve::from_profile`]).
+    /// Resamples a spline every `ds` \[m\] (see [`ArcCurve::from_profile`]).
     pub fn from_spline(sp: &SmoothingSpline, ds: f64) -> Result<Self, ProfileError> {
         let length = sp.arc_length();
         if !(ds.is_finite() && ds > 0.0) {
@@ -100,12 +100,12 @@ impl ArcCurve {
         Ok(ArcCurve { nodes, ds, length })
     }
 
-    /// [m] total arc length.
+    /// \[m\] total arc length.
     pub fn length(&self) -> f64 {
         self.length
     }
 
-    /// [m] the node spacing actually used (<= the requested step).
+    /// \[m\] the node spacing actually used (<= the requested step).
     pub fn ds(&self) -> f64 {
         self.ds
     }
@@ -152,7 +152,7 @@ impl ArcCurve {
         (p, d)
     }
 
-    /// Point at arc length `s` [m], clamped to [0, length].
+    /// Point at arc length `s` \[m\], clamped to [0, length].
     pub fn eval(&self, s: f64) -> CurvePoint {
         let (i, tau) = self.locate(s);
         let (p, d) = self.hermite(i, tau);
@@ -166,12 +166,12 @@ impl ArcCurve {
         CurvePoint { p, t, kappa }
     }
 
-    /// [m] the y range (start, end of the curve).
+    /// \[m\] the y range (start, end of the curve).
     pub fn y_range(&self) -> (f64, f64) {
         (self.nodes[0].p[0], self.nodes[self.nodes.len() - 1].p[0])
     }
 
-    /// Arc length [m] where the curve has lateral position `y` [m], or `None` outside the y
+    /// Arc length \[m\] where the curve has lateral position `y` \[m\], or `None` outside the y
     /// range. Assumes y increases along the curve (true for profiles); binary search over the
     /// nodes, then a safeguarded Newton iteration on the Hermite interpolant.
     pub fn s_at_y(&self, y: f64) -> Option<f64> {

@@ -76,9 +76,9 @@ pub enum ProfileError {
         prev_line: Option<usize>,
         /// 0-based index of the repeated point (in file order)
         index: usize,
-        /// [mm] y of the point
+        /// \[mm\] y of the point
         y_mm: f64,
-        /// [mm] z of the point
+        /// \[mm\] z of the point
         z_mm: f64,
     },
     /// A point does not continue the monotonic order in y of the profile.
@@ -92,9 +92,9 @@ pub enum ProfileError {
         prev_line: Option<usize>,
         /// 0-based index of the offending point (in file order)
         index: usize,
-        /// [mm] y of the offending point
+        /// \[mm\] y of the offending point
         y_mm: f64,
-        /// [mm] y of the previous point
+        /// \[mm\] y of the previous point
         prev_y_mm: f64,
     },
     /// Two non-adjacent segments of the outline cross.

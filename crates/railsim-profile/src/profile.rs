@@ -21,7 +21,7 @@ pub struct Profile {
     pub name: String,
     /// Wheel or rail.
     pub kind: ProfileKind,
-    /// [m] (y, z) points, y strictly increasing
+    /// \[m\] (y, z) points, y strictly increasing
     pub points: Vec<[f64; 2]>,
 }
 
@@ -82,7 +82,7 @@ impl Profile {
         })
     }
 
-    /// Rotates the profile by `angle_rad` [rad] about the point `about` [m]; positive is
+    /// Rotates the profile by `angle_rad` \[rad\] about the point `about` \[m\]; positive is
     /// counter-clockwise in the (y, z) plane (y toward z). The result must still have strictly
     /// increasing y, which is re-checked.
     pub fn rotated(&self, angle_rad: f64, about: [f64; 2]) -> Result<Profile, ProfileError> {
@@ -112,7 +112,7 @@ impl Profile {
         })
     }
 
-    /// Translates the profile by (`dy`, `dz`) [m] (both must be finite).
+    /// Translates the profile by (`dy`, `dz`) \[m\] (both must be finite).
     pub fn translated(&self, dy: f64, dz: f64) -> Profile {
         let points = self.points.iter().map(|p| [p[0] + dy, p[1] + dz]).collect();
         Profile {
@@ -122,12 +122,12 @@ impl Profile {
         }
     }
 
-    /// [m] the y range (first, last point).
+    /// \[m\] the y range (first, last point).
     pub fn y_range(&self) -> (f64, f64) {
         (self.points[0][0], self.points[self.points.len() - 1][0])
     }
 
-    /// [m] z of the polyline at `y` (linear interpolation), `None` outside the y range.
+    /// \[m\] z of the polyline at `y` (linear interpolation), `None` outside the y range.
     pub fn z_at(&self, y: f64) -> Option<f64> {
         let pts = &self.points;
         let (y0, y1) = self.y_range();
@@ -140,7 +140,7 @@ impl Profile {
         Some(a[1] + t * (b[1] - a[1]))
     }
 
-    /// [m] the highest point of the polyline, refined by a parabola through the highest
+    /// \[m\] the highest point of the polyline, refined by a parabola through the highest
     /// vertex and its neighbours (exact for sampled circles to O(h^3)).
     pub fn highest_point(&self) -> [f64; 2] {
         let pts = &self.points;

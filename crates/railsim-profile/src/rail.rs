@@ -5,17 +5,17 @@ use crate::{Profile, ProfileError};
 /// Where a rail profile's origin ended up in the side frame (see [`place_rail`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RailPlacement {
-    /// [m] lateral position of the profile origin in the side frame
+    /// \[m\] lateral position of the profile origin in the side frame
     pub y_origin: f64,
-    /// [m] vertical position of the profile origin in the side frame
+    /// \[m\] vertical position of the profile origin in the side frame
     pub z_origin: f64,
-    /// [rad] rotation applied (counter-clockwise in the profile's (y, z) plane, i.e. the head
+    /// \[rad\] rotation applied (counter-clockwise in the profile's (y, z) plane, i.e. the head
     /// tilted toward the track centre)
     pub rotation: f64,
 }
 
 impl RailPlacement {
-    /// Maps a point [m] of the original (unplaced) profile frame into the side frame.
+    /// Maps a point \[m\] of the original (unplaced) profile frame into the side frame.
     pub fn apply(&self, p: [f64; 2]) -> [f64; 2] {
         let (s, c) = self.rotation.sin_cos();
         [
@@ -29,11 +29,11 @@ impl RailPlacement {
 /// positive toward this rail's field side; z up with z = 0 at the highest point of the
 /// (inclined) rail head.
 ///
-/// The profile is rotated by `inclination_rad` [rad] about its origin toward the track centre
+/// The profile is rotated by `inclination_rad` \[rad\] about its origin toward the track centre
 /// (counter-clockwise in (y, z): 1:40 -> atan(1/40); use 0 for a file that is already
 /// inclined), its highest point is found (parabolic refinement between samples), and it is
-/// shifted so that the gauge-side point `gauge_depth` [m] (usually 0.014) below the highest
-/// point lies at y = `gauge` / 2 [m] (linear interpolation between samples). Flank points that
+/// shifted so that the gauge-side point `gauge_depth` \[m\] (usually 0.014) below the highest
+/// point lies at y = `gauge` / 2 \[m\] (linear interpolation between samples). Flank points that
 /// the rotation makes vertical or overhanging (no longer strictly increasing in y, counted
 /// outward from the highest point) are dropped: with 1:20 the 1:20 gauge-side flank of UIC60
 /// becomes vertical. Procedure of

@@ -23,7 +23,7 @@ const GL_W: [f64; 5] = [
 /// data points.
 ///
 /// Each coordinate f minimises `Σ w_i (f(u_i) - f_i)² + λ ∫ f''(u)² du` (λ = `smoothing`,
-/// [m³] for data in metres and dimensionless weights). This is the penalised form of Reinsch's
+/// \[m³\] for data in metres and dimensionless weights). This is the penalised form of Reinsch's
 /// smoothing spline (C. H. Reinsch, "Smoothing by spline functions", Numer. Math. 10, 1967),
 /// solved as in Reinsch's algorithm with the knot second derivatives as unknowns:
 /// `(R + λ Qᵀ W⁻¹ Q) γ = Qᵀ f`, `g = f - λ W⁻¹ Q γ` (a symmetric positive-definite
@@ -34,17 +34,17 @@ const GL_W: [f64; 5] = [
 /// parts of an outline.
 #[derive(Clone, Debug)]
 pub struct SmoothingSpline {
-    /// [m] knots (cumulative chord length of the data points)
+    /// \[m\] knots (cumulative chord length of the data points)
     u: Vec<f64>,
     /// per segment, per coordinate: coefficients a, b, c, d of a + b t + c t² + d t³,
     /// t = u - u_i
     coef: Vec<[[f64; 4]; 2]>,
-    /// [m] cumulative arc length at the knots
+    /// \[m\] cumulative arc length at the knots
     s_knot: Vec<f64>,
 }
 
 impl SmoothingSpline {
-    /// Fits the spline to `points` [m] with optional positive `weights` (default 1) and the
+    /// Fits the spline to `points` \[m\] with optional positive `weights` (default 1) and the
     /// smoothing parameter `smoothing` >= 0 (0 = interpolating). Needs at least 3 points;
     /// consecutive points must be distinct.
     pub fn fit(
@@ -197,7 +197,7 @@ impl SmoothingSpline {
         k.clamp(1, self.u.len() - 1) - 1
     }
 
-    /// Position, first and second derivative with respect to u at `u` [m]. Outside the
+    /// Position, first and second derivative with respect to u at `u` \[m\]. Outside the
     /// parameter range the end cubics are extrapolated.
     pub fn eval(&self, u: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
         let i = self.segment(u);
@@ -220,7 +220,7 @@ impl SmoothingSpline {
         d1[0].hypot(d1[1])
     }
 
-    /// Arc length [m] of segment `i` from its start to `u` (5-point Gauss-Legendre).
+    /// Arc length \[m\] of segment `i` from its start to `u` (5-point Gauss-Legendre).
     fn segment_length(&self, i: usize, u: f64) -> f64 {
         let (a, b) = (self.u[i], u);
         let half = 0.5 * (b - a);
@@ -232,12 +232,12 @@ impl SmoothingSpline {
             * half
     }
 
-    /// Total arc length [m] (5-point Gauss-Legendre on each segment).
+    /// Total arc length \[m\] (5-point Gauss-Legendre on each segment).
     pub fn arc_length(&self) -> f64 {
         self.s_knot[self.s_knot.len() - 1]
     }
 
-    /// Arc length [m] from the start to parameter `u` (clamped to the parameter range).
+    /// Arc length \[m\] from the start to parameter `u` (clamped to the parameter range).
     pub fn arc_length_at(&self, u: f64) -> f64 {
         let (u0, u1) = self.param_range();
         let u = u.clamp(u0, u1);
@@ -245,7 +245,7 @@ impl SmoothingSpline {
         self.s_knot[i] + self.segment_length(i, u)
     }
 
-    /// Parameter u [m] at arc length `s` [m] (clamped), by safeguarded Newton iteration.
+    /// Parameter u \[m\] at arc length `s` \[m\] (clamped), by safeguarded Newton iteration.
     pub fn param_at_arc_length(&self, s: f64) -> f64 {
         let total = self.arc_length();
         let s = s.clamp(0.0, total);
@@ -279,12 +279,12 @@ impl SmoothingSpline {
         u
     }
 
-    /// The parameter range (first knot, last knot) [m].
+    /// The parameter range (first knot, last knot) \[m\].
     pub fn param_range(&self) -> (f64, f64) {
         (self.u[0], self.u[self.u.len() - 1])
     }
 
-    /// [m] the knots (cumulative chord length).
+    /// \[m\] the knots (cumulative chord length).
     pub fn knots(&self) -> &[f64] {
         &self.u
     }
