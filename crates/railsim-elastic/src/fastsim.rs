@@ -277,7 +277,18 @@ pub fn fastsim_ellipse(
     let (mut area, mut area_adh) = (0.0, 0.0);
     for j in 0..ny {
         let (y, hl, shape_y) = strip(j);
-        let r = fastsim_strip(y, dy, 0.0, hl, p_scale * shape_y, bound, creep, flex, mu, nx);
+        let r = fastsim_strip(
+            y,
+            dy,
+            0.0,
+            hl,
+            p_scale * shape_y,
+            bound,
+            creep,
+            flex,
+            mu,
+            nx,
+        );
         fx += r.fx;
         fy += r.fy;
         mz += r.mz;
@@ -317,16 +328,32 @@ mod tests {
             let b = c / f64::sqrt(ratio);
             let flex = flexibilities(a, b, &mat).unwrap();
             let cases = [
-                Creepages { xi: 1e-7, eta: 0.0, phi: 0.0 },
-                Creepages { xi: 0.0, eta: 1e-7, phi: 0.0 },
-                Creepages { xi: 0.0, eta: 0.0, phi: 1e-7 / c },
+                Creepages {
+                    xi: 1e-7,
+                    eta: 0.0,
+                    phi: 0.0,
+                },
+                Creepages {
+                    xi: 0.0,
+                    eta: 1e-7,
+                    phi: 0.0,
+                },
+                Creepages {
+                    xi: 0.0,
+                    eta: 0.0,
+                    phi: 1e-7 / c,
+                },
             ];
             for (i, cr) in cases.iter().enumerate() {
                 let lin = linear_kalker(a, b, cr, &mat).unwrap();
                 for bound in [TractionBound::Elliptic, TractionBound::Parabolic] {
                     let f = fastsim_ellipse(a, b, n, cr, &flex, 0.3, bound, 50, 50).unwrap();
                     assert_eq!(f.adhesion_fraction, 1.0);
-                    let (got, want) = if i == 0 { (f.fx, lin.fx) } else { (f.fy, lin.fy) };
+                    let (got, want) = if i == 0 {
+                        (f.fx, lin.fx)
+                    } else {
+                        (f.fy, lin.fy)
+                    };
                     let e = rel(got, want);
                     worst = worst.max(e);
                     assert!(e < 0.02, "a/b={ratio} case {i}: {got} vs {want}");
@@ -343,8 +370,16 @@ mod tests {
         let flex = flexibilities(a, b, &mat).unwrap();
         for bound in [TractionBound::Elliptic, TractionBound::Parabolic] {
             for cr in [
-                Creepages { xi: 0.5, eta: 0.0, phi: 0.0 },
-                Creepages { xi: 0.3, eta: -0.4, phi: 0.0 },
+                Creepages {
+                    xi: 0.5,
+                    eta: 0.0,
+                    phi: 0.0,
+                },
+                Creepages {
+                    xi: 0.3,
+                    eta: -0.4,
+                    phi: 0.0,
+                },
             ] {
                 // Blended flexibilities: at large creepage a single flexibility, so full
                 // sliding is exactly opposite to the creepage (with L1 != L2 it is not).
@@ -362,7 +397,11 @@ mod tests {
             let mut last = 0.0;
             for k in 0..12 {
                 let xi = 1e-5 * 2f64.powi(k);
-                let cr = Creepages { xi, eta: 0.0, phi: 0.0 };
+                let cr = Creepages {
+                    xi,
+                    eta: 0.0,
+                    phi: 0.0,
+                };
                 let f = fastsim_ellipse(a, b, n, &cr, &flex, mu, bound, 30, 30).unwrap();
                 assert!(-f.fx >= last - 1e-9 * mu * n, "not monotone at xi = {xi}");
                 assert!(-f.fx <= mu * n * (1.0 + 1e-12));
@@ -378,7 +417,11 @@ mod tests {
         // G = 82 GPa, nu = 0.28, mu = 0.3, xi = 0, eta = -6.25e-4, phi = 6.25e-4 1/mm.
         let mat = mat();
         let (a, b, n, mu) = (8e-3, 4e-3, 82e3, 0.3);
-        let cr = Creepages { xi: 0.0, eta: -6.25e-4, phi: 0.625 };
+        let cr = Creepages {
+            xi: 0.0,
+            eta: -6.25e-4,
+            phi: 0.625,
+        };
         let raw = flexibilities(a, b, &mat).unwrap();
         // mm^3/N = 1e-9 m^3/N
         assert!(rel(raw.l1, 4.9996e-14) < 2e-3 && rel(raw.l2, 5.2331e-14) < 2e-3);
@@ -391,15 +434,19 @@ mod tests {
         ];
         eprintln!("blended flexibilities {flex:?}, relative errors {errs:?}");
         assert!(errs.iter().all(|e| *e < 2e-3));
-        let par = fastsim_ellipse(a, b, n, &cr, &flex, mu, TractionBound::Parabolic, 200, 200)
-            .unwrap();
+        let par =
+            fastsim_ellipse(a, b, n, &cr, &flex, mu, TractionBound::Parabolic, 200, 200).unwrap();
         let ell =
             fastsim_ellipse(a, b, n, &cr, &flex, mu, TractionBound::Elliptic, 200, 200).unwrap();
         eprintln!(
             "fastsim.inp: parabolic Fy = {:.1} N, Mz = {:.2} N m; elliptic Fy = {:.1} N, Mz = {:.2} N m",
             par.fy, par.mz, ell.fy, ell.mz
         );
-        assert!(par.fy < -15.6e3 * 0.98 && par.fy > -15.8e3 * 1.02, "{}", par.fy);
+        assert!(
+            par.fy < -15.6e3 * 0.98 && par.fy > -15.8e3 * 1.02,
+            "{}",
+            par.fy
+        );
         assert!(rel(ell.fy, -14.65e3) < 0.02, "{}", ell.fy);
         // Mz against CONTACT's FASTSIM runs (-37.98 / -45.30 N m), looser: 5 %.
         assert!(rel(par.mz, -37.98) < 0.05, "{}", par.mz);
@@ -411,7 +458,11 @@ mod tests {
     fn converges_in_nx() {
         let mat = mat();
         let (a, b, n, mu) = (8e-3, 4e-3, 82e3, 0.3);
-        let cr = Creepages { xi: 2e-4, eta: -6.25e-4, phi: 0.625 };
+        let cr = Creepages {
+            xi: 2e-4,
+            eta: -6.25e-4,
+            phi: 0.625,
+        };
         let flex = blended_flexibilities(a, b, n, mu, &cr, &mat).unwrap();
         for bound in [TractionBound::Elliptic, TractionBound::Parabolic] {
             let run = |nx| fastsim_ellipse(a, b, n, &cr, &flex, mu, bound, 60, nx).unwrap();
@@ -435,8 +486,15 @@ mod tests {
 
     #[test]
     fn strip_edge_cases() {
-        let flex = Flexibilities { l1: 1e-13, l2: 1e-13, l3: 1e-13 };
-        let cr = Creepages { xi: 1e-3, ..Default::default() };
+        let flex = Flexibilities {
+            l1: 1e-13,
+            l2: 1e-13,
+            l3: 1e-13,
+        };
+        let cr = Creepages {
+            xi: 1e-3,
+            ..Default::default()
+        };
         let bound = TractionBound::Elliptic;
         let r = fastsim_strip(0.0, 1e-4, 0.0, 0.0, 1e9, bound, &cr, &flex, 0.3, 10);
         assert_eq!((r.n_cells, r.fx), (0, 0.0));
@@ -447,7 +505,10 @@ mod tests {
         assert_eq!(r.n_cells, 50);
         assert!(r.fy == 0.0 && rel(r.mz, -2e-3 * r.fx) < 1e-12);
         // Shifting the strip centre by xc moves the moment arm of Fy.
-        let cy = Creepages { eta: 1e-3, ..Default::default() };
+        let cy = Creepages {
+            eta: 1e-3,
+            ..Default::default()
+        };
         let r0 = fastsim_strip(0.0, 1e-4, 0.0, 1e-3, 1e9, bound, &cy, &flex, 0.3, 50);
         let r1 = fastsim_strip(0.0, 1e-4, 5e-3, 1e-3, 1e9, bound, &cy, &flex, 0.3, 50);
         assert!(rel(r1.fy, r0.fy) < 1e-12 && rel(r1.mz - r0.mz, 5e-3 * r0.fy) < 1e-9);

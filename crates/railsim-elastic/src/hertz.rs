@@ -466,7 +466,18 @@ mod tests {
     fn hertz_check_cases_of_note_1_2() {
         // (A [1/mm], B [1/mm], N [kN], m, n, r, a [mm], b [mm], delta [um], p0 [MPa])
         let cases = [
-            (1.0 / 920.0, 1.0 / 600.0, 100.0, 1.15881, 0.87168, 0.98996, 7.162, 5.387, 104.1, 1238.0),
+            (
+                1.0 / 920.0,
+                1.0 / 600.0,
+                100.0,
+                1.15881,
+                0.87168,
+                0.98996,
+                7.162,
+                5.387,
+                104.1,
+                1238.0,
+            ),
             (
                 1.0 / 920.0,
                 0.5 * (1.0 / 300.0 - 1.0 / 1000.0),
@@ -479,7 +490,18 @@ mod tests {
                 98.4,
                 1094.0,
             ),
-            (1.0 / 920.0, 1.0 / 28.0, 65.0, 3.84851, 0.41033, 0.60085, 8.682, 0.926, 112.5, 3862.0),
+            (
+                1.0 / 920.0,
+                1.0 / 28.0,
+                65.0,
+                3.84851,
+                0.41033,
+                0.60085,
+                8.682,
+                0.926,
+                112.5,
+                3862.0,
+            ),
         ];
         let mat = steel();
         for (ac, bc, n, m, nn, r, a, b, d, p0) in cases {
@@ -490,7 +512,11 @@ mod tests {
             assert!(digits(c.r, r, 1e-5), "r {} vs {r}", c.r);
             assert!(digits(s.a * 1e3, a, 1e-3), "a {} vs {a}", s.a * 1e3);
             assert!(digits(s.b * 1e3, b, 1e-3), "b {} vs {b}", s.b * 1e3);
-            assert!(digits(s.delta * 1e6, d, 0.1), "delta {} vs {d}", s.delta * 1e6);
+            assert!(
+                digits(s.delta * 1e6, d, 0.1),
+                "delta {} vs {d}",
+                s.delta * 1e6
+            );
             // The note prints 1094 MPa for case 2, where 3N/(2 pi a b) with its own a, b gives
             // 1093.45: allow one unit of the last digit for p0.
             assert!(digits(s.p0 * 1e-6, p0, 2.0), "p0 {} vs {p0}", s.p0 * 1e-6);
@@ -537,7 +563,11 @@ mod tests {
             assert!(ok(c.m, m), "A/B={ratio}: m {} vs {m}", c.m);
             assert!(ok(c.n, n), "A/B={ratio}: n {} vs {n}", c.n);
             assert!(ok(c.r, r), "A/B={ratio}: r {} vs {r}", c.r);
-            assert!(digits(c.n / c.m, g, 1e-5), "A/B={ratio}: g {} vs {g}", c.n / c.m);
+            assert!(
+                digits(c.n / c.m, g, 1e-5),
+                "A/B={ratio}: g {} vs {g}",
+                c.n / c.m
+            );
             let e = stripes_epsilon(&c, ratio, 1.0);
             assert!(digits(e, eps, 1e-4), "A/B={ratio}: eps {e} vs {eps}");
             // Swapped orientation exchanges m and n.
@@ -567,8 +597,8 @@ mod tests {
         // N = (4E*/3)(A+B)^(-1/2)(delta/r)^(3/2) for an elongated ellipse.
         for &(ac, bc) in &[(0.8464, 2.406), (5.0, 0.01), (1.0, 37.0)] {
             let s = hertz_from_load(ac, bc, 5e4, &mat).unwrap();
-            let n = 4.0 / 3.0 * mat.e_star() * (ac + bc).powf(-0.5)
-                * (s.delta / s.coeffs.r).powf(1.5);
+            let n =
+                4.0 / 3.0 * mat.e_star() * (ac + bc).powf(-0.5) * (s.delta / s.coeffs.r).powf(1.5);
             assert!(rel(n, 5e4) < 1e-6);
             // p0 = 3N/(2 pi a b), and the semi-axes carry the shape relation rho(g).
             assert!(rel(s.p0, 1.5 * 5e4 / (PI * s.a * s.b)) < 1e-12);
@@ -609,18 +639,26 @@ mod tests {
             let ratio = 10f64.powf(t);
             let e = hertz_coeffs(ratio, 1.0).unwrap();
             let f = hertz_coeffs_fast(ratio, 1.0);
-            worst = worst.max(rel(f.m, e.m)).max(rel(f.n, e.n)).max(rel(f.r, e.r));
+            worst = worst
+                .max(rel(f.m, e.m))
+                .max(rel(f.n, e.n))
+                .max(rel(f.r, e.r));
         }
         // pseudo-random ratios (LCG) with random scaling of both curvatures
         let mut state: u64 = 0x2545_f491_4f6c_dd1d;
         for _ in 0..1000 {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
             let x = (state >> 11) as f64 / (1u64 << 53) as f64;
             let scale = 10f64.powf(3.0 * x - 1.0);
             let ratio = 10f64.powf(8.0 * x - 4.0);
             let e = hertz_coeffs(ratio * scale, scale).unwrap();
             let f = hertz_coeffs_fast(ratio * scale, scale);
-            worst = worst.max(rel(f.m, e.m)).max(rel(f.n, e.n)).max(rel(f.r, e.r));
+            worst = worst
+                .max(rel(f.m, e.m))
+                .max(rel(f.n, e.n))
+                .max(rel(f.r, e.r));
         }
         eprintln!("hertz_coeffs_fast: max relative error {worst:e}");
         assert!(worst <= 1e-6, "max relative error {worst:e}");

@@ -261,7 +261,12 @@ mod tests {
                 } else {
                     kalker_coeffs(a, b * (1.0 - 1e-9), nu).unwrap()
                 };
-                for (x, y) in [(t.c11, s.c11), (t.c22, s.c22), (t.c23, s.c23), (t.c33, s.c33)] {
+                for (x, y) in [
+                    (t.c11, s.c11),
+                    (t.c22, s.c22),
+                    (t.c23, s.c23),
+                    (t.c33, s.c33),
+                ] {
                     worst = worst.max(rel(y, x));
                 }
             }
@@ -278,15 +283,48 @@ mod tests {
         let mat = Material::new(82e9, 0.28).unwrap();
         let (a, b) = (8e-3, 4e-3);
         let c = kalker_coeffs(a, b, 0.28).unwrap();
-        let f = linear_kalker(a, b, &Creepages { xi: 1e-4, eta: 0.0, phi: 0.0 }, &mat).unwrap();
+        let f = linear_kalker(
+            a,
+            b,
+            &Creepages {
+                xi: 1e-4,
+                eta: 0.0,
+                phi: 0.0,
+            },
+            &mat,
+        )
+        .unwrap();
         assert!(rel(f.fx, -82e9 * a * b * c.c11 * 1e-4) < 1e-14);
         assert_eq!(f.fy, 0.0);
-        let f = linear_kalker(a, b, &Creepages { xi: 0.0, eta: 1e-4, phi: 0.0 }, &mat).unwrap();
+        let f = linear_kalker(
+            a,
+            b,
+            &Creepages {
+                xi: 0.0,
+                eta: 1e-4,
+                phi: 0.0,
+            },
+            &mat,
+        )
+        .unwrap();
         assert!(f.fy < 0.0 && f.mz > 0.0);
-        let f = linear_kalker(a, b, &Creepages { xi: 0.0, eta: 0.0, phi: 0.1 }, &mat).unwrap();
+        let f = linear_kalker(
+            a,
+            b,
+            &Creepages {
+                xi: 0.0,
+                eta: 0.0,
+                phi: 0.1,
+            },
+            &mat,
+        )
+        .unwrap();
         assert!(f.fy < 0.0 && f.mz < 0.0);
         assert!(rel(f.mz, -82e9 * (a * b).powi(2) * c.c33 * 0.1) < 1e-14);
-        let bad = Creepages { xi: f64::NAN, ..Default::default() };
+        let bad = Creepages {
+            xi: f64::NAN,
+            ..Default::default()
+        };
         assert!(linear_kalker(a, b, &bad, &mat).is_err());
         assert!(kalker_coeffs(0.0, 1.0, 0.3).is_err());
         assert!(kalker_coeffs(1.0, 1.0, 0.51).is_err());

@@ -22,6 +22,7 @@
 
 pub mod error;
 pub mod fastsim;
+pub mod halfspace;
 pub mod hertz;
 pub mod kalker;
 pub mod material;
@@ -32,6 +33,7 @@ pub use fastsim::{
     Flexibilities, StripTraction, TractionBound, blended_flexibilities, fastsim_ellipse,
     fastsim_strip, flexibilities,
 };
+pub use halfspace::{Grid, HalfspaceSolver, NormalSolution, love_influence};
 pub use hertz::{
     HertzCoeffs, HertzSolution, carlson_rd, carlson_rf, hertz_coeffs, hertz_coeffs_fast,
     hertz_from_approach, hertz_from_load, stripes_epsilon, try_carlson_rd, try_carlson_rf,

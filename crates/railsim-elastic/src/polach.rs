@@ -125,7 +125,8 @@ pub fn polach(
     let mut fy = f * sy / sc;
     if phi != 0.0 {
         let k_s = 1.0 + 6.3 * (1.0 - (-a / b).exp());
-        let e = (8.0 * g * b * (a * b).sqrt() * c.c23 * syc.abs() / (3.0 * k_s * q_mu)).min(EPS_MAX);
+        let e =
+            (8.0 * g * b * (a * b).sqrt() * c.c23 * syc.abs() / (3.0 * k_s * q_mu)).min(EPS_MAX);
         // 1 - delta and 1 + delta without cancellation; delta^3/3 - delta^2/2 + 1/6
         // = (1-delta)^2 (1+2 delta)/6.
         let one_minus = 2.0 / (e * e + 1.0);
@@ -163,10 +164,26 @@ mod tests {
         let mut worst: f64 = 0.0;
         for &(a, b) in &[(4e-3, 8e-3), (6e-3, 6e-3), (8e-3, 4e-3)] {
             let cases = [
-                Creepages { xi: 1e-7, eta: 0.0, phi: 0.0 },
-                Creepages { xi: 0.0, eta: -1e-7, phi: 0.0 },
-                Creepages { xi: 0.0, eta: 0.0, phi: 2e-5 },
-                Creepages { xi: 0.0, eta: 0.0, phi: -2e-5 },
+                Creepages {
+                    xi: 1e-7,
+                    eta: 0.0,
+                    phi: 0.0,
+                },
+                Creepages {
+                    xi: 0.0,
+                    eta: -1e-7,
+                    phi: 0.0,
+                },
+                Creepages {
+                    xi: 0.0,
+                    eta: 0.0,
+                    phi: 2e-5,
+                },
+                Creepages {
+                    xi: 0.0,
+                    eta: 0.0,
+                    phi: -2e-5,
+                },
             ];
             for (i, cr) in cases.iter().enumerate() {
                 let f = polach(a, b, 80e3, cr, 30.0, &p, &mat).unwrap();
@@ -180,8 +197,15 @@ mod tests {
         }
         eprintln!("polach linear limit: worst relative error vs Kalker {worst:.2e}");
         // Reduced slopes: the initial slope scales with (k_A + k_S)/2.
-        let pr = PolachParams { k_a: 0.8, k_s: 0.4, ..p };
-        let cr = Creepages { xi: 1e-8, ..Default::default() };
+        let pr = PolachParams {
+            k_a: 0.8,
+            k_s: 0.4,
+            ..p
+        };
+        let cr = Creepages {
+            xi: 1e-8,
+            ..Default::default()
+        };
         let f = polach(8e-3, 4e-3, 80e3, &cr, 30.0, &pr, &mat).unwrap();
         let k = linear_kalker(8e-3, 4e-3, &cr, &mat).unwrap();
         assert!(rel(f.fx, 0.6 * k.fx) < 1e-4);
@@ -192,8 +216,16 @@ mod tests {
         let mat = mat();
         let p = PolachParams::coulomb(0.3);
         for cr in [
-            Creepages { xi: 0.2, eta: 0.0, phi: 0.0 },
-            Creepages { xi: -0.1, eta: 0.15, phi: 0.0 },
+            Creepages {
+                xi: 0.2,
+                eta: 0.0,
+                phi: 0.0,
+            },
+            Creepages {
+                xi: -0.1,
+                eta: 0.15,
+                phi: 0.0,
+            },
         ] {
             let f = polach(8e-3, 4e-3, 80e3, &cr, 30.0, &p, &mat).unwrap();
             let mag = f.fx.hypot(f.fy);
@@ -203,7 +235,10 @@ mod tests {
         // monotone in creepage
         let mut last = 0.0;
         for k in 0..20 {
-            let cr = Creepages { xi: 1e-6 * 1.8f64.powi(k), ..Default::default() };
+            let cr = Creepages {
+                xi: 1e-6 * 1.8f64.powi(k),
+                ..Default::default()
+            };
             let f = polach(8e-3, 4e-3, 80e3, &cr, 30.0, &p, &mat).unwrap();
             assert!(-f.fx > last && -f.fx < 0.3 * 80e3);
             last = -f.fx;
@@ -214,8 +249,17 @@ mod tests {
     fn falling_friction_reduces_force() {
         let mat = mat();
         let constant = PolachParams::coulomb(0.55);
-        let falling = PolachParams { k_a: 1.0, k_s: 1.0, mu0: 0.55, a_ratio: 0.4, b_decay: 0.6 };
-        let cr = Creepages { xi: 0.1, ..Default::default() };
+        let falling = PolachParams {
+            k_a: 1.0,
+            k_s: 1.0,
+            mu0: 0.55,
+            a_ratio: 0.4,
+            b_decay: 0.6,
+        };
+        let cr = Creepages {
+            xi: 0.1,
+            ..Default::default()
+        };
         let v = 30.0;
         let f0 = polach(8e-3, 4e-3, 80e3, &cr, v, &constant, &mat).unwrap();
         let f1 = polach(8e-3, 4e-3, 80e3, &cr, v, &falling, &mat).unwrap();
@@ -227,7 +271,10 @@ mod tests {
         let f2 = polach(8e-3, 4e-3, 80e3, &cr, 0.0, &falling, &mat).unwrap();
         assert!(f2.fx.abs() > f1.fx.abs());
         // Polach's dry parameters (k_S = 0.4) lower it further, below mu(w) Q.
-        let dry = PolachParams { k_s: 0.4, ..falling };
+        let dry = PolachParams {
+            k_s: 0.4,
+            ..falling
+        };
         let f3 = polach(8e-3, 4e-3, 80e3, &cr, v, &dry, &mat).unwrap();
         assert!(f3.fx.abs() < f1.fx.abs());
     }
@@ -238,12 +285,24 @@ mod tests {
         let p = PolachParams::coulomb(0.3);
         let zero = polach(8e-3, 4e-3, 80e3, &Creepages::default(), 30.0, &p, &mat).unwrap();
         assert_eq!((zero.fx, zero.fy, zero.adhesion_fraction), (0.0, 0.0, 1.0));
-        let cr = Creepages { xi: 1e-3, eta: 2e-3, phi: 1.0 };
+        let cr = Creepages {
+            xi: 1e-3,
+            eta: 2e-3,
+            phi: 1.0,
+        };
         let unloaded = polach(8e-3, 4e-3, 0.0, &cr, 30.0, &p, &mat).unwrap();
         assert_eq!((unloaded.fx, unloaded.fy), (0.0, 0.0));
         // Huge spin with tiny load stays finite.
-        let tiny = polach(8e-3, 4e-3, 1e-200, &Creepages { phi: 1e6, ..cr }, 30.0, &p, &mat)
-            .unwrap();
+        let tiny = polach(
+            8e-3,
+            4e-3,
+            1e-200,
+            &Creepages { phi: 1e6, ..cr },
+            30.0,
+            &p,
+            &mat,
+        )
+        .unwrap();
         assert!(tiny.fx.is_finite() && tiny.fy.is_finite());
         assert!(polach(8e-3, 4e-3, -1.0, &cr, 30.0, &p, &mat).is_err());
         assert!(polach(8e-3, 4e-3, 1.0, &cr, f64::NAN, &p, &mat).is_err());
