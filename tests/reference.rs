@@ -1,1 +1,8 @@
-//! Reference tests.
+//! Reference tests of railsim against analytic solutions and independent codes. One test binary
+//! (ripgrep's layout); each module is one reference case or family. Tolerances live in
+//! `tests/reference/<case>/tolerances.toml` and are multiplied by `RAILSIM_TOL_SCALE`.
+
+mod common;
+mod mbench;
+mod stripes_hertz;
+mod travel;

@@ -1,1 +1,33 @@
-//! Wheel/rail contact (stub, being written).
+//! Online wheel/rail contact for railsim: from the wheel and rail profiles and the wheelset's
+//! pose and velocities to every contact patch and its forces, at every integration step, with no
+//! pre-computed contact tables.
+//!
+//! Place in the data flow: `railsim-profile` gives the profiles as arc-length curves;
+//! this crate places them ([`pair`]), finds every interpenetrated zone by the isosceles-pair
+//! travelling of Jalili & Salehi (2011) ([`geometry`]), turns each zone into a patch frame
+//! ([`patch`]) and solves it with one of the models of the fidelity ladder ([`model`]), whose
+//! elastic kernels live in `railsim-elastic`. The dynamics (a later crate) calls
+//! [`WheelRailContact::evaluate`] once per wheel per right-hand-side evaluation with a reusable
+//! [`ContactWorkspace`].
+//!
+//! Stages, in order: travel (pairs) → zones (patches) → rigid pair and frame → creepages →
+//! normal problem → tangential problem → forces in patch, track and wheelset axes.
+#![deny(rustdoc::broken_intra_doc_links)]
+
+pub mod contact_format;
+pub mod error;
+pub mod geometry;
+pub mod model;
+pub mod pair;
+pub mod patch;
+pub mod pose;
+pub mod stripes;
+
+pub use error::ContactError;
+pub use geometry::{IsoPair, TravelOptions, TravelStats};
+pub use model::{
+    ContactModelKind, ContactOptions, ContactWorkspace, PatchForces, PatchResult, WheelRailContact,
+    WheelSummary,
+};
+pub use pair::{PairSpec, WheelRailPair};
+pub use pose::{Side, WheelsetPose, WheelsetVelocity};

@@ -1,0 +1,248 @@
+//! Conversion to and from the conventions of Vollebregt's CONTACT (module 1, wheel/rail), so
+//! that railsim's batch results compare column by column with CONTACT's reference files.
+//!
+//! CONTACT's track frame has x along the track, y to the **right** and z **down**; railsim's has
+//! y to the left and z up. The two differ by a rotation of pi about x, so roll keeps its sign
+//! while yaw and pitch change sign. CONTACT reports forces **on the rail**, creepages of the
+//! rail relative to the wheel, lengths in mm, and profile coordinates whose lateral axis points
+//! along CONTACT's track y for both rails (checked against the benchmark output: the left rail's
+//! `ycp_r` grows toward the track centre). See `docs/conventions.md`.
+
+use crate::model::PatchResult;
+use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
+
+/// One wheel/rail case in CONTACT's input conventions (mm, rad, rad/s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactCase {
+    /// Which wheel.
+    pub side: Side,
+    /// [mm] lateral wheelset position, CONTACT y (to the right)
+    pub y_ws_mm: f64,
+    /// [rad] yaw, CONTACT convention
+    pub yaw_ws_rad: f64,
+    /// [rad] roll, CONTACT convention (same as railsim's)
+    pub roll_ws_rad: f64,
+    /// [rad/s] pitch velocity about CONTACT's y-axis (negative when rolling forward)
+    pub vpitch_rad_s: f64,
+    /// [mm] vertical wheelset position (down), if prescribed
+    pub z_ws_mm: Option<f64>,
+    /// [N] vertical force on the rail, if prescribed
+    pub fz_target_n: Option<f64>,
+    /// [mm/s] forward speed
+    pub speed_mm_s: f64,
+}
+
+impl ContactCase {
+    /// The railsim pose and velocity of this case (SI, railsim frame).
+    pub fn to_railsim(&self) -> (WheelsetPose, WheelsetVelocity) {
+        let pose = WheelsetPose {
+            y: -self.y_ws_mm * 1e-3,
+            z: -self.z_ws_mm.unwrap_or(0.0) * 1e-3,
+            roll: self.roll_ws_rad,
+            yaw: -self.yaw_ws_rad,
+        };
+        let vel = WheelsetVelocity {
+            vx: self.speed_mm_s * 1e-3,
+            spin: -self.vpitch_rad_s,
+            ..Default::default()
+        };
+        (pose, vel)
+    }
+}
+
+/// One patch in CONTACT's output conventions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactRow {
+    /// [mm] lateral contact position in rail-profile coordinates (CONTACT orientation)
+    pub ycp_r_mm: f64,
+    /// [rad] contact angle about the track x-axis (CONTACT sign: positive on the left rail
+    /// toward the flange, negative on the right)
+    pub delttr_rad: f64,
+    /// [mm] penetration
+    pub pen_mm: f64,
+    /// [N] normal force on the rail
+    pub fn_n: f64,
+    /// [N] longitudinal force on the rail
+    pub fx_n: f64,
+    /// [N] lateral force on the rail along CONTACT's inclined s-axis
+    pub fs_n: f64,
+    /// [N mm] spin moment on the rail about CONTACT's normal
+    pub mz_nmm: f64,
+    /// [N/mm^2] maximum pressure
+    pub pmax_n_mm2: f64,
+    /// [mm] patch length along x
+    pub length_x_mm: f64,
+    /// [mm] patch width along s
+    pub width_s_mm: f64,
+    /// [-] longitudinal creepage of the rail relative to the wheel
+    pub cksi: f64,
+    /// [-] lateral creepage of the rail relative to the wheel
+    pub ceta: f64,
+    /// [rad/mm] spin creepage of the rail relative to the wheel
+    pub cphi_rad_mm: f64,
+    /// [mm] wheel-profile lateral coordinate of the contact (CONTACT orientation)
+    pub ycp_w_mm: f64,
+}
+
+/// Express a railsim patch in CONTACT's conventions.
+pub fn to_contact(side: Side, p: &PatchResult) -> ContactRow {
+    // CONTACT's lateral profile axes follow its track y (to the right): field-positive on the
+    // right rail, gauge-positive on the left.
+    let lat = match side {
+        Side::Right => 1.0,
+        Side::Left => -1.0,
+    };
+    let sg = side.sign();
+    let f = &p.forces;
+    // The side-frame patch axes: s toward the field, n up. CONTACT's s-axis is its track y
+    // rotated by delttr; its normal points into the rail. Force on the rail = -force on wheel.
+    // Left side: CONTACT s = -(side s), n_c = -(side n)  =>  fs_c = +fs, fn_c = +fn.
+    // Right side: CONTACT s = +(side s), n_c = -(side n) =>  fs_c = -fs, fn_c = +fn.
+    let fs_c = -lat * f.fs;
+    // Spin moment on the rail about n_c = -n: (-mz) * (-1) = mz on both sides in the side
+    // frame; the mirror of the right side flips the sense of rotation.
+    let mz_c = sg * f.mz;
+    // Creepages of the rail relative to the wheel, CONTACT axes.
+    let c = &p.creepages;
+    ContactRow {
+        ycp_r_mm: lat * p.y_rail_profile * 1e3,
+        delttr_rad: sg * p.contact_angle,
+        pen_mm: p.penetration * 1e3,
+        fn_n: f.fn_,
+        fx_n: -f.fx,
+        fs_n: fs_c,
+        mz_nmm: mz_c * 1e3,
+        pmax_n_mm2: f.p_max * 1e-6,
+        length_x_mm: f.length * 1e3,
+        width_s_mm: f.width * 1e3,
+        cksi: -c.xi,
+        ceta: -lat * c.eta,
+        cphi_rad_mm: sg * c.phi * 1e-3,
+        ycp_w_mm: lat * p.y_wheel_profile * 1e3,
+    }
+}
+
+/// Error in a table of cases.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[error("{source_name}:{line}: {message}")]
+pub struct CaseError {
+    /// File name or other source label.
+    pub source_name: String,
+    /// 1-based line number.
+    pub line: usize,
+    /// What is wrong, naming the column and the value.
+    pub message: String,
+}
+
+/// Read a comma-separated table of cases with CONTACT's column names: `side`, `y_ws_mm`,
+/// `yaw_ws_rad`, `roll_ws_rad`, `vpitch_rad_s`, and `fz_target_N` or `z_ws_mm` (an empty
+/// `fz_target_N` means the position is prescribed). Optional `case` (a label), and `speed_mm_s`
+/// (default 2000). Other columns are ignored, so CONTACT's reference files can be read as they
+/// are. Returns the cases with their labels.
+pub fn parse_cases_csv(text: &str, source_name: &str) -> Result<Vec<(String, ContactCase)>, CaseError> {
+    let err = |line: usize, message: String| CaseError {
+        source_name: source_name.to_string(),
+        line,
+        message,
+    };
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let (hline, header) = lines.next().ok_or_else(|| err(1, "the file is empty: expected a header line".into()))?;
+    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    let find = |name: &str| cols.iter().position(|c| c.eq_ignore_ascii_case(name));
+    let need = |name: &'static str| {
+        find(name).ok_or_else(|| {
+            err(
+                hline,
+                format!("missing column '{name}': expected side, y_ws_mm, yaw_ws_rad, roll_ws_rad, vpitch_rad_s and fz_target_N or z_ws_mm"),
+            )
+        })
+    };
+    let c_side = need("side")?;
+    let c_y = need("y_ws_mm")?;
+    let c_yaw = need("yaw_ws_rad")?;
+    let c_roll = need("roll_ws_rad")?;
+    let c_vp = need("vpitch_rad_s")?;
+    let c_fz = find("fz_target_N");
+    let c_z = find("z_ws_mm");
+    if c_fz.is_none() && c_z.is_none() {
+        return Err(err(hline, "missing column: expected fz_target_N or z_ws_mm".into()));
+    }
+    let c_case = find("case");
+    let c_v = find("speed_mm_s");
+    let mut out = Vec::new();
+    for (ln, l) in lines {
+        let f: Vec<&str> = l.split(',').map(str::trim).collect();
+        let get = |c: usize, name: &str| -> Result<&str, CaseError> {
+            f.get(c)
+                .copied()
+                .ok_or_else(|| err(ln, format!("column '{name}' is missing: the line has only {} fields", f.len())))
+        };
+        let num = |c: usize, name: &str| -> Result<f64, CaseError> {
+            let s = get(c, name)?;
+            let v: f64 = s
+                .parse()
+                .map_err(|_| err(ln, format!("column '{name}': expected a number, found \"{s}\"")))?;
+            if !v.is_finite() {
+                return Err(err(ln, format!("column '{name}': expected a finite number, found \"{s}\"")));
+            }
+            Ok(v)
+        };
+        let opt_num = |c: Option<usize>, name: &str| -> Result<Option<f64>, CaseError> {
+            match c {
+                Some(c) if f.get(c).is_some_and(|s| !s.is_empty()) => num(c, name).map(Some),
+                _ => Ok(None),
+            }
+        };
+        let side = match get(c_side, "side")?.to_ascii_lowercase().as_str() {
+            "left" | "l" => Side::Left,
+            "right" | "r" => Side::Right,
+            other => {
+                return Err(err(ln, format!("column 'side': expected left or right, found \"{other}\"")));
+            }
+        };
+        let fz = opt_num(c_fz, "fz_target_N")?;
+        let z = opt_num(c_z, "z_ws_mm")?;
+        if fz.is_none() && z.is_none() {
+            return Err(err(ln, "expected a value in fz_target_N or z_ws_mm, found neither".into()));
+        }
+        let case = ContactCase {
+            side,
+            y_ws_mm: num(c_y, "y_ws_mm")?,
+            yaw_ws_rad: num(c_yaw, "yaw_ws_rad")?,
+            roll_ws_rad: num(c_roll, "roll_ws_rad")?,
+            vpitch_rad_s: num(c_vp, "vpitch_rad_s")?,
+            z_ws_mm: if fz.is_some() { None } else { z },
+            fz_target_n: fz,
+            speed_mm_s: opt_num(c_v, "speed_mm_s")?.unwrap_or(2000.0),
+        };
+        let label = match c_case {
+            Some(c) => f.get(c).map(|s| s.to_string()).unwrap_or_default(),
+            None => format!("{}", out.len() + 1),
+        };
+        out.push((label, case));
+    }
+    Ok(out)
+}
+
+/// Solve one case: with the load prescribed, the wheelset height is iterated; otherwise the
+/// position is used as given. Returns the patches in CONTACT's conventions and the vertical
+/// wheelset position found [mm, CONTACT's z down].
+pub fn solve_case(
+    contact: &crate::model::WheelRailContact,
+    case: &ContactCase,
+    ws: &mut crate::model::ContactWorkspace,
+    rows: &mut Vec<ContactRow>,
+) -> Result<f64, crate::error::ContactError> {
+    let (pose, vel) = case.to_railsim();
+    let summary = match case.fz_target_n {
+        Some(fz) => contact.evaluate_with_load(case.side, &pose, &vel, fz, 1e-6, ws)?,
+        None => contact.evaluate(case.side, &pose, &vel, ws)?,
+    };
+    rows.clear();
+    rows.extend(ws.patches.iter().map(|p| to_contact(case.side, p)));
+    Ok(-summary.z * 1e3)
+}

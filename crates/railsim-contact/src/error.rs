@@ -1,0 +1,82 @@
+//! The contact crate's error type.
+
+use thiserror::Error;
+
+/// Everything that can go wrong in a contact evaluation. Every variant names what was found and
+/// what was expected.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ContactError {
+    /// An input (pose, velocity, load, option) is NaN or infinite.
+    #[error("{what} must be finite, found {value}")]
+    NonFinite {
+        /// Name of the quantity.
+        what: &'static str,
+        /// Value found.
+        value: f64,
+    },
+    /// An input is outside its physically meaningful range.
+    #[error("{what} = {value} is out of range: expected {expected}")]
+    OutOfRange {
+        /// Name of the quantity.
+        what: &'static str,
+        /// Value found.
+        value: f64,
+        /// What was expected, in words.
+        expected: &'static str,
+    },
+    /// The wheel penetrates the rail by more than the plausibility limit.
+    #[error(
+        "absurd penetration on the {side} wheel: {found_mm:.3} mm of interpenetration, expected at most {limit_mm:.1} mm"
+    )]
+    AbsurdPenetration {
+        /// Which wheel.
+        side: &'static str,
+        /// [mm] interpenetration found.
+        found_mm: f64,
+        /// [mm] the limit.
+        limit_mm: f64,
+    },
+    /// The prescribed vertical load could not be reached.
+    #[error("could not reach the vertical load {target_n:.1} N on the {side} wheel: {reason}")]
+    LoadNotReached {
+        /// Which wheel.
+        side: &'static str,
+        /// [N] the target.
+        target_n: f64,
+        /// Why.
+        reason: String,
+    },
+    /// The travelling along the profiles found no overlap of wheel and rail.
+    #[error("the {side} wheel and rail profiles do not face each other at y = {y_mm:.2} mm")]
+    NoOverlap {
+        /// Which wheel.
+        side: &'static str,
+        /// [mm] the lateral wheelset displacement.
+        y_mm: f64,
+    },
+    /// An option has an unusable value.
+    #[error("option {key} = {value}: expected {expected}")]
+    BadOption {
+        /// The option's name.
+        key: &'static str,
+        /// Its value as text.
+        value: String,
+        /// What was expected.
+        expected: String,
+    },
+    /// A profile could not be used.
+    #[error(transparent)]
+    Profile(#[from] railsim_profile::ProfileError),
+    /// An elastic kernel failed.
+    #[error(transparent)]
+    Elastic(#[from] railsim_elastic::ElasticError),
+}
+
+/// Check that a value is finite, naming it in the error.
+pub(crate) fn finite(what: &'static str, value: f64) -> Result<f64, ContactError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ContactError::NonFinite { what, value })
+    }
+}

@@ -1,0 +1,522 @@
+//! Contact geometry of one wheel on one rail: the seed's isosceles-pair travelling
+//! (Jalili & Salehi 2011, §3.2–3.3) on the wheel's contact locus, and the split of the
+//! penetrated zones into patches.
+//!
+//! Everything here is a pure function of the pair, the side-frame pose and the options; results
+//! go into caller-owned buffers so that an evaluation allocates nothing once the buffers have
+//! grown to size.
+//!
+//! # The wheel's contact locus (yaw, exact for a straight rail)
+//! A wheel is a surface of revolution. Against a rail that is straight along x, the point of a
+//! wheel circle that can touch the rail is the one whose surface normal has no x-component
+//! (the normal must lie in the rail's cross-section plane). For the wheel profile point at axial
+//! position `Y` with radius `rho(Y)` and the circle angle `theta` measured from the lowest point,
+//! the wheelset-frame normal is proportional to `(sin theta, -rho', -cos theta)`; with
+//! `R = Rx(roll) Rz(yaw)` its x-component vanishes when `sin theta = -tan(yaw) rho'`. The point
+//! `q = (rho sin theta, Y, -rho cos theta)` mapped by the pose is the locus point: its (y, z)
+//! form the curve that is paired with the rail, and its x is the longitudinal lead of the contact
+//! (several mm ahead of the axle on a yawed flange). This is the "contact locus" idea described
+//! by Vollebregt (VSD 60, 2022); the closed form above is derived here. It is exact for a rail
+//! straight along x; track curvature under the wheel is neglected (radius ratio ~1e-3).
+//!
+//! # Isosceles pairs
+//! Points A (wheel locus) and B (rail), with unit tangents oriented toward the field side, form
+//! an isosceles pair when the chord is perpendicular to the mean tangent:
+//! `f = (B - A) . (t_A + t_B) = 0` (contact-theory.md §7.2, equivalent to the seed's equal base
+//! angles, eq. 2–4). This form stays regular where the chord vanishes (intersection pairs).
+//! Stepping moves both points by the same arc length (seed §3.2 "stepping"); the correction
+//! moves the leading point back and the lagging one forward by equal arc lengths (seed eq. 5),
+//! computed as a Newton step on `f`. The step is variable: the base step inside and near the
+//! penetrated zones, larger outside, limited by the crossing distance CD of seed eq. (1) when
+//! the profiles approach each other, and by `sqrt(gap / kappa_max)` so that no zone is skipped.
+
+use crate::error::ContactError;
+use crate::pair::WheelRailPair;
+use crate::pose::{WheelsetPose, mat_vec, rotation};
+
+/// Options of the travelling algorithm.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TravelOptions {
+    /// [m] arc-length step inside and near penetrated zones (the seed's 0.5 / 0.1 mm)
+    pub step: f64,
+    /// [m] largest step far from contact
+    pub max_step: f64,
+    /// [-] the travelling correction is repeated while the angle error exceeds this (rad)
+    pub angle_tol: f64,
+    /// [-] maximum corrections per step
+    pub max_corrections: u32,
+}
+
+impl Default for TravelOptions {
+    fn default() -> Self {
+        TravelOptions {
+            step: 0.2e-3,
+            max_step: 3.0e-3,
+            angle_tol: 1e-7,
+            max_corrections: 6,
+        }
+    }
+}
+
+impl TravelOptions {
+    /// Check the options.
+    pub fn validate(&self) -> Result<(), ContactError> {
+        if !(self.step.is_finite() && self.step >= 1e-6 && self.step <= 5e-3) {
+            return Err(ContactError::BadOption {
+                key: "step",
+                value: format!("{} mm", self.step * 1e3),
+                expected: "a travelling step between 0.001 and 5 mm".into(),
+            });
+        }
+        if !(self.max_step.is_finite() && self.max_step >= self.step) {
+            return Err(ContactError::BadOption {
+                key: "max_step",
+                value: format!("{} mm", self.max_step * 1e3),
+                expected: "a finite value not smaller than the step".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// One isosceles pair found by the travelling, in the side frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct IsoPair {
+    /// [m] arc length on the wheel profile curve
+    pub s_w: f64,
+    /// [m] arc length on the (placed) rail curve
+    pub s_r: f64,
+    /// [m] wheel locus point (y, z)
+    pub a: [f64; 2],
+    /// [m] rail point (y, z)
+    pub b: [f64; 2],
+    /// [m] longitudinal position x of the wheel locus point (lead ahead of the axle)
+    pub x: f64,
+    /// [m] signed gap along the pair normal: > 0 separated, < 0 interpenetrating
+    pub gap: f64,
+    /// unit normal of the pair (perpendicular to the mean tangent), pointing from rail to wheel
+    pub n: [f64; 2],
+    /// [rad] the seed's base angle theta_C (pi/2 at the rigid contact pair)
+    pub theta_c: f64,
+    /// [rad] travelling error |theta_A - theta_B| after one correction (seed Fig. 10);
+    /// negative where the chord is too short for the angles to be defined
+    pub travel_error: f64,
+    /// [rad] angle between the two tangents (wheel minus rail), zero at the rigid pair
+    pub tangent_angle: f64,
+    /// [1/m] signed curvature of the wheel locus curve
+    pub kappa_w: f64,
+    /// [1/m] signed curvature of the rail curve
+    pub kappa_r: f64,
+    /// [m] wheel radius at the pair (distance from the axle)
+    pub rho: f64,
+    /// [-] wheel profile slope d(rho)/d(axial)
+    pub rho_slope: f64,
+}
+
+/// Statistics of one travelling.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TravelStats {
+    /// Number of pairs recorded.
+    pub pairs: u32,
+    /// Number of correction iterations in total.
+    pub corrections: u32,
+    /// Times the pair was lost and re-seeded (a fold of the pair map).
+    pub reseeds: u32,
+}
+
+/// Pose quantities used by the locus map.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PoseCtx {
+    pub r: [[f64; 3]; 3],
+    pub c: [f64; 3],
+    pub tan_yaw: f64,
+    pub yawed: bool,
+}
+
+impl PoseCtx {
+    pub(crate) fn new(pair: &WheelRailPair, pose: &WheelsetPose) -> Self {
+        PoseCtx {
+            r: rotation(pose.roll, pose.yaw),
+            c: [0.0, pose.y, pair.r0 + pose.z],
+            tan_yaw: pose.yaw.tan(),
+            yawed: pose.yaw.abs() > 1e-12,
+        }
+    }
+}
+
+/// The wheel locus evaluated at one profile arc length.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Locus {
+    /// side-frame position (x, y, z)
+    pub p: [f64; 3],
+    /// unit (y, z) tangent of the locus curve
+    pub t: [f64; 2],
+    /// |d(y,z)/ds_w|: locus arc length per profile arc length
+    pub speed: f64,
+    pub rho: f64,
+    pub rho_slope: f64,
+    /// profile curvature (equals the locus curvature without yaw)
+    pub kappa: f64,
+}
+
+/// Evaluate the wheel's contact locus at profile arc length `s`.
+#[inline]
+pub(crate) fn locus(pair: &WheelRailPair, ctx: &PoseCtx, s: f64) -> Locus {
+    let cp = pair.wheel.eval(s);
+    let (ty, tz) = (cp.t[0], cp.t[1]);
+    let ty_safe = if ty.abs() < 1e-6 { 1e-6 } else { ty };
+    let axial = pair.wheel_y0 + cp.p[0];
+    let rho = pair.r0 - cp.p[1];
+    // d(rho)/d(axial) and its derivative, from the profile tangent and curvature.
+    let rho_p = -tz / ty_safe;
+    let rho_pp = -cp.kappa / (ty_safe * ty_safe * ty_safe);
+    let (sin_t, cos_t, dtheta) = if ctx.yawed {
+        let st = (-ctx.tan_yaw * rho_p).clamp(-0.95, 0.95);
+        let ct = (1.0 - st * st).sqrt();
+        (st, ct, -ctx.tan_yaw * rho_pp / ct)
+    } else {
+        (0.0, 1.0, 0.0)
+    };
+    let q = [rho * sin_t, axial, -rho * cos_t];
+    // dq/d(axial)
+    let dq = [
+        rho_p * sin_t + rho * cos_t * dtheta,
+        1.0,
+        -rho_p * cos_t + rho * sin_t * dtheta,
+    ];
+    let pq = mat_vec(&ctx.r, q);
+    let d = mat_vec(&ctx.r, dq);
+    // d(y,z)/ds_w = d(y,z)/d(axial) * ty
+    let (dy, dz) = (d[1] * ty, d[2] * ty);
+    let speed = (dy * dy + dz * dz).sqrt().max(1e-12);
+    Locus {
+        p: [ctx.c[0] + pq[0], ctx.c[1] + pq[1], ctx.c[2] + pq[2]],
+        t: [dy / speed, dz / speed],
+        speed,
+        rho,
+        rho_slope: rho_p,
+        kappa: cp.kappa,
+    }
+}
+
+/// Signed curvature of the projected locus curve at `s`: the profile curvature without yaw, a
+/// central difference of the tangent angle with yaw.
+pub(crate) fn locus_curvature(pair: &WheelRailPair, ctx: &PoseCtx, s: f64) -> f64 {
+    let l = locus(pair, ctx, s);
+    if !ctx.yawed {
+        return l.kappa;
+    }
+    let h = 2.0 * pair.wheel.ds();
+    let lo = locus(pair, ctx, (s - h).max(0.0));
+    let hi = locus(pair, ctx, (s + h).min(pair.wheel.length()));
+    let dang = (lo.t[0] * hi.t[1] - lo.t[1] * hi.t[0]).atan2(lo.t[0] * hi.t[0] + lo.t[1] * hi.t[1]);
+    let dy = hi.p[1] - lo.p[1];
+    let dz = hi.p[2] - lo.p[2];
+    let ds = (dy * dy + dz * dz).sqrt().max(1e-12);
+    dang / ds
+}
+
+/// Evaluation of a candidate pair.
+#[derive(Clone, Copy, Debug)]
+struct PairEval {
+    a: Locus,
+    b: railsim_profile::CurvePoint,
+    f: f64,
+    dfds: f64,
+}
+
+#[inline]
+fn eval_pair(pair: &WheelRailPair, ctx: &PoseCtx, s_w: f64, s_r: f64) -> PairEval {
+    let a = locus(pair, ctx, s_w);
+    let b = pair.rail.eval(s_r);
+    let d = [b.p[0] - a.p[1], b.p[1] - a.p[2]];
+    let ts = [a.t[0] + b.t[0], a.t[1] + b.t[1]];
+    let f = d[0] * ts[0] + d[1] * ts[1];
+    // Derivative of f for the symmetric move (wheel point forward by +e of locus arc length,
+    // rail point back by e), with the curvature terms (dt/ds = kappa * left-normal).
+    let na = [-a.t[1], a.t[0]];
+    let nb = [-b.t[1], b.t[0]];
+    let tab = a.t[0] * b.t[0] + a.t[1] * b.t[1];
+    let dfa = -(1.0 + tab) + a.kappa * (d[0] * na[0] + d[1] * na[1]);
+    let dfb = (1.0 + tab) + b.kappa * (d[0] * nb[0] + d[1] * nb[1]);
+    PairEval {
+        a,
+        b,
+        f,
+        dfds: dfa - dfb,
+    }
+}
+
+/// Seed's base angles: theta_A between AB and t_A, theta_B between BA and t_B (eq. 2–3).
+#[inline]
+fn base_angles(e: &PairEval) -> Option<(f64, f64)> {
+    let d = [e.b.p[0] - e.a.p[1], e.b.p[1] - e.a.p[2]];
+    let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+    if len < 1e-9 {
+        return None;
+    }
+    let u = [d[0] / len, d[1] / len];
+    let ca = (u[0] * e.a.t[0] + u[1] * e.a.t[1]).clamp(-1.0, 1.0);
+    let cb = (-(u[0] * e.b.t[0] + u[1] * e.b.t[1])).clamp(-1.0, 1.0);
+    Some((ca.acos(), cb.acos()))
+}
+
+/// Apply the seed's correction (eq. 5) as a Newton step on `f`, moving the two points by equal
+/// and opposite arc lengths. Returns the new evaluation.
+#[inline]
+fn correct(pair: &WheelRailPair, ctx: &PoseCtx, s_w: &mut f64, s_r: &mut f64, e: &PairEval) -> PairEval {
+    let mut de = -e.f / e.dfds;
+    // A step larger than a few mm means the pair map folds here; cap it.
+    de = de.clamp(-2e-3, 2e-3);
+    *s_w = (*s_w + de / e.a.speed).clamp(0.0, pair.wheel.length());
+    *s_r = (*s_r - de).clamp(0.0, pair.rail.length());
+    eval_pair(pair, ctx, *s_w, *s_r)
+}
+
+/// Find the wheel arc length whose locus pairs with the rail point at `s_r` (bisection on the
+/// locus y, then Newton on f moving the wheel point only).
+fn seed_wheel(pair: &WheelRailPair, ctx: &PoseCtx, s_r: f64, s_lo: f64) -> f64 {
+    let yb = pair.rail.eval(s_r).p[0];
+    let (mut lo, mut hi) = (s_lo, pair.wheel.length());
+    if locus(pair, ctx, lo).p[1] >= yb {
+        return lo;
+    }
+    if locus(pair, ctx, hi).p[1] <= yb {
+        return hi;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if locus(pair, ctx, mid).p[1] < yb {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo < 1e-9 {
+            break;
+        }
+    }
+    let mut s_w = 0.5 * (lo + hi);
+    for _ in 0..8 {
+        let a = locus(pair, ctx, s_w);
+        let b = pair.rail.eval(s_r);
+        let d = [b.p[0] - a.p[1], b.p[1] - a.p[2]];
+        let ts = [a.t[0] + b.t[0], a.t[1] + b.t[1]];
+        let f = d[0] * ts[0] + d[1] * ts[1];
+        let df = -a.speed * (1.0 + a.t[0] * b.t[0] + a.t[1] * b.t[1]);
+        let step = (-f / df).clamp(-2e-3, 2e-3);
+        s_w = (s_w + step).clamp(s_lo, pair.wheel.length());
+        if step.abs() < 1e-12 {
+            break;
+        }
+    }
+    s_w
+}
+
+fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
+    let mut tm = [e.a.t[0] + e.b.t[0], e.a.t[1] + e.b.t[1]];
+    let l = (tm[0] * tm[0] + tm[1] * tm[1]).sqrt().max(1e-300);
+    tm = [tm[0] / l, tm[1] / l];
+    let n = [-tm[1], tm[0]];
+    let gap = (e.a.p[1] - e.b.p[0]) * n[0] + (e.a.p[2] - e.b.p[1]) * n[1];
+    let theta_c = match base_angles(e) {
+        Some((ta, tb)) => 0.5 * (ta + tb),
+        None => std::f64::consts::FRAC_PI_2,
+    };
+    let tangent_angle =
+        (e.b.t[0] * e.a.t[1] - e.b.t[1] * e.a.t[0]).atan2(e.b.t[0] * e.a.t[0] + e.b.t[1] * e.a.t[1]);
+    IsoPair {
+        s_w,
+        s_r,
+        a: [e.a.p[1], e.a.p[2]],
+        b: e.b.p,
+        x: e.a.p[0],
+        gap,
+        n,
+        theta_c,
+        travel_error,
+        tangent_angle,
+        kappa_w: e.a.kappa,
+        kappa_r: e.b.kappa,
+        rho: e.a.rho,
+        rho_slope: e.a.rho_slope,
+    }
+}
+
+/// Travel along both profiles from the flange tip to the field side and record every isosceles
+/// pair in `out` (cleared first). `pose` is in the side frame.
+pub fn travel(
+    pair: &WheelRailPair,
+    pose: &WheelsetPose,
+    opts: &TravelOptions,
+    out: &mut Vec<IsoPair>,
+) -> TravelStats {
+    out.clear();
+    let ctx = PoseCtx::new(pair, pose);
+    let mut stats = TravelStats::default();
+    // Start on the rail at the lateral position of the wheel's flange tip.
+    let y_tip = locus(pair, &ctx, pair.wheel_s_tip).p[1];
+    let mut s_r = pair.rail.s_at_y(y_tip).unwrap_or(0.0);
+    let mut s_w = seed_wheel(pair, &ctx, s_r, pair.wheel_s_tip);
+    let mut e = eval_pair(pair, &ctx, s_w, s_r);
+    for _ in 0..opts.max_corrections {
+        if e.f.abs() < 1e-13 {
+            break;
+        }
+        e = correct(pair, &ctx, &mut s_w, &mut s_r, &e);
+    }
+    let l_w = pair.wheel.length();
+    let l_r = pair.rail.length();
+    let kmax = pair.kappa_max.max(1.0);
+    let mut prev_gap: Option<(f64, f64)> = None;
+    let mut err = -1.0;
+    loop {
+        let rec = record(&e, s_w, s_r, err);
+        out.push(rec);
+        stats.pairs += 1;
+        // Step size: base step near contact, larger outside (never past a possible zone).
+        let g = rec.gap;
+        let mut h = opts.step;
+        if g > 0.0 {
+            let mut cand = (g / kmax).sqrt();
+            if let Some((g0, ds0)) = prev_gap {
+                let slope = (g - g0) / ds0;
+                if slope < 0.0 {
+                    // Approaching an intersection: the seed's crossing distance (eq. 1).
+                    let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
+                    let cos_c = rec.theta_c.cos().abs().max(1e-12);
+                    let cd = chord / (2.0 * cos_c);
+                    cand = cand.min(0.8 * cd).min(0.5 * g / -slope);
+                }
+            }
+            h = cand.clamp(opts.step, opts.max_step);
+        }
+        prev_gap = Some((g, h));
+        // Stepping: equal arc lengths on both curves (wheel locus and rail).
+        let s_w_new = s_w + h / e.a.speed;
+        let s_r_new = s_r + h;
+        if s_w_new >= l_w || s_r_new >= l_r {
+            break;
+        }
+        s_w = s_w_new;
+        s_r = s_r_new;
+        e = eval_pair(pair, &ctx, s_w, s_r);
+        // One correction (the seed's), whose residual is the travelling error ...
+        e = correct(pair, &ctx, &mut s_w, &mut s_r, &e);
+        stats.corrections += 1;
+        err = match base_angles(&e) {
+            Some((ta, tb)) => (ta - tb).abs(),
+            None => -1.0,
+        };
+        // ... then more until the pair is exact to the tolerance.
+        let mut k = 1;
+        while k < opts.max_corrections {
+            let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
+            if e.f.abs() <= opts.angle_tol * chord.max(1e-9) {
+                break;
+            }
+            e = correct(pair, &ctx, &mut s_w, &mut s_r, &e);
+            stats.corrections += 1;
+            k += 1;
+        }
+        if k == opts.max_corrections {
+            // Lost the pair (fold of the pair map): re-seed from the rail point.
+            s_w = seed_wheel(pair, &ctx, s_r, pair.wheel_s_tip);
+            e = eval_pair(pair, &ctx, s_w, s_r);
+            stats.reseeds += 1;
+        }
+    }
+    stats
+}
+
+/// One patch: a run of consecutive interpenetrating pairs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Zone {
+    /// index of the first interpenetrating pair
+    pub first: usize,
+    /// index of the last interpenetrating pair
+    pub last: usize,
+    /// index of the deepest pair
+    pub deepest: usize,
+}
+
+/// Split the travelled pairs into penetrated zones (patches).
+///
+/// Rule: every maximal run of consecutive pairs with negative gap is a zone. Inside a run, two
+/// penetration maxima are split into separate patches at the minimum between them when the
+/// minimum is below `split_depth_ratio` of the smaller maximum and the contact angles at the
+/// two maxima differ by more than `split_angle`. Zones are never merged: STRIPES has no elastic
+/// coupling between patches, so two zones separated by a positive gap are two patches.
+pub fn find_zones(pairs: &[IsoPair], split_angle: f64, split_depth_ratio: f64, zones: &mut Vec<Zone>) {
+    zones.clear();
+    let mut i = 0;
+    while i < pairs.len() {
+        if pairs[i].gap >= 0.0 {
+            i += 1;
+            continue;
+        }
+        let first = i;
+        while i + 1 < pairs.len() && pairs[i + 1].gap < 0.0 {
+            i += 1;
+        }
+        let last = i;
+        split_run(pairs, first, last, split_angle, split_depth_ratio, zones);
+        i += 1;
+    }
+}
+
+fn deepest(pairs: &[IsoPair], first: usize, last: usize) -> usize {
+    let mut k = first;
+    for j in first..=last {
+        if pairs[j].gap < pairs[k].gap {
+            k = j;
+        }
+    }
+    k
+}
+
+fn split_run(
+    pairs: &[IsoPair],
+    first: usize,
+    last: usize,
+    split_angle: f64,
+    ratio: f64,
+    zones: &mut Vec<Zone>,
+) {
+    let angle = |p: &IsoPair| p.n[0].atan2(p.n[1]);
+    let mut prev_min: Option<usize> = None;
+    for j in first..=last {
+        let left_ok = j == first || pairs[j].gap <= pairs[j - 1].gap;
+        let right_ok = j == last || pairs[j].gap < pairs[j + 1].gap;
+        if !(left_ok && right_ok) {
+            continue;
+        }
+        if let Some(a) = prev_min {
+            let mut m = a;
+            for k in a..=j {
+                if pairs[k].gap > pairs[m].gap {
+                    m = k;
+                }
+            }
+            let pen_small = (-pairs[a].gap).min(-pairs[j].gap);
+            if m > a
+                && m < j
+                && -pairs[m].gap < ratio * pen_small
+                && (angle(&pairs[a]) - angle(&pairs[j])).abs() > split_angle
+            {
+                split_run(pairs, first, m, split_angle, ratio, zones);
+                split_run(pairs, m + 1, last, split_angle, ratio, zones);
+                return;
+            }
+            if pairs[j].gap < pairs[a].gap {
+                prev_min = Some(j);
+            }
+        } else {
+            prev_min = Some(j);
+        }
+    }
+    zones.push(Zone {
+        first,
+        last,
+        deepest: deepest(pairs, first, last),
+    });
+}

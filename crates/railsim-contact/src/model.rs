@@ -1,0 +1,711 @@
+//! One interface for a ladder of contact models, from fastest to most exact.
+//!
+//! Every model takes the same input (one patch found by the isosceles travelling, with its
+//! kinematics) and gives the same output ([`PatchForces`]). The geometry stage is shared; only
+//! the normal and tangential solution differ:
+//!
+//! | name | normal problem | tangential problem |
+//! |---|---|---|
+//! | `polach` | Hertz ellipse per patch from the rigid pair's curvatures and penetration | Polach (1999/2005) |
+//! | `fastsim` | Hertz ellipse per patch | FASTSIM (Kalker 1982) on the ellipse |
+//! | `stripes` | STRIPES on the isosceles strips (Ayasse & Chollet 2005; Jalili & Salehi 2011) | FASTSIM per strip |
+//! | `halfspace` | Boussinesq–Love half-space (Kalker's NORM; Polonsky & Keer CG) on the patch's gap | FASTSIM per grid row |
+
+use railsim_elastic::{
+    Creepages, /*HS Grid, HalfspaceSolver,*/ PolachParams, TractionBound, blended_flexibilities,
+    fastsim_ellipse, fastsim_strip, hertz_from_approach, polach,
+};
+
+use crate::error::ContactError;
+use crate::geometry::{IsoPair, PoseCtx, TravelOptions, TravelStats, Zone, find_zones, travel};
+use crate::pair::WheelRailPair;
+use crate::patch::{PatchFrame, WheelKinematics, longitudinal_curvature, mid, patch_frame};
+use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
+use crate::stripes::{self, Local, StripesVariant, Strip};
+
+/// The contact models, selected by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactModelKind {
+    /// Hertz ellipse per patch + Polach's creep-force formulas (O. Polach, VSD 33 suppl. 1999;
+    /// Wear 258, 2005). The fastest level.
+    Polach,
+    /// Hertz ellipse per patch + FASTSIM (J.J. Kalker, VSD 11, 1982).
+    Fastsim,
+    /// The seed's model: isosceles strips + STRIPES (J.B. Ayasse, H. Chollet, VSD 43, 2005;
+    /// M.M. Jalili, H. Salehi 2011) + FASTSIM per strip. The default.
+    Stripes,
+    /// Half-space boundary elements for the normal problem (Love 1929 influence coefficients,
+    /// Polonsky & Keer, Wear 231, 1999) + FASTSIM per row: the reference level.
+    Halfspace,
+}
+
+impl ContactModelKind {
+    /// All models, fastest first.
+    pub const ALL: [ContactModelKind; 4] = [
+        ContactModelKind::Polach,
+        ContactModelKind::Fastsim,
+        ContactModelKind::Stripes,
+        ContactModelKind::Halfspace,
+    ];
+    /// The model's name as used in files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactModelKind::Polach => "polach",
+            ContactModelKind::Fastsim => "fastsim",
+            ContactModelKind::Stripes => "stripes",
+            ContactModelKind::Halfspace => "halfspace",
+        }
+    }
+    /// Parse a model name.
+    pub fn from_name(name: &str) -> Result<Self, ContactError> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == name)
+            .ok_or_else(|| ContactError::BadOption {
+                key: "model",
+                value: name.to_string(),
+                expected: "one of polach, fastsim, stripes, halfspace".into(),
+            })
+    }
+}
+
+/// Options of a contact evaluation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactOptions {
+    /// Which model solves the patches.
+    pub model: ContactModelKind,
+    /// Travelling (geometry) options.
+    pub travel: TravelOptions,
+    /// [rad] a penetrated run is split into two patches only if the contact angles of its two
+    /// penetration maxima differ by more than this
+    pub split_angle: f64,
+    /// [-] ... and the penetration between them falls below this fraction of the smaller maximum
+    pub split_depth_ratio: f64,
+    /// Which virtual-penetration ratio STRIPES uses.
+    pub stripes_variant: StripesVariant,
+    /// FASTSIM cells per strip (along x)
+    pub fastsim_nx: usize,
+    /// FASTSIM strips for a Hertz ellipse (`fastsim` model)
+    pub fastsim_ny: usize,
+    /// Traction bound of FASTSIM.
+    pub bound: TractionBound,
+    /// Half-space grid: cells along x and along the lateral coordinate.
+    pub halfspace_cells: (usize, usize),
+    /// [m] interpenetration beyond which a pose is rejected as absurd
+    pub max_penetration: f64,
+}
+
+impl Default for ContactOptions {
+    fn default() -> Self {
+        ContactOptions {
+            model: ContactModelKind::Stripes,
+            travel: TravelOptions::default(),
+            split_angle: 0.1,
+            split_depth_ratio: 0.5,
+            stripes_variant: StripesVariant::LocalEpsilon,
+            fastsim_nx: 16,
+            fastsim_ny: 16,
+            bound: TractionBound::Elliptic,
+            halfspace_cells: (48, 48),
+            max_penetration: 5e-3,
+        }
+    }
+}
+
+/// Everything a model needs to solve one patch.
+pub struct PatchInput<'a> {
+    /// The wheel/rail pair.
+    pub pair: &'a WheelRailPair,
+    /// All travelled pairs of this wheel.
+    pub pairs: &'a [IsoPair],
+    /// The zone of this patch within `pairs`.
+    pub zone: Zone,
+    /// The rigid contact pair and patch frame.
+    pub frame: PatchFrame,
+    /// Wheel kinematics for creepages.
+    pub kin: &'a WheelKinematics,
+    /// Creepages at the reference point.
+    pub creep: Creepages,
+    pub(crate) ctx: &'a PoseCtx,
+    pub(crate) yawed: bool,
+}
+
+/// Forces of one patch on the wheel, in the patch axes (x along the track, s lateral in the
+/// contact plane toward the field side, n normal from rail to wheel).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PatchForces {
+    /// [N] normal force (compressive positive)
+    pub fn_: f64,
+    /// [N] longitudinal creep force on the wheel
+    pub fx: f64,
+    /// [N] lateral creep force on the wheel, along s
+    pub fs: f64,
+    /// [N m] spin moment on the wheel about the normal through the reference point
+    pub mz: f64,
+    /// [Pa] maximum pressure
+    pub p_max: f64,
+    /// [m] patch length along x
+    pub length: f64,
+    /// [m] patch width along s
+    pub width: f64,
+    /// [m^2] contact area
+    pub area: f64,
+    /// [-] fraction of the contact in adhesion
+    pub adhesion_fraction: f64,
+    /// number of strips, grid cells in contact, or 1 for an ellipse
+    pub n_elements: u32,
+}
+
+/// A solved patch with its geometry, in the side frame and in the track frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PatchResult {
+    /// [m] lateral position of the contact point on the rail, in the rail-profile frame (toward
+    /// the field side)
+    pub y_rail_profile: f64,
+    /// [m] lateral position of the contact point on the wheel profile (S, toward the field side)
+    pub y_wheel_profile: f64,
+    /// [m] contact point on the rail in the track frame (x, y, z)
+    pub point_track: [f64; 3],
+    /// [rad] contact angle, positive when the normal leans toward the flange
+    pub contact_angle: f64,
+    /// [m] largest interpenetration of the undeformed profiles (the seed's delta_0); for
+    /// `halfspace` the elastic approach of the patch
+    pub penetration: f64,
+    /// [m] wheel radius at the contact point
+    pub rolling_radius: f64,
+    /// Creepages at the reference point (Kalker's convention, patch axes; spin in 1/m).
+    pub creepages: Creepages,
+    /// Forces in the patch axes.
+    pub forces: PatchForces,
+    /// [N] force on the wheel in the track frame (x, y, z)
+    pub force_track: [f64; 3],
+    /// [N m] spin moment on the wheel as a vector in the track frame
+    pub moment_track: [f64; 3],
+    /// [rad] largest travelling error (seed Fig. 10) among the patch's pairs
+    pub travel_error: f64,
+}
+
+/// Statistics and totals of one wheel evaluation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WheelSummary {
+    /// Number of patches.
+    pub n_patches: usize,
+    /// [N] total force on the wheel in the track frame
+    pub force_track: [f64; 3],
+    /// Travelling statistics.
+    pub travel: TravelStats,
+    /// [m] vertical wheelset position used (after load iteration, if any)
+    pub z: f64,
+    /// Number of load iterations (0 when the position was prescribed).
+    pub load_iterations: u32,
+}
+
+/// Reusable buffers for contact evaluations. Create once, pass to every evaluation; nothing is
+/// allocated once the buffers have grown to the largest case.
+#[derive(Default)]
+pub struct ContactWorkspace {
+    /// The isosceles pairs of the last travelling.
+    pub pairs: Vec<IsoPair>,
+    /// The zones of the last travelling.
+    pub zones: Vec<Zone>,
+    /// Strips of the last STRIPES patch.
+    pub strips: Vec<Strip>,
+    local: Vec<Local>,
+    /// Patch results of the last evaluation.
+    pub patches: Vec<PatchResult>,
+    //HS halfspace: Option<HalfspaceScratch>,
+}
+
+/*HS2
+struct HalfspaceScratch {
+    solver: HalfspaceSolver,
+    gap: Vec<f64>,
+}
+HS2*/
+
+impl ContactWorkspace {
+    /// An empty workspace.
+    pub fn new() -> Self {
+        Self::default()
+    }
+}
+
+/// A wheel/rail contact ready for evaluation: the pair and the options.
+#[derive(Clone, Debug)]
+pub struct WheelRailContact {
+    /// The pair.
+    pub pair: WheelRailPair,
+    /// The options.
+    pub opts: ContactOptions,
+}
+
+impl WheelRailContact {
+    /// Combine a pair and options, checking the options.
+    pub fn new(pair: WheelRailPair, opts: ContactOptions) -> Result<Self, ContactError> {
+        opts.travel.validate()?;
+        if opts.fastsim_nx < 2 || opts.fastsim_nx > 1000 || opts.fastsim_ny < 2 || opts.fastsim_ny > 1000 {
+            return Err(ContactError::BadOption {
+                key: "fastsim cells",
+                value: format!("{} x {}", opts.fastsim_nx, opts.fastsim_ny),
+                expected: "between 2 and 1000 cells each way".into(),
+            });
+        }
+        Ok(WheelRailContact { pair, opts })
+    }
+
+    /// Evaluate the contact of one wheel at a prescribed wheelset pose (track frame). Patches go
+    /// to `ws.patches`; no contact gives no patches, which is not an error.
+    pub fn evaluate(
+        &self,
+        side: Side,
+        pose: &WheelsetPose,
+        vel: &WheelsetVelocity,
+        ws: &mut ContactWorkspace,
+    ) -> Result<WheelSummary, ContactError> {
+        pose.validate()?;
+        vel.validate()?;
+        let sp = pose.to_side(side);
+        let sv = vel.to_side(side);
+        let stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
+        if ws.pairs.len() < 3 {
+            return Err(ContactError::NoOverlap {
+                side: side.name(),
+                y_mm: pose.y * 1e3,
+            });
+        }
+        find_zones(
+            &ws.pairs,
+            self.opts.split_angle,
+            self.opts.split_depth_ratio,
+            &mut ws.zones,
+        );
+        let ctx = PoseCtx::new(&self.pair, &sp);
+        let kin = WheelKinematics::new(&ctx, sp.roll, &sv);
+        ws.patches.clear();
+        let mut total = [0.0; 3];
+        for zi in 0..ws.zones.len() {
+            let zone = ws.zones[zi];
+            let frame = patch_frame(&self.pair, &ctx, &ws.pairs, &zone);
+            if frame.delta0 > self.opts.max_penetration {
+                return Err(ContactError::AbsurdPenetration {
+                    side: side.name(),
+                    found_mm: frame.delta0 * 1e3,
+                    limit_mm: self.opts.max_penetration * 1e3,
+                });
+            }
+            let creep = kin.creepages(frame.wheel_point, frame.t, frame.n);
+            let input = PatchInput {
+                pair: &self.pair,
+                pairs: &ws.pairs,
+                zone,
+                frame,
+                kin: &kin,
+                creep,
+                ctx: &ctx,
+                yawed: ctx.yawed,
+            };
+            let (forces, penetration) = match self.opts.model {
+                ContactModelKind::Stripes => (
+                    stripes::solve(
+                        &input,
+                        self.opts.stripes_variant,
+                        self.opts.fastsim_nx,
+                        self.opts.bound,
+                        &mut ws.strips,
+                        &mut ws.local,
+                    )?,
+                    frame.delta0,
+                ),
+                ContactModelKind::Fastsim => (self.solve_hertz(&input, false)?, frame.delta0),
+                ContactModelKind::Polach => (self.solve_hertz(&input, true)?, frame.delta0),
+                ContactModelKind::Halfspace => {
+                    let f = PatchForces::default(); //HS solve_halfspace(&input, &self.opts, &mut ws.halfspace)?;
+                    (f, frame.delta0)
+                }
+            };
+            if forces.fn_ <= 0.0 {
+                continue;
+            }
+            let r = self.result(side, &frame, creep, forces, penetration, &ws.pairs, &zone);
+            for k in 0..3 {
+                total[k] += r.force_track[k];
+            }
+            ws.patches.push(r);
+        }
+        Ok(WheelSummary {
+            n_patches: ws.patches.len(),
+            force_track: total,
+            travel: stats,
+            z: pose.z,
+            load_iterations: 0,
+        })
+    }
+
+    /// Evaluate with a prescribed vertical load: the wheelset height `pose.z` is iterated
+    /// (safeguarded secant) until the vertical force of this wheel equals `fz` (the wheel load,
+    /// positive up on the wheel) to `rel_tol`. The converged pose height is in the summary.
+    pub fn evaluate_with_load(
+        &self,
+        side: Side,
+        pose: &WheelsetPose,
+        vel: &WheelsetVelocity,
+        fz: f64,
+        rel_tol: f64,
+        ws: &mut ContactWorkspace,
+    ) -> Result<WheelSummary, ContactError> {
+        crate::error::finite("vertical load", fz)?;
+        if fz <= 0.0 {
+            return Err(ContactError::OutOfRange {
+                what: "vertical load [N]",
+                value: fz,
+                expected: "a positive wheel load",
+            });
+        }
+        pose.validate()?;
+        vel.validate()?;
+        // First touch: lift the wheel until no pair interpenetrates, from the gaps.
+        let mut p = *pose;
+        let sp = p.to_side(side);
+        travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
+        let mut dz_touch = f64::INFINITY;
+        for q in &ws.pairs {
+            if q.n[1] > 0.2 {
+                dz_touch = dz_touch.min(q.gap / q.n[1]);
+            }
+        }
+        if !dz_touch.is_finite() {
+            return Err(ContactError::NoOverlap {
+                side: side.name(),
+                y_mm: pose.y * 1e3,
+            });
+        }
+        let z_touch = p.z - dz_touch;
+        // Bracket: F(z_touch) = 0; go down until the load is exceeded.
+        let f_at = |z: f64, ws: &mut ContactWorkspace| -> Result<(f64, WheelSummary), ContactError> {
+            let mut q = *pose;
+            q.z = z;
+            let s = self.evaluate(side, &q, vel, ws)?;
+            Ok((s.force_track[2], s))
+        };
+        let mut z_hi = z_touch; // force 0
+        let mut f_hi = 0.0;
+        let mut dz = 2e-5;
+        let (mut z_lo, mut f_lo);
+        let mut it = 0u32;
+        loop {
+            z_lo = z_touch - dz;
+            f_lo = f_at(z_lo, ws)?.0;
+            it += 1;
+            if f_lo >= fz {
+                break;
+            }
+            z_hi = z_lo;
+            f_hi = f_lo;
+            dz *= 2.0;
+            if dz > self.opts.max_penetration {
+                return Err(ContactError::LoadNotReached {
+                    side: side.name(),
+                    target_n: fz,
+                    reason: format!(
+                        "the vertical force is only {:.1} N at {:.3} mm of interpenetration",
+                        f_lo,
+                        dz * 1e3
+                    ),
+                });
+            }
+        }
+        // Illinois-safeguarded regula falsi on z, with the force ~ delta^1.5 linearised by
+        // working on F^(2/3).
+        let g = |f: f64| f.max(0.0).powf(2.0 / 3.0) - fz.powf(2.0 / 3.0);
+        let (mut ga, mut gb) = (g(f_hi), g(f_lo));
+        let (mut za, mut zb) = (z_hi, z_lo);
+        let mut side_kept = 0i32;
+        let mut last = None;
+        for _ in 0..60 {
+            let z = zb - gb * (zb - za) / (gb - ga);
+            let (f, s) = f_at(z, ws)?;
+            it += 1;
+            let gz = g(f);
+            last = Some(s);
+            p.z = z;
+            if (f - fz).abs() <= rel_tol * fz {
+                break;
+            }
+            if gz * gb < 0.0 {
+                za = zb;
+                ga = gb;
+                side_kept = 0;
+            } else {
+                side_kept += 1;
+                if side_kept >= 1 {
+                    ga *= 0.5;
+                }
+            }
+            zb = z;
+            gb = gz;
+            if (zb - za).abs() < 1e-13 {
+                break;
+            }
+        }
+        let mut s = last.ok_or_else(|| ContactError::LoadNotReached {
+            side: side.name(),
+            target_n: fz,
+            reason: "no iteration".into(),
+        })?;
+        if (s.force_track[2] - fz).abs() > 1e3 * rel_tol * fz {
+            return Err(ContactError::LoadNotReached {
+                side: side.name(),
+                target_n: fz,
+                reason: format!("iteration stopped at {:.1} N", s.force_track[2]),
+            });
+        }
+        s.z = p.z;
+        s.load_iterations = it;
+        Ok(s)
+    }
+
+    fn solve_hertz(&self, input: &PatchInput<'_>, use_polach: bool) -> Result<PatchForces, ContactError> {
+        let fr = &input.frame;
+        let mat = &self.pair.material;
+        let hz = hertz_from_approach(fr.a_curv, fr.b_curv, fr.delta0, mat)?;
+        let tang = if use_polach {
+            polach(
+                hz.a,
+                hz.b,
+                hz.n,
+                &input.creep,
+                input.kin.v_ref,
+                &PolachParams::coulomb(self.pair.mu),
+                mat,
+            )?
+        } else {
+            let flex = blended_flexibilities(hz.a, hz.b, hz.n, self.pair.mu, &input.creep, mat)?;
+            fastsim_ellipse(
+                hz.a,
+                hz.b,
+                hz.n,
+                &input.creep,
+                &flex,
+                self.pair.mu,
+                self.opts.bound,
+                self.opts.fastsim_ny,
+                self.opts.fastsim_nx,
+            )?
+        };
+        Ok(PatchForces {
+            fn_: hz.n,
+            fx: tang.fx,
+            fs: tang.fy,
+            mz: tang.mz,
+            p_max: hz.p0,
+            length: 2.0 * hz.a,
+            width: 2.0 * hz.b,
+            area: std::f64::consts::PI * hz.a * hz.b,
+            adhesion_fraction: tang.adhesion_fraction,
+            n_elements: 1,
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn result(
+        &self,
+        side: Side,
+        fr: &PatchFrame,
+        creep: Creepages,
+        f: PatchForces,
+        penetration: f64,
+        pairs: &[IsoPair],
+        zone: &Zone,
+    ) -> PatchResult {
+        let sg = side.sign();
+        // Force on the wheel in the side frame: x, then s and n in the (y, z) plane.
+        let fy = f.fs * fr.t[0] + f.fn_ * fr.n[0];
+        let fzv = f.fs * fr.t[1] + f.fn_ * fr.n[1];
+        // Spin moment vector (pseudo-vector): about n; mirror flips x and z components.
+        let m_side = [0.0, f.mz * fr.n[0], f.mz * fr.n[1]];
+        let mut err: f64 = 0.0;
+        for p in &pairs[zone.first..=zone.last] {
+            err = err.max(p.travel_error);
+        }
+        PatchResult {
+            y_rail_profile: self.pair.rail_profile_y(fr.rail_point[0], fr.rail_point[1]),
+            y_wheel_profile: self.pair.wheel.eval(fr.s_w).p[0],
+            point_track: [fr.wheel_point[0], sg * fr.rail_point[0], fr.rail_point[1]],
+            contact_angle: fr.contact_angle,
+            penetration,
+            rolling_radius: fr.rho,
+            creepages: creep,
+            forces: f,
+            force_track: [f.fx, sg * fy, fzv],
+            moment_track: [sg * m_side[0], m_side[1], sg * m_side[2]],
+            travel_error: err,
+        }
+    }
+}
+
+/*HSBLOCK
+/// Half-space reference: the patch's undeformed gap on a grid in the patch plane, the exact
+/// elastic normal solution for the patch's penetration, and FASTSIM per grid row with the
+/// row's load as a semi-ellipse.
+fn solve_halfspace(
+    input: &PatchInput<'_>,
+    opts: &ContactOptions,
+    scratch: &mut Option<HalfspaceScratch>,
+) -> Result<PatchForces, ContactError> {
+    let fr = &input.frame;
+    let pairs = input.pairs;
+    let m0 = [
+        0.5 * (fr.rail_point[0] + fr.wheel_point[1]),
+        0.5 * (fr.rail_point[1] + fr.wheel_point[2]),
+    ];
+    let lo = input.zone.first.saturating_sub(1);
+    let hi = (input.zone.last + 1).min(pairs.len() - 1);
+    let l_of = |i: usize| {
+        let m = mid(&pairs[i]);
+        (m[0] - m0[0]) * fr.t[0] + (m[1] - m0[1]) * fr.t[1]
+    };
+    let d_of = |i: usize| {
+        let p = &pairs[i];
+        -p.gap * (p.n[0] * fr.n[0] + p.n[1] * fr.n[1])
+    };
+    // Lateral extent: the interpenetration zone, edges interpolated.
+    let edge = |i: usize, j: usize| {
+        let (di, dj) = (d_of(i), d_of(j));
+        let (li, lj) = (l_of(i), l_of(j));
+        if di > 0.0 && dj <= 0.0 {
+            li + (lj - li) * di / (di - dj)
+        } else {
+            lj
+        }
+    };
+    let l_min = edge(input.zone.first, lo);
+    let l_max = edge(input.zone.last, hi);
+    // Longitudinal extent from the deepest strips' interpenetration half-lengths.
+    let mut x_min = f64::INFINITY;
+    let mut x_max = f64::NEG_INFINITY;
+    for i in input.zone.first..=input.zone.last {
+        let p = &pairs[i];
+        let a = longitudinal_curvature(p.rho, p.rho_slope);
+        let half = (d_of(i).max(0.0) / a).sqrt();
+        let xc = p.x - fr.wheel_point[0];
+        x_min = x_min.min(xc - half);
+        x_max = x_max.max(xc + half);
+    }
+    let (nx, ny) = opts.halfspace_cells;
+    let width = (l_max - l_min).max(1e-7);
+    let length = (x_max - x_min).max(1e-7);
+    let dx = length * 1.04 / nx as f64;
+    let dy = width * 1.04 / ny as f64;
+    let grid = Grid {
+        nx,
+        ny,
+        dx,
+        dy,
+        x0: 0.5 * (x_min + x_max) - 0.5 * (nx as f64 - 1.0) * dx,
+        y0: 0.5 * (l_min + l_max) - 0.5 * (ny as f64 - 1.0) * dy,
+    };
+    let needs_new = match scratch {
+        Some(s) => *s.solver.grid() != grid,
+        None => true,
+    };
+    if needs_new {
+        *scratch = Some(HalfspaceScratch {
+            solver: HalfspaceSolver::new(grid, &input.pair.material)?,
+            gap: vec![0.0; nx * ny],
+        });
+    }
+    let sc = scratch.as_mut().expect("scratch was just set");
+    // Gap of each cell: the strip's gap below the deepest point plus the longitudinal parabola,
+    // interpolated linearly between the pairs in the lateral coordinate.
+    let mut j = lo;
+    for iy in 0..ny {
+        let l = grid.y0 + iy as f64 * dy;
+        while j + 1 < hi && l_of(j + 1) < l {
+            j += 1;
+        }
+        let (la, lb) = (l_of(j), l_of((j + 1).min(hi)));
+        let f = if (lb - la).abs() > 1e-15 { ((l - la) / (lb - la)).clamp(0.0, 1.0) } else { 0.0 };
+        let pa = &pairs[j];
+        let pb = &pairs[(j + 1).min(hi)];
+        let d = d_of(j) + f * (d_of((j + 1).min(hi)) - d_of(j));
+        let xc = pa.x + f * (pb.x - pa.x) - fr.wheel_point[0];
+        let a = longitudinal_curvature(pa.rho + f * (pb.rho - pa.rho), pa.rho_slope + f * (pb.rho_slope - pa.rho_slope));
+        for ix in 0..nx {
+            let x = grid.x0 + ix as f64 * dx;
+            sc.gap[ix + nx * iy] = fr.delta0 - d + a * (x - xc) * (x - xc);
+        }
+    }
+    let sol = sc.solver.solve_approach(&sc.gap, fr.delta0, 1e-9, 500)?;
+    let pr = sc.solver.pressure();
+    let mut f = PatchForces {
+        fn_: sol.force,
+        p_max: sol.p_max,
+        area: sol.n_contact as f64 * dx * dy,
+        n_elements: sol.n_contact as u32,
+        ..Default::default()
+    };
+    // Extents and FASTSIM per row.
+    let flex = {
+        let mut ymin = f64::INFINITY;
+        let mut ymax = f64::NEG_INFINITY;
+        let mut xmn = f64::INFINITY;
+        let mut xmx = f64::NEG_INFINITY;
+        for iy in 0..ny {
+            for ix in 0..nx {
+                if pr[ix + nx * iy] > 0.0 {
+                    let x = grid.x0 + ix as f64 * dx;
+                    let y = grid.y0 + iy as f64 * dy;
+                    ymin = ymin.min(y);
+                    ymax = ymax.max(y);
+                    xmn = xmn.min(x);
+                    xmx = xmx.max(x);
+                }
+            }
+        }
+        if !ymin.is_finite() {
+            return Ok(PatchForces::default());
+        }
+        f.width = ymax - ymin + dy;
+        f.length = xmx - xmn + dx;
+        let r = (f.area / std::f64::consts::PI).sqrt();
+        let a_eq = r * (f.length / f.width).sqrt();
+        let b_eq = r * (f.width / f.length).sqrt();
+        blended_flexibilities(a_eq, b_eq, f.fn_, input.pair.mu, &input.creep, &input.pair.material)?
+    };
+    let mut j = lo;
+    let mut n_adh = 0;
+    let mut n_cells = 0;
+    for iy in 0..ny {
+        let row = &pr[nx * iy..nx * (iy + 1)];
+        let q: f64 = row.iter().sum::<f64>() * dx;
+        if q <= 0.0 {
+            continue;
+        }
+        let first = row.iter().position(|&p| p > 0.0).unwrap_or(0);
+        let last = row.iter().rposition(|&p| p > 0.0).unwrap_or(nx - 1);
+        let x_a = grid.x0 + (first as f64 - 0.5) * dx;
+        let x_b = grid.x0 + (last as f64 + 0.5) * dx;
+        let hl = 0.5 * (x_b - x_a);
+        let xc = 0.5 * (x_a + x_b);
+        let l = grid.y0 + iy as f64 * dy;
+        while j + 1 < hi && l_of(j + 1) < l {
+            j += 1;
+        }
+        let (la, lb) = (l_of(j), l_of((j + 1).min(hi)));
+        let fr_ = if (lb - la).abs() > 1e-15 { ((l - la) / (lb - la)).clamp(0.0, 1.0) } else { 0.0 };
+        let p = crate::patch::lerp_pair(&pairs[j], &pairs[(j + 1).min(hi)], fr_);
+        let creep = input.kin.creepages([p.x, p.a[0], p.a[1]], fr.t, p.n);
+        let p0 = 2.0 * q / (std::f64::consts::PI * hl);
+        let st = fastsim_strip(0.0, dy, xc, hl, p0, opts.bound, &creep, &flex, input.pair.mu, opts.fastsim_nx);
+        f.fx += st.fx;
+        f.fs += st.fy;
+        f.mz += st.mz - l * st.fx;
+        n_adh += st.n_adhesion;
+        n_cells += st.n_cells;
+    }
+    f.adhesion_fraction = if n_cells > 0 { n_adh as f64 / n_cells as f64 } else { 0.0 };
+    let _ = sol.approach;
+    Ok(f)
+}
+HSBLOCK*/

@@ -1,0 +1,185 @@
+//! From a penetrated zone of isosceles pairs to a patch: the rigid contact pair, the patch
+//! frame, and the per-strip data used by the normal and tangential models.
+
+use crate::geometry::{IsoPair, PoseCtx, Zone, locus_curvature};
+use crate::pair::WheelRailPair;
+use crate::pose::{WheelsetVelocity, cross, dot3, mat_vec};
+use railsim_elastic::Creepages;
+
+/// [1/m] smallest lateral relative curvature used in Hertz formulas; concave (conformal) spots
+/// are clamped to it (CONTACT's KPEC/ANALYN floor of 1e-4 1/mm, contact-theory.md §1.2).
+pub const B_MIN: f64 = 0.1;
+
+/// The rigid contact pair of a patch and the patch's planar frame, in the side frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PatchFrame {
+    /// [m] reference point on the rail (y, z), side frame: the rail point of the rigid pair
+    pub rail_point: [f64; 2],
+    /// [m] reference point on the wheel (x, y, z), side frame: the wheel locus point
+    pub wheel_point: [f64; 3],
+    /// [m] arc length of the reference on the wheel profile curve
+    pub s_w: f64,
+    /// unit normal (y, z) from rail to wheel
+    pub n: [f64; 2],
+    /// unit lateral tangent (y, z) toward the field side
+    pub t: [f64; 2],
+    /// [rad] contact angle: rotation from the track z-axis to the normal, positive when the
+    /// normal leans toward the gauge side (toward the flange)
+    pub contact_angle: f64,
+    /// [m] largest interpenetration of the undeformed surfaces (the seed's delta_0)
+    pub delta0: f64,
+    /// [1/m] longitudinal relative curvature A at the reference (half the sum of curvatures)
+    pub a_curv: f64,
+    /// [1/m] lateral relative curvature B at the reference, clamped to [`B_MIN`]
+    pub b_curv: f64,
+    /// [m] wheel radius at the reference
+    pub rho: f64,
+    /// [-] index of the deepest pair within the travelled pairs
+    pub deepest: usize,
+}
+
+/// Longitudinal relative curvature of a wheel point (Meusnier: the normal section along the
+/// rolling direction of a surface of revolution has curvature cos(beta)/rho, beta the angle
+/// between surface normal and radius; the straight rail adds nothing). Half the sum, Hertz's A.
+#[inline]
+pub fn longitudinal_curvature(rho: f64, rho_slope: f64) -> f64 {
+    0.5 / (rho * (1.0 + rho_slope * rho_slope).sqrt())
+}
+
+/// Midpoint of a pair.
+#[inline]
+pub(crate) fn mid(p: &IsoPair) -> [f64; 2] {
+    [0.5 * (p.a[0] + p.b[0]), 0.5 * (p.a[1] + p.b[1])]
+}
+
+/// Locate the rigid contact pair of a zone: the seed's theta_C = 90 deg point, which is where
+/// the interpenetration is largest. Refined by a parabola through the deepest pair and its
+/// neighbours (in the lateral coordinate along the mean tangent).
+pub fn patch_frame(pair: &WheelRailPair, ctx: &PoseCtx, pairs: &[IsoPair], zone: &Zone) -> PatchFrame {
+    let k = zone.deepest;
+    let p = &pairs[k];
+    let t = [p.n[1], -p.n[0]];
+    let (mut frac, mut delta0, mut toward_next) = (0.0, -p.gap, true);
+    if k > 0 && k + 1 < pairs.len() {
+        let m0 = mid(&pairs[k - 1]);
+        let m1 = mid(p);
+        let m2 = mid(&pairs[k + 1]);
+        let x0 = (m0[0] - m1[0]) * t[0] + (m0[1] - m1[1]) * t[1];
+        let x2 = (m2[0] - m1[0]) * t[0] + (m2[1] - m1[1]) * t[1];
+        let (y0, y1, y2) = (-pairs[k - 1].gap, -p.gap, -pairs[k + 1].gap);
+        // Parabola through (x0,y0), (0,y1), (x2,y2).
+        let d = x0 * x2 * (x0 - x2);
+        if d.abs() > 1e-30 {
+            let a = (x2 * (y0 - y1) - x0 * (y2 - y1)) / d;
+            let b = (x0 * x0 * (y2 - y1) - x2 * x2 * (y0 - y1)) / d;
+            if a < 0.0 {
+                let xv = (-b / (2.0 * a)).clamp(x0, x2);
+                let yv = y1 + b * xv + a * xv * xv;
+                if yv >= y1 {
+                    delta0 = yv;
+                    // fraction toward the neighbour on the side of the vertex
+                    toward_next = xv >= 0.0;
+                    frac = if toward_next { xv / x2 } else { xv / x0 };
+                }
+            }
+        }
+    }
+    let q = if frac > 0.0 {
+        let j = if toward_next { k + 1 } else { k - 1 };
+        lerp_pair(p, &pairs[j], frac)
+    } else {
+        *p
+    };
+    let n = normalize2(q.n);
+    let t = [n[1], -n[0]];
+    let rho = q.rho;
+    let a_curv = longitudinal_curvature(rho, q.rho_slope);
+    let kw = locus_curvature(pair, ctx, q.s_w);
+    let b_curv = (0.5 * (kw - q.kappa_r)).max(B_MIN);
+    PatchFrame {
+        rail_point: q.b,
+        wheel_point: [q.x, q.a[0], q.a[1]],
+        s_w: q.s_w,
+        n,
+        t,
+        contact_angle: (-n[0]).atan2(n[1]),
+        delta0,
+        a_curv,
+        b_curv,
+        rho,
+        deepest: k,
+    }
+}
+
+#[inline]
+fn normalize2(v: [f64; 2]) -> [f64; 2] {
+    let l = (v[0] * v[0] + v[1] * v[1]).sqrt().max(1e-300);
+    [v[0] / l, v[1] / l]
+}
+
+/// Linear interpolation between two pairs.
+pub(crate) fn lerp_pair(p: &IsoPair, q: &IsoPair, f: f64) -> IsoPair {
+    let l = |a: f64, b: f64| a + f * (b - a);
+    IsoPair {
+        s_w: l(p.s_w, q.s_w),
+        s_r: l(p.s_r, q.s_r),
+        a: [l(p.a[0], q.a[0]), l(p.a[1], q.a[1])],
+        b: [l(p.b[0], q.b[0]), l(p.b[1], q.b[1])],
+        x: l(p.x, q.x),
+        gap: l(p.gap, q.gap),
+        n: [l(p.n[0], q.n[0]), l(p.n[1], q.n[1])],
+        theta_c: l(p.theta_c, q.theta_c),
+        travel_error: p.travel_error.max(q.travel_error),
+        tangent_angle: l(p.tangent_angle, q.tangent_angle),
+        kappa_w: l(p.kappa_w, q.kappa_w),
+        kappa_r: l(p.kappa_r, q.kappa_r),
+        rho: l(p.rho, q.rho),
+        rho_slope: l(p.rho_slope, q.rho_slope),
+    }
+}
+
+/// Rigid-body kinematics of the wheel in the side frame, for creepages.
+#[derive(Clone, Copy, Debug)]
+pub struct WheelKinematics {
+    /// [m] axle centre
+    pub c: [f64; 3],
+    /// [m/s] axle centre velocity
+    pub v_c: [f64; 3],
+    /// [rad/s] angular velocity
+    pub omega: [f64; 3],
+    /// [m/s] reference speed dividing the creepages (the rolling speed)
+    pub v_ref: f64,
+}
+
+impl WheelKinematics {
+    pub(crate) fn new(ctx: &PoseCtx, roll: f64, vel: &WheelsetVelocity) -> Self {
+        let axle = mat_vec(&ctx.r, [0.0, 1.0, 0.0]);
+        let (sf, cf) = roll.sin_cos();
+        let zr = [0.0, -sf, cf];
+        let omega = [
+            vel.spin * axle[0] + vel.roll_rate + vel.yaw_rate * zr[0],
+            vel.spin * axle[1] + vel.yaw_rate * zr[1],
+            vel.spin * axle[2] + vel.yaw_rate * zr[2],
+        ];
+        WheelKinematics {
+            c: ctx.c,
+            v_c: [vel.vx, vel.vy, vel.vz],
+            omega,
+            v_ref: vel.vx,
+        }
+    }
+
+    /// Creepages of the wheel relative to the rail at wheel point `p` (side frame), in the patch
+    /// axes x (track), `t` (lateral in the plane) and the normal `n` (spin); Kalker's convention
+    /// (contact-theory.md §3.1): creepage = slip velocity of the wheel over the rail / speed.
+    pub fn creepages(&self, p: [f64; 3], t: [f64; 2], n: [f64; 2]) -> Creepages {
+        let r = [p[0] - self.c[0], p[1] - self.c[1], p[2] - self.c[2]];
+        let w = cross(self.omega, r);
+        let v = [self.v_c[0] + w[0], self.v_c[1] + w[1], self.v_c[2] + w[2]];
+        Creepages {
+            xi: v[0] / self.v_ref,
+            eta: (v[1] * t[0] + v[2] * t[1]) / self.v_ref,
+            phi: dot3(self.omega, [0.0, n[0], n[1]]) / self.v_ref,
+        }
+    }
+}

@@ -1,0 +1,96 @@
+//! Shared set-up of the reference tests: the benchmark wheel/rail pair, reference tables,
+//! tolerances.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+use railsim_contact::{ContactModelKind, ContactOptions, PairSpec, WheelRailContact, WheelRailPair};
+use railsim_elastic::Material;
+use railsim_profile::{ProfileKind, read_simpack};
+
+/// Path of a file in the repository.
+pub fn repo(rel: &str) -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(rel)
+}
+
+/// The tolerance scale from `RAILSIM_TOL_SCALE` (default 1).
+pub fn tol_scale() -> f64 {
+    std::env::var("RAILSIM_TOL_SCALE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1.0)
+}
+
+/// Read `tests/reference/<case>/tolerances.toml`, table `section`, scaled.
+pub fn tolerances(case: &str, section: &str) -> HashMap<String, f64> {
+    let text = std::fs::read_to_string(repo(&format!("tests/reference/{case}/tolerances.toml"))).unwrap();
+    let v: toml::Table = toml::from_str(&text).unwrap();
+    let t = v[section].as_table().unwrap();
+    t.iter()
+        .map(|(k, v)| (k.clone(), v.as_float().unwrap() * tol_scale()))
+        .collect()
+}
+
+/// The Manchester benchmark pair (CONTACT's mbench_a22 input): benchmark profile files, gauge
+/// 1435 at 14 mm, no extra inclination, flange back 1360 at -70 mm, r0 = 460 mm, G = 82 GPa,
+/// nu = 0.28, mu = 0.3.
+pub fn mbench_pair() -> WheelRailPair {
+    let wheel = read_simpack(&repo("vehicles/profiles/MBench_S1002_v3.prw"), ProfileKind::Wheel).unwrap();
+    let rail = read_simpack(&repo("tracks/profiles/MBench_UIC60_v3.prr"), ProfileKind::Rail).unwrap();
+    WheelRailPair::new(&PairSpec {
+        wheel,
+        rail,
+        r0: 0.460,
+        flange_back_distance: 1.360,
+        flange_back_y: -0.070,
+        gauge: 1.435,
+        gauge_depth: 0.014,
+        inclination: 0.0,
+        material: Material::new(82e9, 0.28).unwrap(),
+        mu: 0.3,
+        curve_ds: 5e-5,
+        smoothing: 0.0,
+    })
+    .unwrap()
+}
+
+/// The benchmark contact with a model and step.
+pub fn mbench_contact(model: ContactModelKind, step: f64) -> WheelRailContact {
+    let mut opts = ContactOptions {
+        model,
+        ..Default::default()
+    };
+    opts.travel.step = step;
+    WheelRailContact::new(mbench_pair(), opts).unwrap()
+}
+
+/// A CSV table as header-indexed rows of strings.
+pub struct Table {
+    pub cols: HashMap<String, usize>,
+    pub rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    pub fn read(rel: &str) -> Table {
+        let text = std::fs::read_to_string(repo(rel)).unwrap();
+        let mut lines = text.lines();
+        let cols = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .enumerate()
+            .map(|(i, c)| (c.trim().to_string(), i))
+            .collect();
+        let rows = lines
+            .filter(|l| !l.trim().is_empty())
+            .map(|l| l.split(',').map(|s| s.trim().to_string()).collect())
+            .collect();
+        Table { cols, rows }
+    }
+    pub fn f(&self, row: usize, col: &str) -> f64 {
+        self.rows[row][self.cols[col]].parse().unwrap()
+    }
+    pub fn s(&self, row: usize, col: &str) -> &str {
+        &self.rows[row][self.cols[col]]
+    }
+}

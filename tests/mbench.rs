@@ -1,0 +1,163 @@
+//! The Manchester contact benchmark A-2.2 (42 cases, 10 kN per wheel) against CONTACT's exact
+//! half-space solution (`tests/reference/mbench_a22`).
+
+use railsim_contact::contact_format::{ContactRow, parse_cases_csv, solve_case};
+use railsim_contact::{ContactModelKind, ContactWorkspace};
+
+use crate::common::{Table, mbench_contact, repo, tolerances};
+
+/// Our patches for every reference case, in CONTACT's conventions.
+pub fn run_all(model: ContactModelKind, step: f64) -> Vec<(usize, Vec<ContactRow>)> {
+    let text = std::fs::read_to_string(repo("tests/reference/mbench_a22/reference.csv")).unwrap();
+    let cases = parse_cases_csv(&text, "reference.csv").unwrap();
+    let contact = mbench_contact(model, step);
+    let mut ws = ContactWorkspace::new();
+    let mut rows = Vec::new();
+    let mut out = Vec::new();
+    for (i, (_, case)) in cases.iter().enumerate() {
+        solve_case(&contact, case, &mut ws, &mut rows)
+            .unwrap_or_else(|e| panic!("case {} ({:?} y={}): {e}", i + 1, case.side, case.y_ws_mm));
+        out.push((i, rows.clone()));
+    }
+    out
+}
+
+/// The patch that corresponds to CONTACT's (main) patch: the one with the largest normal force.
+fn main_patch(rows: &[ContactRow]) -> &ContactRow {
+    rows.iter()
+        .max_by(|a, b| a.fn_n.total_cmp(&b.fn_n))
+        .expect("at least one patch")
+}
+
+/// Index of the reference row for a side and y in the regions table.
+fn regions_of(reg: &Table, side: &str, y: f64) -> Vec<usize> {
+    (0..reg.rows.len())
+        .filter(|&r| reg.s(r, "side") == side && (reg.f(r, "y_ws_mm") - y).abs() < 1e-9)
+        .collect()
+}
+
+#[test]
+fn stripes_matches_contact_on_all_42_cases() {
+    let tol = tolerances("mbench_a22", "stripes");
+    let reference = Table::read("tests/reference/mbench_a22/reference.csv");
+    let regions = Table::read("tests/reference/mbench_a22/regions.csv");
+    let ours = run_all(ContactModelKind::Stripes, 0.2e-3);
+    let mut failures = Vec::new();
+    eprintln!(
+        "{:>5} {:>5} | {:>8} {:>8} | {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} | np",
+        "side", "y", "ycp_ref", "ycp", "dlt_ref", "dlt", "pen_ref", "pen", "fn_ref", "fn", "fx_ref", "fx", "fs_ref", "fs"
+    );
+    for (i, rows) in &ours {
+        let r = *i;
+        let side = reference.s(r, "side").to_string();
+        let y = reference.f(r, "y_ws_mm");
+        let fn_ref = reference.f(r, "fn_N");
+        let regs = regions_of(&regions, &side, y);
+        if rows.is_empty() {
+            failures.push(format!("{side} y={y}: no patch"));
+            continue;
+        }
+        let m = main_patch(rows);
+        eprintln!(
+            "{:>5} {:>5} | {:8.3} {:8.3} | {:7.4} {:7.4} | {:7.4} {:7.4} | {:7.0} {:7.0} | {:7.0} {:7.0} | {:7.0} {:7.0} | {}",
+            side,
+            y,
+            reference.f(r, "ycp_r_mm"),
+            m.ycp_r_mm,
+            reference.f(r, "delttr_rad"),
+            m.delttr_rad,
+            reference.f(r, "pen_mm"),
+            m.pen_mm,
+            fn_ref,
+            m.fn_n,
+            reference.f(r, "fx_N"),
+            m.fx_n,
+            reference.f(r, "fs_N"),
+            m.fs_n,
+            rows.len()
+        );
+        if regs.len() > 1 {
+            // CONTACT merged several regions into one patch: compare region by region, each
+            // region with our patch nearest to it on the rail.
+            for &g in &regs {
+                let y_reg = regions.f(g, "ycp_r_patch_mm") + regions.f(g, "s_pn_mm");
+                let fn_reg = regions.f(g, "fn_N");
+                let p = rows
+                    .iter()
+                    .min_by(|a, b| (a.ycp_r_mm - y_reg).abs().total_cmp(&(b.ycp_r_mm - y_reg).abs()))
+                    .unwrap();
+                eprintln!(
+                    "      region {}: y_r {:.2} (ours {:.2}), Fn {:.0} (ours {:.0})",
+                    regions.s(g, "region"),
+                    y_reg,
+                    p.ycp_r_mm,
+                    fn_reg,
+                    p.fn_n
+                );
+                if (p.ycp_r_mm - y_reg).abs() > 1.5 {
+                    failures.push(format!(
+                        "{side} y={y} region {}: no patch of ours near y_r = {y_reg:.2} mm",
+                        regions.s(g, "region")
+                    ));
+                } else if (p.fn_n - fn_reg).abs() > tol["region_fn_rel"] * fn_reg {
+                    failures.push(format!(
+                        "{side} y={y} region {}: Fn {:.0} vs {:.0}",
+                        regions.s(g, "region"),
+                        p.fn_n,
+                        fn_reg
+                    ));
+                }
+            }
+            continue;
+        }
+        let checks = [
+            (
+                "ycp_r",
+                m.ycp_r_mm,
+                reference.f(r, "ycp_r_mm"),
+                tol["ycp_r_abs_mm"],
+            ),
+            (
+                "delttr",
+                m.delttr_rad,
+                reference.f(r, "delttr_rad"),
+                tol["delttr_abs_rad"],
+            ),
+            (
+                "pen",
+                m.pen_mm,
+                reference.f(r, "pen_mm"),
+                tol["pen_rel"] * reference.f(r, "pen_mm"),
+            ),
+        ];
+        for (name, got, want, t) in checks {
+            if (got - want).abs() > t {
+                failures.push(format!("{side} y={y}: {name} {got:.4} vs {want:.4} (tol {t:.4})"));
+            }
+        }
+        for (name, got, want) in [
+            ("fx", m.fx_n, reference.f(r, "fx_N")),
+            ("fs", m.fs_n, reference.f(r, "fs_N")),
+        ] {
+            let t = (tol["force_rel"] * want.abs()).max(tol["force_abs_of_fn"] * fn_ref);
+            if (got - want).abs() > t {
+                failures.push(format!("{side} y={y}: {name} {got:.0} vs {want:.0} (tol {t:.0})"));
+            }
+        }
+    }
+    // The right wheel's jump to the flange between y = 6.0 and 6.5 mm.
+    let angle_at = |side: &str, y: f64| {
+        let (_, rows) = ours
+            .iter()
+            .find(|(i, _)| reference.s(*i, "side") == side && (reference.f(*i, "y_ws_mm") - y).abs() < 1e-9)
+            .unwrap();
+        main_patch(rows).delttr_rad
+    };
+    let (a6, a65) = (angle_at("right", 6.0), angle_at("right", 6.5));
+    if !(a6 > -0.6 && a65 < -0.9) {
+        failures.push(format!(
+            "right wheel flange jump: contact angle {a6:.3} rad at 6.0 mm, {a65:.3} rad at 6.5 mm"
+        ));
+    }
+    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+}

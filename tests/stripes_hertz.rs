@@ -1,0 +1,1 @@
+//! STRIPES on constant-curvature geometry gives back Hertz (placeholder, filled below).

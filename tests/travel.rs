@@ -1,0 +1,1 @@
+//! Travelling error and step convergence (placeholder, filled below).
