@@ -28,6 +28,7 @@ pub struct KalkerCoeffs {
 /// rows 10..=18: b/a = 0.9..0.1 (a > b). Columns: for each of C11, C22, C23, C33 the values at
 /// nu = 0, 0.25, 0.5.
 #[rustfmt::skip]
+#[allow(clippy::approx_constant)] // 3.14 is a table entry (C22), not pi
 const TABLE_E3: [[f64; 12]; 19] = [
     [2.51, 3.31, 4.85, 2.51, 2.52, 2.53, 0.334, 0.473, 0.731, 6.42, 8.28, 11.7],
     [2.59, 3.37, 4.81, 2.59, 2.63, 2.66, 0.483, 0.603, 0.809, 3.46, 4.27, 5.66],
