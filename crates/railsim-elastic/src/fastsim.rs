@@ -43,7 +43,7 @@ impl Flexibilities {
 /// (Kalker 1982; CONTACT `simpflex`; contact-theory note §3.2):
 /// `L1 = 8a/(3 C11 G)`, `L2 = 8a/(3 C22 G)`, `L3 = pi a sqrt(a/b)/(4 C23 G)`.
 ///
-/// `a` is the semi-axis along the rolling direction, `b` the lateral one [m].
+/// `a` is the semi-axis along the rolling direction, `b` the lateral one \[m\].
 pub fn flexibilities(a: f64, b: f64, mat: &Material) -> Result<Flexibilities, ElasticError> {
     let c = kalker_coeffs(a, b, mat.nu)?;
     let g = mat.g;
@@ -62,7 +62,7 @@ pub fn flexibilities(a: f64, b: f64, mat: &Material) -> Result<Flexibilities, El
 ///   `xi_s = mu N/(a b G C11)`, `eta_s = mu N/(a b G C22)`;
 /// - `L_k <- (1-w) L_k + w L_crss`.
 ///
-/// Pure spin is not blended (`w = 0`). `n` [N] >= 0 is the normal load, `mu` >= 0 the friction
+/// Pure spin is not blended (`w = 0`). `n` \[N\] >= 0 is the normal load, `mu` >= 0 the friction
 /// coefficient.
 pub fn blended_flexibilities(
     a: f64,
@@ -126,9 +126,9 @@ impl TractionBound {
 /// Result of one FASTSIM strip.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct StripTraction {
-    /// [N] longitudinal force of the strip
+    /// \[N\] longitudinal force of the strip
     pub fx: f64,
-    /// [N] lateral force of the strip
+    /// \[N\] lateral force of the strip
     pub fy: f64,
     /// [N m] moment of the strip about the origin (x = 0, y = 0)
     pub mz: f64,
@@ -140,9 +140,9 @@ pub struct StripTraction {
 
 /// One FASTSIM strip (Kalker 1982; contact-theory note §3.2, §2.1 step 8).
 ///
-/// The strip is the line at lateral coordinate `y` [m] with width `dy` [m], loaded on
-/// `[xc - hl, xc + hl]` [m] by `p(x) = p_peak sqrt(1 - ((x-xc)/hl)^2)` (Elliptic) or
-/// `p_peak (1 - ((x-xc)/hl)^2)` (Parabolic), `p_peak` [Pa]. It is marched from the leading
+/// The strip is the line at lateral coordinate `y` \[m\] with width `dy` \[m\], loaded on
+/// `[xc - hl, xc + hl]` \[m\] by `p(x) = p_peak sqrt(1 - ((x-xc)/hl)^2)` (Elliptic) or
+/// `p_peak (1 - ((x-xc)/hl)^2)` (Parabolic), `p_peak` \[Pa\]. It is marched from the leading
 /// edge `xc + hl` toward `xc - hl` in `nx` equal cells; tractions are evaluated at the cell
 /// centres (the first step has length h/2, the others h) and the spin term `phi x` of each
 /// step is taken at the step's midpoint, which integrates it exactly. Trial traction per step:
@@ -220,8 +220,8 @@ pub fn fastsim_strip(
     }
 }
 
-/// FASTSIM on a Hertz ellipse with semi-axes `a` (x, rolling) and `b` (y) [m] and normal load
-/// `n` [N] (Kalker 1982; contact-theory note §3.2).
+/// FASTSIM on a Hertz ellipse with semi-axes `a` (x, rolling) and `b` (y) \[m\] and normal load
+/// `n` \[N\] (Kalker 1982; contact-theory note §3.2).
 ///
 /// `ny` strips of equal width over `[-b, b]` at the midpoints `y_j`, each of half-length
 /// `a sqrt(1 - y_j^2/b^2)` marched by [`fastsim_strip`] in `nx` cells. Pressure:

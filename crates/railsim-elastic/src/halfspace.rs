@@ -24,18 +24,18 @@ pub struct Grid {
     pub nx: usize,
     /// number of cells along y
     pub ny: usize,
-    /// [m] cell size along x
+    /// \[m\] cell size along x
     pub dx: f64,
-    /// [m] cell size along y
+    /// \[m\] cell size along y
     pub dy: f64,
-    /// [m] x of the centre of cell (0,0)
+    /// \[m\] x of the centre of cell (0,0)
     pub x0: f64,
-    /// [m] y of the centre of cell (0,0)
+    /// \[m\] y of the centre of cell (0,0)
     pub y0: f64,
 }
 
 impl Grid {
-    /// A grid of `nx` x `ny` cells covering the rectangle `[x_min, x_max] x [y_min, y_max]` [m].
+    /// A grid of `nx` x `ny` cells covering the rectangle `[x_min, x_max] x [y_min, y_max]` \[m\].
     pub fn covering(
         nx: usize,
         ny: usize,
@@ -71,12 +71,12 @@ impl Grid {
         self.len() == 0
     }
 
-    /// [m] x of the centre of column `ix`.
+    /// \[m\] x of the centre of column `ix`.
     pub fn x(&self, ix: usize) -> f64 {
         self.x0 + ix as f64 * self.dx
     }
 
-    /// [m] y of the centre of row `iy`.
+    /// \[m\] y of the centre of row `iy`.
     pub fn y(&self, iy: usize) -> f64 {
         self.y0 + iy as f64 * self.dy
     }
@@ -124,7 +124,7 @@ fn love_primitive(x: f64, y: f64) -> f64 {
 }
 
 /// [m/Pa] Normal displacement difference at a point due to a unit uniform pressure on a
-/// rectangle of size `hx` x `hy` [m] whose centre lies at offset (`off_x`, `off_y`) [m] from
+/// rectangle of size `hx` x `hy` \[m\] whose centre lies at offset (`off_x`, `off_y`) \[m\] from
 /// the point (Love 1929; contact-theory note §4.1; CONTACT `elascf_pcwcns`):
 ///
 /// `A = (1-nu)/(pi G) [F(x2,y2) - F(x1,y2) - F(x2,y1) + F(x1,y1)]`, with
@@ -281,11 +281,11 @@ fn transpose(a: &[Complex<f64>], b: &mut [Complex<f64>], mx: usize, my: usize, r
 /// Result of a normal-contact solve.
 #[derive(Clone, Copy, Debug)]
 pub struct NormalSolution {
-    /// [m] approach (rigid-body interpenetration `delta`)
+    /// \[m\] approach (rigid-body interpenetration `delta`)
     pub approach: f64,
-    /// [N] total normal force
+    /// \[N\] total normal force
     pub force: f64,
-    /// [Pa] largest cell pressure
+    /// \[Pa\] largest cell pressure
     pub p_max: f64,
     /// number of cells in contact (p > 0)
     pub n_contact: usize,
@@ -304,7 +304,7 @@ enum Control {
 pub struct HalfspaceSolver {
     grid: Grid,
     conv: Convolver,
-    /// [Pa] pressures of the last solve
+    /// \[Pa\] pressures of the last solve
     p: Vec<f64>,
     p_prev: Vec<f64>,
     u: Vec<f64>,
@@ -335,12 +335,12 @@ impl HalfspaceSolver {
         &self.grid
     }
 
-    /// [Pa] pressures of the last solve, row-major (`ix + nx iy`).
+    /// \[Pa\] pressures of the last solve, row-major (`ix + nx iy`).
     pub fn pressure(&self) -> &[f64] {
         &self.p
     }
 
-    /// Normal displacement difference `u = A p` [m] for cell pressures `p` [Pa] (row-major),
+    /// Normal displacement difference `u = A p` \[m\] for cell pressures `p` \[Pa\] (row-major),
     /// by FFT convolution.
     pub fn displacement(&mut self, p: &[f64], u: &mut [f64]) -> Result<(), ElasticError> {
         self.check_len("p.len()", p.len())?;
@@ -385,8 +385,8 @@ impl HalfspaceSolver {
         Ok(())
     }
 
-    /// Pressures for a prescribed total force `force` [N] >= 0 on the undeformed gap `gap`
-    /// (h_I [m] at each cell centre, row-major `ix + nx iy`).
+    /// Pressures for a prescribed total force `force` \[N\] >= 0 on the undeformed gap `gap`
+    /// (h_I \[m\] at each cell centre, row-major `ix + nx iy`).
     ///
     /// The solution satisfies `e = h - approach + u >= 0`, `p >= 0`, `p e = 0` with
     /// `u = A p` and `dx dy sum p = force`. Polonsky & Keer (1999) constrained conjugate
@@ -418,7 +418,7 @@ impl HalfspaceSolver {
         self.iterate(gap, Control::Force(force), tol, max_iter)
     }
 
-    /// Pressures for a prescribed approach `approach` [m] on the undeformed gap `gap`.
+    /// Pressures for a prescribed approach `approach` \[m\] on the undeformed gap `gap`.
     ///
     /// Polonsky & Keer's (1999) constrained conjugate gradients for the displacement-controlled
     /// problem (gradient `h - approach + A p`, no mean shift, no rescaling). Started from the

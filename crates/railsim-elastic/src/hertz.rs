@@ -337,21 +337,21 @@ pub fn stripes_epsilon(c: &HertzCoeffs, a_curv: f64, b_curv: f64) -> f64 {
 /// A Hertz contact ellipse.
 #[derive(Clone, Copy, Debug)]
 pub struct HertzSolution {
-    /// [m] semi-axis along the direction of curvature A
+    /// \[m\] semi-axis along the direction of curvature A
     pub a: f64,
-    /// [m] semi-axis along the direction of curvature B
+    /// \[m\] semi-axis along the direction of curvature B
     pub b: f64,
-    /// [m] approach (rigid interpenetration of the undeformed surfaces)
+    /// \[m\] approach (rigid interpenetration of the undeformed surfaces)
     pub delta: f64,
-    /// [Pa] maximum pressure `3N/(2 pi a b)`
+    /// \[Pa\] maximum pressure `3N/(2 pi a b)`
     pub p0: f64,
-    /// [N] normal load
+    /// \[N\] normal load
     pub n: f64,
     /// Hertz coefficients used
     pub coeffs: HertzCoeffs,
 }
 
-/// Hertz solution for a given normal load `n` [N] >= 0 (Johnson 1985, §4.2):
+/// Hertz solution for a given normal load `n` \[N\] >= 0 (Johnson 1985, §4.2):
 /// `c^3 = 3N/(4E*(A+B))`, `a = m c`, `b = n c`, `delta = r (A+B) c^2`, `p0 = 3N/(2 pi a b)`.
 /// Zero load gives a point contact with zero size and pressure.
 pub fn hertz_from_load(
@@ -381,7 +381,7 @@ fn assemble(coeffs: HertzCoeffs, sum: f64, c: f64, n: f64) -> HertzSolution {
     }
 }
 
-/// Hertz solution for a given approach `delta` [m] >= 0 (Johnson 1985, §4.2):
+/// Hertz solution for a given approach `delta` \[m\] >= 0 (Johnson 1985, §4.2):
 /// `c = sqrt(delta/(r(A+B)))`, `N = (4E*/3)(A+B) c^3`, i.e.
 /// `N = (4E*/3)(A+B)^{-1/2}(delta/r)^{3/2}`.
 pub fn hertz_from_approach(

@@ -72,7 +72,7 @@ fn row_at_nu(r: usize, nu: f64) -> [f64; 4] {
 }
 
 /// Kalker's creep coefficients for an ellipse with semi-axes `a` (rolling direction x) and `b`
-/// (lateral) [m] and Poisson ratio `nu` in [0, 0.5].
+/// (lateral) \[m\] and Poisson ratio `nu` in [0, 0.5].
 ///
 /// For `g = min(a/b, b/a) >= 0.1`: Kalker (1990) table E.3, quadratic in nu on 1/C, then
 /// linear in g between the rows of the same branch (a < b or a > b), as CONTACT's `linrol`.
@@ -155,9 +155,9 @@ impl Creepages {
 /// creepage.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TangentialForces {
-    /// [N] longitudinal force
+    /// \[N\] longitudinal force
     pub fx: f64,
-    /// [N] lateral force
+    /// \[N\] lateral force
     pub fy: f64,
     /// [N m] moment about the contact normal through the patch origin
     pub mz: f64,

@@ -9,7 +9,7 @@
 //! - [`kalker`]: Kalker's linear-theory creep coefficients C11, C22, C23, C33 and the linear
 //!   creep forces;
 //! - [`fastsim`]: Kalker's simplified theory (FASTSIM), per strip and on a Hertz ellipse;
-//! - [`polach`]: Polach's closed-form creep-force model;
+//! - [`polach`](mod@polach): Polach's closed-form creep-force model;
 //! - [`halfspace`]: a Boussinesq–Love boundary-element solver for the normal problem, used as
 //!   the reference against which the fast models are measured.
 //!

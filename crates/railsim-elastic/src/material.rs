@@ -9,7 +9,7 @@ use crate::error::{ElasticError, in_range, positive};
 /// `E* = G/(1-nu)`, which for identical bodies equals `E/(2(1-nu^2))` (Johnson 1985, §4.2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
-    /// [Pa] combined shear modulus
+    /// \[Pa\] combined shear modulus
     pub g: f64,
     /// [-] combined Poisson ratio
     pub nu: f64,
@@ -26,7 +26,7 @@ impl Material {
         Ok(Self { g, nu })
     }
 
-    /// Combine two bodies given by Young's moduli `e1`, `e2` [Pa] and Poisson ratios `nu1`, `nu2`.
+    /// Combine two bodies given by Young's moduli `e1`, `e2` \[Pa\] and Poisson ratios `nu1`, `nu2`.
     ///
     /// `G_i = E_i/(2(1+nu_i))`, then CONTACT's rule above.
     pub fn from_two(e1: f64, nu1: f64, e2: f64, nu2: f64) -> Result<Self, ElasticError> {
@@ -41,7 +41,7 @@ impl Material {
         Self::new(g, nu)
     }
 
-    /// [Pa] Hertz modulus E* = G/(1-nu) (Johnson 1985, eq. 4.22 with CONTACT's combination).
+    /// \[Pa\] Hertz modulus E* = G/(1-nu) (Johnson 1985, eq. 4.22 with CONTACT's combination).
     pub fn e_star(&self) -> f64 {
         self.g / (1.0 - self.nu)
     }

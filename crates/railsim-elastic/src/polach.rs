@@ -56,8 +56,8 @@ impl PolachParams {
 /// Largest gradient used; beyond it the formulas have reached their limits to machine precision.
 const EPS_MAX: f64 = 1e150;
 
-/// Polach's creep forces for an ellipse with semi-axes `a` (rolling direction) and `b` [m],
-/// normal load `n` [N], creepages `creep`, rolling speed `speed` [m/s] (for the slip velocity).
+/// Polach's creep forces for an ellipse with semi-axes `a` (rolling direction) and `b` \[m\],
+/// normal load `n` \[N\], creepages `creep`, rolling speed `speed` [m/s] (for the slip velocity).
 ///
 /// Formulas (Polach 1999; Polach 2005 eqs. 2-3; contact-theory note §3.4), Polach's sign:
 /// - spin-corrected lateral creepage `s_yC = s_y` if `|s_y + phi a| <= |s_y|`, else
