@@ -161,3 +161,35 @@ fn stripes_matches_contact_on_all_42_cases() {
     }
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
 }
+
+#[test]
+fn halfspace_penetration_matches_contact() {
+    let tol = tolerances("mbench_a22", "halfspace");
+    let reference = Table::read("tests/reference/mbench_a22/reference.csv");
+    let ours = run_all(ContactModelKind::Halfspace, 0.2e-3);
+    let mut failures = Vec::new();
+    for (r, rows) in &ours {
+        let side = reference.s(*r, "side");
+        let y = reference.f(*r, "y_ws_mm");
+        let pen_ref = reference.f(*r, "pen_mm");
+        let m = main_patch(rows);
+        eprintln!(
+            "{side:>5} {y:>5} pen {pen_ref:.5} ours {:.5} ({:+.2} %)  fn {:.0}/{:.0} fx {:.0}/{:.0} fs {:.0}/{:.0} pmax {:.0}/{:.0} np {}",
+            m.pen_mm,
+            100.0 * (m.pen_mm / pen_ref - 1.0),
+            reference.f(*r, "fn_N"),
+            m.fn_n,
+            reference.f(*r, "fx_N"),
+            m.fx_n,
+            reference.f(*r, "fs_N"),
+            m.fs_n,
+            reference.f(*r, "pmax_N_mm2"),
+            m.pmax_n_mm2,
+            rows.len()
+        );
+        if (m.pen_mm - pen_ref).abs() > tol["pen_rel"] * pen_ref {
+            failures.push(format!("{side} y={y}: pen {:.5} vs {pen_ref:.5}", m.pen_mm));
+        }
+    }
+    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+}

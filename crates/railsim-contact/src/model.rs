@@ -12,7 +12,7 @@
 //! | `halfspace` | Boussinesq–Love half-space (Kalker's NORM; Polonsky & Keer CG) on the patch's gap | FASTSIM per grid row |
 
 use railsim_elastic::{
-    Creepages, /*HS Grid, HalfspaceSolver,*/ PolachParams, TractionBound, blended_flexibilities,
+    Creepages, Grid, HalfspaceSolver, PolachParams, TractionBound, blended_flexibilities,
     fastsim_ellipse, fastsim_strip, hertz_from_approach, polach,
 };
 
@@ -214,15 +214,13 @@ pub struct ContactWorkspace {
     local: Vec<Local>,
     /// Patch results of the last evaluation.
     pub patches: Vec<PatchResult>,
-    //HS halfspace: Option<HalfspaceScratch>,
+    halfspace: Option<HalfspaceScratch>,
 }
 
-/*HS2
 struct HalfspaceScratch {
     solver: HalfspaceSolver,
     gap: Vec<f64>,
 }
-HS2*/
 
 impl ContactWorkspace {
     /// An empty workspace.
@@ -320,7 +318,7 @@ impl WheelRailContact {
                 ContactModelKind::Fastsim => (self.solve_hertz(&input, false)?, frame.delta0),
                 ContactModelKind::Polach => (self.solve_hertz(&input, true)?, frame.delta0),
                 ContactModelKind::Halfspace => {
-                    let f = PatchForces::default(); //HS solve_halfspace(&input, &self.opts, &mut ws.halfspace)?;
+                    let f = solve_halfspace(&input, &self.opts, &mut ws.halfspace)?;
                     (f, frame.delta0)
                 }
             };
@@ -544,7 +542,6 @@ impl WheelRailContact {
     }
 }
 
-/*HSBLOCK
 /// Half-space reference: the patch's undeformed gap on a grid in the patch plane, the exact
 /// elastic normal solution for the patch's penetration, and FASTSIM per grid row with the
 /// row's load as a semi-ellipse.
@@ -708,4 +705,3 @@ fn solve_halfspace(
     let _ = sol.approach;
     Ok(f)
 }
-HSBLOCK*/

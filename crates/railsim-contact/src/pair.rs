@@ -91,19 +91,26 @@ impl WheelRailPair {
         let (placed, rail_placement) =
             place_rail(&spec.rail, spec.inclination, spec.gauge, spec.gauge_depth)?;
         let rail = ArcCurve::from_profile(&placed, spec.smoothing, spec.curve_ds)?;
-        // Flange tip: the lowest wheel point (largest radius).
+        // Travelling starts at the flange tip (the lowest point on the gauge side of the
+        // measuring circle), so that the flange back, which faces away from the rail, is never
+        // paired; a profile without a flange (tip less than 5 mm below the measuring circle) is
+        // travelled from its gauge-side end.
         let n = (wheel.length() / spec.curve_ds).ceil() as usize;
         let mut s_tip = 0.0;
         let mut z_min = f64::INFINITY;
         let mut kw: f64 = 0.0;
+        let z_ref = spec.wheel.z_at(0.0).unwrap_or(0.0);
         for i in 0..=n {
             let s = (i as f64 * spec.curve_ds).min(wheel.length());
             let c = wheel.eval(s);
-            if c.p[1] < z_min {
+            if c.p[0] < 0.0 && c.p[1] < z_min {
                 z_min = c.p[1];
                 s_tip = s;
             }
             kw = kw.max(c.kappa.abs());
+        }
+        if z_min > z_ref - 5e-3 {
+            s_tip = 0.0;
         }
         let nr = (rail.length() / spec.curve_ds).ceil() as usize;
         let mut kr: f64 = 0.0;
