@@ -1,1 +1,119 @@
-//! Travelling error and step convergence (placeholder, filled below).
+//! The seed's travelling: its error (Fig. 10) and step-size convergence (Tables 1–2), on the
+//! benchmark wheel at the right wheel's y = 5 mm position of case A-2.2 (tread and flange-root
+//! patches at once) and y = 6.5 mm (flange).
+
+use railsim_contact::contact_format::ContactCase;
+use railsim_contact::{ContactModelKind, ContactWorkspace, PatchResult, Side};
+
+use crate::common::{mbench_contact, tol_scale};
+
+/// Right wheel of the benchmark at y = 5 mm (yaw 12 mrad) at CONTACT's converged height.
+fn case(y_mm: f64, yaw: f64, roll: f64, z_mm: f64, vpitch: f64) -> ContactCase {
+    ContactCase {
+        side: Side::Right,
+        y_ws_mm: y_mm,
+        yaw_ws_rad: yaw,
+        roll_ws_rad: roll,
+        vpitch_rad_s: vpitch,
+        z_ws_mm: Some(z_mm),
+        fz_target_n: None,
+        speed_mm_s: 2000.0,
+    }
+}
+
+fn y5() -> ContactCase {
+    case(5.0, 0.012, -0.0003554, 0.001519237626, -4.3353637)
+}
+
+fn y65() -> ContactCase {
+    case(6.5, 0.0156, -0.004376, -3.046792175, -4.3293718)
+}
+
+fn solve(c: &ContactCase, step: f64, ws: &mut ContactWorkspace) -> Vec<PatchResult> {
+    let contact = mbench_contact(ContactModelKind::Stripes, step);
+    let (pose, vel) = c.to_railsim();
+    contact.evaluate(c.side, &pose, &vel, ws).unwrap();
+    let mut p = ws.patches.clone();
+    p.sort_by(|a, b| a.y_rail_profile.total_cmp(&b.y_rail_profile));
+    p
+}
+
+#[test]
+fn travelling_error_below_seed_bounds_at_0_1_mm() {
+    let mut ws = ContactWorkspace::new();
+    // y = 5: flange root (steep, concave-convex) and tread patches.
+    let patches = solve(&y5(), 0.1e-3, &mut ws);
+    assert_eq!(patches.len(), 2, "tread and flange-root patches expected");
+    let (flange, tread) = (&patches[0], &patches[1]);
+    eprintln!(
+        "travel error at 0.1 mm: tread {:.2e} rad, flange root {:.2e} rad",
+        tread.travel_error, flange.travel_error
+    );
+    assert!(tread.travel_error < 1e-5 * tol_scale(), "tread {:.3e}", tread.travel_error);
+    assert!(flange.travel_error < 1e-3 * tol_scale(), "flange root {:.3e}", flange.travel_error);
+    // y = 6.5: the flange flank.
+    let patches = solve(&y65(), 0.1e-3, &mut ws);
+    let flank = patches.iter().max_by(|a, b| a.forces.fn_.total_cmp(&b.forces.fn_)).unwrap();
+    eprintln!("travel error at 0.1 mm: flange flank {:.2e} rad", flank.travel_error);
+    assert!(flank.travel_error < 1e-3 * tol_scale());
+    // The seed's Fig. 10 also shows the 0.5 mm step. Our correction is a Newton step with the
+    // curvature terms, so at 0.5 mm the error is already far below the seed's bounds (reported,
+    // and held to the same bounds).
+    let coarse = solve(&y5(), 0.5e-3, &mut ws);
+    eprintln!("travel error at 0.5 mm: tread {:.2e}, flange root {:.2e}", coarse[1].travel_error, coarse[0].travel_error);
+    assert!(coarse[1].travel_error < 1e-5 * tol_scale() && coarse[0].travel_error < 1e-3 * tol_scale());
+}
+
+#[test]
+fn step_refinement_converges_like_seed_tables_1_2() {
+    let mut ws = ContactWorkspace::new();
+    let fine = solve(&y5(), 0.01e-3, &mut ws);
+    assert_eq!(fine.len(), 2);
+    let mut prev: Option<[[f64; 3]; 2]> = None;
+    eprintln!("step mm | patch | position err mm | angle err rad | Fn err %");
+    for step_mm in [0.5, 0.2, 0.1] {
+        let p = solve(&y5(), step_mm * 1e-3, &mut ws);
+        assert_eq!(p.len(), 2, "two patches at step {step_mm}");
+        let mut errs = [[0.0; 3]; 2];
+        for k in 0..2 {
+            errs[k] = [
+                (p[k].y_rail_profile - fine[k].y_rail_profile).abs() * 1e3,
+                (p[k].contact_angle - fine[k].contact_angle).abs(),
+                (p[k].forces.fn_ / fine[k].forces.fn_ - 1.0).abs() * 100.0,
+            ];
+            eprintln!(
+                "{step_mm:7} | {} | {:15.5} | {:13.2e} | {:8.4} | delta0 {:.6} vs {:.6} um",
+                if k == 0 { "flange root" } else { "tread      " },
+                errs[k][0],
+                errs[k][1],
+                errs[k][2],
+                p[k].penetration * 1e6,
+                fine[k].penetration * 1e6
+            );
+        }
+        if let Some(pe) = prev {
+            // Errors fall as the step is refined (allow round-off level noise).
+            for k in 0..2 {
+                for q in 0..3 {
+                    assert!(
+                        errs[k][q] <= pe[k][q] * 1.05 + 1e-9,
+                        "error {q} of patch {k} grew from {} to {} at step {step_mm}",
+                        pe[k][q],
+                        errs[k][q]
+                    );
+                }
+            }
+        }
+        prev = Some(errs);
+    }
+    // At 0.1 mm the tread patch is within 0.1 % of the 0.01 mm solution (position relative to
+    // the patch width, angle relative to itself, Fn relative).
+    let p = solve(&y5(), 0.1e-3, &mut ws);
+    let t = (&p[1], &fine[1]);
+    let pos_rel = (t.0.y_rail_profile - t.1.y_rail_profile).abs() / t.1.forces.width;
+    let ang_rel = (t.0.contact_angle / t.1.contact_angle - 1.0).abs();
+    let fn_rel = (t.0.forces.fn_ / t.1.forces.fn_ - 1.0).abs();
+    eprintln!("tread at 0.1 mm: position {pos_rel:.2e}, angle {ang_rel:.2e}, Fn {fn_rel:.2e} (relative)");
+    let tol = 1e-3 * tol_scale();
+    assert!(pos_rel < tol && ang_rel < tol && fn_rel < tol);
+}

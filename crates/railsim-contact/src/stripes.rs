@@ -56,7 +56,19 @@ pub struct Local {
     l: f64,
     b: f64,
     hc: railsim_elastic::HertzCoeffs,
-    eps: f64,
+    /// [Pa] line load per unit virtual interpenetration, E*/(n r eps)
+    k: f64,
+    load: f64,
+    width: f64,
+}
+
+/// Parabola through three (l, u) points, evaluated at `l`.
+#[inline]
+fn quad(a: &Local, b: &Local, c: &Local, l: f64) -> f64 {
+    let (x0, x1, x2) = (a.l, b.l, c.l);
+    a.u * (l - x1) * (l - x2) / ((x0 - x1) * (x0 - x2))
+        + b.u * (l - x0) * (l - x2) / ((x1 - x0) * (x1 - x2))
+        + c.u * (l - x0) * (l - x1) / ((x2 - x0) * (x2 - x1))
 }
 
 /// One strip of a STRIPES patch.
@@ -125,42 +137,101 @@ pub fn solve(
             l: (m[0] - m0[0]) * fr.t[0] + (m[1] - m0[1]) * fr.t[1],
             b: b_i,
             hc,
-            eps: eps_i,
+            k: e_star / (hc.n * hc.r * eps_i),
+            load: 0.0,
+            width: 0.0,
         });
     }
-    strips.clear();
+    // Lateral integration of the line load q = K u, K = E*/(n r eps): on each segment between
+    // two pairs, u is interpolated by the mean of the two parabolas through the neighbouring
+    // pairs (third-order accurate; linear where a neighbour is missing), the positive part is
+    // integrated on SUB sub-intervals, and the load and width go to the nearer pair.
+    const SUB: usize = 4;
+    for li in local.iter_mut() {
+        li.load = 0.0;
+        li.width = 0.0;
+    }
+    let n_loc = local.len();
     let mut l_min = f64::INFINITY;
     let mut l_max = f64::NEG_INFINITY;
+    for k in 0..n_loc.saturating_sub(1) {
+        let (p0, p1) = (local[k], local[k + 1]);
+        let prev = if k > 0 { Some(local[k - 1]) } else { None };
+        let next = if k + 2 < n_loc { Some(local[k + 2]) } else { None };
+        if p0.u <= 0.0 && p1.u <= 0.0 && prev.is_none_or(|p| p.u <= 0.0) && next.is_none_or(|p| p.u <= 0.0) {
+            continue;
+        }
+        let interp = |l: f64| -> f64 {
+            let lin = p0.u + (p1.u - p0.u) * (l - p0.l) / (p1.l - p0.l);
+            let mut sum = 0.0;
+            let mut cnt = 0.0;
+            if let Some(pm) = &prev {
+                sum += quad(pm, &p0, &p1, l);
+                cnt += 1.0;
+            }
+            if let Some(pn) = &next {
+                sum += quad(&p0, &p1, pn, l);
+                cnt += 1.0;
+            }
+            if cnt > 0.0 { sum / cnt } else { lin }
+        };
+        let (k0, k1) = (p0.k, p1.k);
+        let mut ua = p0.u;
+        let mut la = p0.l;
+        for j in 1..=SUB {
+            let t = j as f64 / SUB as f64;
+            let lb = p0.l + t * (p1.l - p0.l);
+            let ub = if j == SUB { p1.u } else { interp(lb) };
+            let dl = (lb - la).abs();
+            // positive part of the linear piece between (la, ua) and (lb, ub)
+            let (len, mean_u, mid_t) = if ua > 0.0 && ub > 0.0 {
+                (dl, 0.5 * (ua + ub), t - 0.5 / SUB as f64)
+            } else if ua > 0.0 {
+                let f = ua / (ua - ub);
+                let edge = la + f * (lb - la);
+                l_min = l_min.min(edge);
+                l_max = l_max.max(edge);
+                (dl * f, 0.5 * ua, t - (1.0 - 0.5 * f) / SUB as f64)
+            } else if ub > 0.0 {
+                let f = ub / (ub - ua);
+                let edge = lb - f * (lb - la);
+                l_min = l_min.min(edge);
+                l_max = l_max.max(edge);
+                (dl * f, 0.5 * ub, t - 0.5 * f / SUB as f64)
+            } else {
+                (0.0, 0.0, 0.0)
+            };
+            if len > 0.0 {
+                if ua > 0.0 && ub > 0.0 {
+                    l_min = l_min.min(la.min(lb));
+                    l_max = l_max.max(la.max(lb));
+                }
+                let kk = k0 + mid_t * (k1 - k0);
+                let load = kk * mean_u * len;
+                let target = if mid_t < 0.5 { k } else { k + 1 };
+                local[target].load += load;
+                local[target].width += len;
+            }
+            ua = ub;
+            la = lb;
+        }
+    }
+    strips.clear();
     for i in lo..=hi {
         let li = &local[i - lo];
-        if li.u <= 0.0 {
+        if li.load <= 0.0 || li.width <= 0.0 {
             continue;
         }
-        // Width from the two neighbouring segments, clipped at the zero crossings of u.
-        let mut w = 0.0;
-        for j in [i.wrapping_sub(1), i + 1] {
-            if j < lo || j > hi {
-                continue;
-            }
-            let lj = &local[j - lo];
-            let seg = (lj.l - li.l).abs();
-            let reach = if lj.u > 0.0 { seg } else { seg * li.u / (li.u - lj.u) };
-            w += 0.5 * reach;
-            let edge = li.l + (lj.l - li.l).signum() * reach;
-            l_min = l_min.min(edge);
-            l_max = l_max.max(edge);
-        }
-        if w <= 0.0 {
-            continue;
-        }
-        let q = e_star * li.u / (li.hc.n * li.hc.r * li.eps);
+        let q = li.load / li.width;
+        // virtual interpenetration consistent with the strip's mean line load
+        let h = q / li.k;
         let ac = (li.hc.n / li.hc.m).powi(2) * li.b;
         strips.push(Strip {
             l: li.l,
-            w,
-            h: li.u,
+            w: li.width,
+            h,
             q,
-            a: (li.u / ac).sqrt(),
+            a: (h / ac).sqrt(),
             x: pairs[i].x - fr.wheel_point[0],
             pair: i,
         });
