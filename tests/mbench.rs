@@ -45,7 +45,20 @@ fn stripes_matches_contact_on_all_42_cases() {
     let mut failures = Vec::new();
     eprintln!(
         "{:>5} {:>5} | {:>8} {:>8} | {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} | np",
-        "side", "y", "ycp_ref", "ycp", "dlt_ref", "dlt", "pen_ref", "pen", "fn_ref", "fn", "fx_ref", "fx", "fs_ref", "fs"
+        "side",
+        "y",
+        "ycp_ref",
+        "ycp",
+        "dlt_ref",
+        "dlt",
+        "pen_ref",
+        "pen",
+        "fn_ref",
+        "fn",
+        "fx_ref",
+        "fx",
+        "fs_ref",
+        "fs"
     );
     for (i, rows) in &ours {
         let r = *i;
@@ -84,7 +97,11 @@ fn stripes_matches_contact_on_all_42_cases() {
                 let fn_reg = regions.f(g, "fn_N");
                 let p = rows
                     .iter()
-                    .min_by(|a, b| (a.ycp_r_mm - y_reg).abs().total_cmp(&(b.ycp_r_mm - y_reg).abs()))
+                    .min_by(|a, b| {
+                        (a.ycp_r_mm - y_reg)
+                            .abs()
+                            .total_cmp(&(b.ycp_r_mm - y_reg).abs())
+                    })
                     .unwrap();
                 eprintln!(
                     "      region {}: y_r {:.2} (ours {:.2}), Fn {:.0} (ours {:.0})",
@@ -132,7 +149,9 @@ fn stripes_matches_contact_on_all_42_cases() {
         ];
         for (name, got, want, t) in checks {
             if (got - want).abs() > t {
-                failures.push(format!("{side} y={y}: {name} {got:.4} vs {want:.4} (tol {t:.4})"));
+                failures.push(format!(
+                    "{side} y={y}: {name} {got:.4} vs {want:.4} (tol {t:.4})"
+                ));
             }
         }
         for (name, got, want) in [
@@ -141,7 +160,9 @@ fn stripes_matches_contact_on_all_42_cases() {
         ] {
             let t = (tol["force_rel"] * want.abs()).max(tol["force_abs_of_fn"] * fn_ref);
             if (got - want).abs() > t {
-                failures.push(format!("{side} y={y}: {name} {got:.0} vs {want:.0} (tol {t:.0})"));
+                failures.push(format!(
+                    "{side} y={y}: {name} {got:.0} vs {want:.0} (tol {t:.0})"
+                ));
             }
         }
     }
@@ -149,7 +170,9 @@ fn stripes_matches_contact_on_all_42_cases() {
     let angle_at = |side: &str, y: f64| {
         let (_, rows) = ours
             .iter()
-            .find(|(i, _)| reference.s(*i, "side") == side && (reference.f(*i, "y_ws_mm") - y).abs() < 1e-9)
+            .find(|(i, _)| {
+                reference.s(*i, "side") == side && (reference.f(*i, "y_ws_mm") - y).abs() < 1e-9
+            })
             .unwrap();
         main_patch(rows).delttr_rad
     };
@@ -159,7 +182,12 @@ fn stripes_matches_contact_on_all_42_cases() {
             "right wheel flange jump: contact angle {a6:.3} rad at 6.0 mm, {a65:.3} rad at 6.5 mm"
         ));
     }
-    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }
 
 #[test]
@@ -191,5 +219,10 @@ fn halfspace_penetration_matches_contact() {
             failures.push(format!("{side} y={y}: pen {:.5} vs {pen_ref:.5}", m.pen_mm));
         }
     }
-    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }

@@ -7,8 +7,8 @@
 
 use railsim_contact::stripes::StripesVariant;
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, Side, WheelRailContact, WheelRailPair,
-    WheelsetPose, WheelsetVelocity,
+    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, Side, WheelRailContact,
+    WheelRailPair, WheelsetPose, WheelsetVelocity,
 };
 use railsim_elastic::{Material, hertz_from_approach, hertz_from_load};
 use railsim_profile::{Profile, ProfileKind};
@@ -85,7 +85,11 @@ fn stripes_recovers_hertz_for_constant_curvatures() {
                 ..Default::default()
             };
             c.evaluate(Side::Left, &pose, &rolling(), &mut ws).unwrap();
-            assert_eq!(ws.patches.len(), 1, "one patch expected for rw={rw} rr={rr}");
+            assert_eq!(
+                ws.patches.len(),
+                1,
+                "one patch expected for rw={rw} rr={rr}"
+            );
             let p = ws.patches[0];
             let a = 0.5 / p.rolling_radius;
             let b = 0.5 * (1.0 / rw + 1.0 / rr);
@@ -104,11 +108,27 @@ fn stripes_recovers_hertz_for_constant_curvatures() {
                 100.0 * err_w,
                 100.0 * err_l
             );
-            assert!((p.penetration - 50e-6).abs() < 0.2e-6, "penetration {}", p.penetration);
+            assert!(
+                (p.penetration - 50e-6).abs() < 0.2e-6,
+                "penetration {}",
+                p.penetration
+            );
             assert!(err_n.abs() < tol, "N off Hertz by {:.3} %", 100.0 * err_n);
-            assert!(err_p.abs() < 2.0 * tol, "p0 off Hertz by {:.3} %", 100.0 * err_p);
-            assert!(err_w.abs() < 2.0 * tol, "width off Hertz by {:.3} %", 100.0 * err_w);
-            assert!(err_l.abs() < 2.0 * tol, "length off Hertz by {:.3} %", 100.0 * err_l);
+            assert!(
+                err_p.abs() < 2.0 * tol,
+                "p0 off Hertz by {:.3} %",
+                100.0 * err_p
+            );
+            assert!(
+                err_w.abs() < 2.0 * tol,
+                "width off Hertz by {:.3} %",
+                100.0 * err_w
+            );
+            assert!(
+                err_l.abs() < 2.0 * tol,
+                "length off Hertz by {:.3} %",
+                100.0 * err_l
+            );
         }
     }
 }
@@ -120,16 +140,43 @@ fn stripes_load_control_gives_hertz_approach() {
     let c = contact(pair, StripesVariant::LocalEpsilon);
     let mut ws = ContactWorkspace::new();
     let s = c
-        .evaluate_with_load(Side::Right, &WheelsetPose::default(), &rolling(), 50e3, 1e-8, &mut ws)
+        .evaluate_with_load(
+            Side::Right,
+            &WheelsetPose::default(),
+            &rolling(),
+            50e3,
+            1e-8,
+            &mut ws,
+        )
         .unwrap();
     let p = ws.patches[0];
-    let hz = hertz_from_load(0.5 / p.rolling_radius, 0.5 * (2.0 / 0.3), p.forces.fn_, &mat).unwrap();
+    let hz = hertz_from_load(
+        0.5 / p.rolling_radius,
+        0.5 * (2.0 / 0.3),
+        p.forces.fn_,
+        &mat,
+    )
+    .unwrap();
     let err = p.penetration / hz.delta - 1.0;
-    eprintln!("load control: delta {:.3} µm vs Hertz {:.3} µm ({:+.3} %), {} iterations", p.penetration * 1e6, hz.delta * 1e6, 100.0 * err, s.load_iterations);
-    assert!((s.force_track[2] - 50e3).abs() < 1e-3, "vertical force {}", s.force_track[2]);
+    eprintln!(
+        "load control: delta {:.3} µm vs Hertz {:.3} µm ({:+.3} %), {} iterations",
+        p.penetration * 1e6,
+        hz.delta * 1e6,
+        100.0 * err,
+        s.load_iterations
+    );
+    assert!(
+        (s.force_track[2] - 50e3).abs() < 1e-3,
+        "vertical force {}",
+        s.force_track[2]
+    );
     assert!(err.abs() < 0.01 * tol_scale());
     // The iteration count is a machine-independent cost proxy.
-    assert!(s.load_iterations <= 12, "{} load iterations", s.load_iterations);
+    assert!(
+        s.load_iterations <= 12,
+        "{} load iterations",
+        s.load_iterations
+    );
 }
 
 #[test]

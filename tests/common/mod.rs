@@ -4,7 +4,9 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-use railsim_contact::{ContactModelKind, ContactOptions, PairSpec, WheelRailContact, WheelRailPair};
+use railsim_contact::{
+    ContactModelKind, ContactOptions, PairSpec, WheelRailContact, WheelRailPair,
+};
 use railsim_elastic::Material;
 use railsim_profile::{ProfileKind, read_simpack};
 
@@ -23,7 +25,8 @@ pub fn tol_scale() -> f64 {
 
 /// Read `tests/reference/<case>/tolerances.toml`, table `section`, scaled.
 pub fn tolerances(case: &str, section: &str) -> HashMap<String, f64> {
-    let text = std::fs::read_to_string(repo(&format!("tests/reference/{case}/tolerances.toml"))).unwrap();
+    let text =
+        std::fs::read_to_string(repo(&format!("tests/reference/{case}/tolerances.toml"))).unwrap();
     let v: toml::Table = toml::from_str(&text).unwrap();
     let t = v[section].as_table().unwrap();
     t.iter()
@@ -35,8 +38,16 @@ pub fn tolerances(case: &str, section: &str) -> HashMap<String, f64> {
 /// 1435 at 14 mm, no extra inclination, flange back 1360 at -70 mm, r0 = 460 mm, G = 82 GPa,
 /// nu = 0.28, mu = 0.3.
 pub fn mbench_pair() -> WheelRailPair {
-    let wheel = read_simpack(&repo("vehicles/profiles/MBench_S1002_v3.prw"), ProfileKind::Wheel).unwrap();
-    let rail = read_simpack(&repo("tracks/profiles/MBench_UIC60_v3.prr"), ProfileKind::Rail).unwrap();
+    let wheel = read_simpack(
+        &repo("vehicles/profiles/MBench_S1002_v3.prw"),
+        ProfileKind::Wheel,
+    )
+    .unwrap();
+    let rail = read_simpack(
+        &repo("tracks/profiles/MBench_UIC60_v3.prr"),
+        ProfileKind::Rail,
+    )
+    .unwrap();
     WheelRailPair::new(&PairSpec {
         wheel,
         rail,

@@ -1,1 +1,591 @@
-fn main() {}
+//! `railsim`, the command-line program. The only crate that prints and chooses exit codes:
+//! 0 ok, 1 the computation ran but a check failed, 2 usage, input or model error.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use railsim_contact::contact_format::{ContactRow, parse_cases_csv, solve_case};
+use railsim_contact::{
+    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, PatchResult, Side,
+    WheelRailContact, WheelRailPair, WheelsetPose, WheelsetVelocity,
+};
+use railsim_elastic::Material;
+use railsim_profile::conicity::{
+    WheelsetTrackSetup, delta_r_interp, equivalent_conicity_harmonic,
+    equivalent_conicity_kinematic, rolling_radius_difference,
+};
+use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
+
+/// railsim: rail-vehicle dynamics with online multi-patch wheel/rail contact.
+#[derive(Parser)]
+#[command(name = "railsim", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Evaluate one wheel/rail contact (default: S1002 on UIC60 1:40, gauge 1435 mm, flange-back
+    /// 1360 mm, r0 = 460 mm, 10 kN wheel load), or a batch of cases with --cases.
+    Contact(ContactArgs),
+    /// Rolling-radius difference, contact angles and equivalent conicity of a wheelset on a track.
+    Conicity(ConicityArgs),
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ModelName {
+    Polach,
+    Fastsim,
+    Stripes,
+    Halfspace,
+}
+
+impl From<ModelName> for ContactModelKind {
+    fn from(m: ModelName) -> Self {
+        match m {
+            ModelName::Polach => ContactModelKind::Polach,
+            ModelName::Fastsim => ContactModelKind::Fastsim,
+            ModelName::Stripes => ContactModelKind::Stripes,
+            ModelName::Halfspace => ContactModelKind::Halfspace,
+        }
+    }
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq, Eq)]
+enum SideName {
+    Left,
+    Right,
+}
+
+/// Wheel, rail, track and material: shared by `contact` and `conicity`.
+#[derive(Args, Clone)]
+struct PairArgs {
+    /// Wheel profile: SIMPACK .prw or a y-z table in mm (z up); default built-in S1002.
+    #[arg(long)]
+    wheel: Option<PathBuf>,
+    /// Rail profile: SIMPACK .prr or a y-z table in mm (z up); default built-in UIC60 (60E1).
+    #[arg(long)]
+    rail: Option<PathBuf>,
+    /// Rail inclination applied to the rail profile, as 1:N or 0 (use 0 for a profile file that
+    /// is already inclined, such as the Manchester benchmark .prr).
+    #[arg(long, default_value = "1:40")]
+    inclination: String,
+    /// Track gauge [mm], measured 14 mm below the top of the rail.
+    #[arg(long, default_value_t = 1435.0)]
+    gauge_mm: f64,
+    /// Flange-back distance [mm].
+    #[arg(long, default_value_t = 1360.0)]
+    flange_back_mm: f64,
+    /// Lateral position of the flange back on the wheel profile [mm].
+    #[arg(long, default_value_t = -70.0, allow_hyphen_values = true)]
+    flange_back_y_mm: f64,
+    /// Nominal rolling radius [mm].
+    #[arg(long, default_value_t = 460.0)]
+    r0_mm: f64,
+    /// Combined shear modulus [GPa] (82 GPa with nu = 0.28 is E = 210 GPa).
+    #[arg(long, default_value_t = 82.0)]
+    shear_modulus_gpa: f64,
+    /// Poisson's ratio.
+    #[arg(long, default_value_t = 0.28)]
+    poisson: f64,
+    /// Coulomb friction coefficient.
+    #[arg(long, default_value_t = 0.3)]
+    mu: f64,
+}
+
+#[derive(Args)]
+struct ContactArgs {
+    #[command(flatten)]
+    pair: PairArgs,
+    /// Contact model.
+    #[arg(long, value_enum, default_value = "stripes")]
+    model: ModelName,
+    /// Travelling step of the isosceles pairs [mm].
+    #[arg(long, default_value_t = 0.2)]
+    step_mm: f64,
+    /// Which wheel.
+    #[arg(long, value_enum, default_value = "left")]
+    side: SideName,
+    /// Lateral wheelset displacement [mm], positive to the left (track frame).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    y_mm: f64,
+    /// Yaw angle [mrad], positive nose to the left.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    yaw_mrad: f64,
+    /// Roll angle [mrad] about the track x-axis.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    roll_mrad: f64,
+    /// Forward speed [m/s].
+    #[arg(long, default_value_t = 20.0)]
+    speed_m_s: f64,
+    /// Wheelset spin [rad/s]; default pure rolling, speed / r0.
+    #[arg(long, allow_hyphen_values = true)]
+    spin_rad_s: Option<f64>,
+    /// Vertical wheel load [kN] (the wheelset height is iterated to carry it).
+    #[arg(long, conflicts_with = "z_mm")]
+    load_kn: Option<f64>,
+    /// Vertical wheelset position [mm] (up), instead of a load.
+    #[arg(long, allow_hyphen_values = true)]
+    z_mm: Option<f64>,
+    /// Batch mode: a CSV of cases with CONTACT's column names (side, y_ws_mm, yaw_ws_rad,
+    /// roll_ws_rad, vpitch_rad_s, and fz_target_N or z_ws_mm), in CONTACT's conventions.
+    #[arg(long, requires = "out")]
+    cases: Option<PathBuf>,
+    /// Write the results: .csv or .json (batch mode: CSV, one row per case and patch).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct ConicityArgs {
+    #[command(flatten)]
+    pair: PairArgs,
+    /// Amplitudes at which the equivalent conicity is reported [mm].
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4,5,6")]
+    amplitudes_mm: Vec<f64>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Contact(a) => run_contact(&a),
+        Command::Conicity(a) => run_conicity(&a),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("railsim: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn parse_inclination(s: &str) -> Result<f64> {
+    let s = s.trim();
+    if let Some((a, b)) = s.split_once(':') {
+        let a: f64 = a
+            .trim()
+            .parse()
+            .map_err(|_| anyhow!("--inclination: expected 1:N or 0, found \"{s}\""))?;
+        let b: f64 = b
+            .trim()
+            .parse()
+            .map_err(|_| anyhow!("--inclination: expected 1:N or 0, found \"{s}\""))?;
+        if !(a.is_finite() && b.is_finite() && b > 0.0) {
+            bail!("--inclination: expected 1:N with N > 0, found \"{s}\"");
+        }
+        return Ok((a / b).atan());
+    }
+    let v: f64 = s
+        .parse()
+        .map_err(|_| anyhow!("--inclination: expected 1:N or 0, found \"{s}\""))?;
+    if v != 0.0 {
+        bail!("--inclination: expected 1:N or 0, found \"{s}\"");
+    }
+    Ok(0.0)
+}
+
+fn load_profile(path: &Path, kind: ProfileKind) -> Result<Profile> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let p = match ext.as_str() {
+        "prw" | "prr" => read_simpack(path, kind)?,
+        _ => read_table_mm(path, kind)?,
+    };
+    Ok(p)
+}
+
+fn positive(name: &str, v: f64) -> Result<f64> {
+    if !(v.is_finite() && v > 0.0) {
+        bail!("{name}: expected a positive number, found {v}");
+    }
+    Ok(v)
+}
+
+fn build_pair(a: &PairArgs) -> Result<WheelRailPair> {
+    let wheel = match &a.wheel {
+        Some(p) => load_profile(p, ProfileKind::Wheel)?,
+        None => analytic::s1002(),
+    };
+    let rail = match &a.rail {
+        Some(p) => load_profile(p, ProfileKind::Rail)?,
+        None => analytic::uic60(),
+    };
+    let material = Material::new(
+        positive("--shear-modulus-gpa", a.shear_modulus_gpa)? * 1e9,
+        a.poisson,
+    )
+    .map_err(|e| anyhow!("material: {e}"))?;
+    let spec = PairSpec {
+        wheel,
+        rail,
+        r0: positive("--r0-mm", a.r0_mm)? * 1e-3,
+        flange_back_distance: positive("--flange-back-mm", a.flange_back_mm)? * 1e-3,
+        flange_back_y: a.flange_back_y_mm * 1e-3,
+        gauge: positive("--gauge-mm", a.gauge_mm)? * 1e-3,
+        gauge_depth: 0.014,
+        inclination: parse_inclination(&a.inclination)?,
+        material,
+        mu: a.mu,
+        curve_ds: 5e-5,
+        smoothing: 0.0,
+    };
+    Ok(WheelRailPair::new(&spec)?)
+}
+
+fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
+    let pair = build_pair(&a.pair)?;
+    let mut opts = ContactOptions {
+        model: a.model.into(),
+        ..Default::default()
+    };
+    opts.travel.step = a.step_mm * 1e-3;
+    opts.travel.max_step = opts.travel.max_step.max(opts.travel.step);
+    let contact = WheelRailContact::new(pair, opts)?;
+    let mut ws = ContactWorkspace::new();
+    if let Some(cases) = &a.cases {
+        return run_batch(
+            &contact,
+            cases,
+            a.out.as_deref().expect("clap requires --out"),
+            &mut ws,
+        );
+    }
+    let side = match a.side {
+        SideName::Left => Side::Left,
+        SideName::Right => Side::Right,
+    };
+    let r0 = contact.pair.r0;
+    let vx = positive("--speed-m-s", a.speed_m_s)?;
+    let vel = WheelsetVelocity {
+        vx,
+        spin: a.spin_rad_s.unwrap_or(vx / r0),
+        ..Default::default()
+    };
+    let mut pose = WheelsetPose {
+        y: a.y_mm * 1e-3,
+        z: a.z_mm.unwrap_or(0.0) * 1e-3,
+        roll: a.roll_mrad * 1e-3,
+        yaw: a.yaw_mrad * 1e-3,
+    };
+    let summary = if a.z_mm.is_some() {
+        contact.evaluate(side, &pose, &vel, &mut ws)?
+    } else {
+        let load = a.load_kn.unwrap_or(10.0);
+        contact.evaluate_with_load(
+            side,
+            &pose,
+            &vel,
+            positive("--load-kn", load)? * 1e3,
+            1e-6,
+            &mut ws,
+        )?
+    };
+    pose.z = summary.z;
+    print_patches(&contact, side, &pose, &summary, &ws.patches);
+    if let Some(out) = &a.out {
+        write_single(out, side, &pose, &ws.patches)?;
+        println!("wrote {}", out.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_patches(
+    contact: &WheelRailContact,
+    side: Side,
+    pose: &WheelsetPose,
+    summary: &railsim_contact::WheelSummary,
+    patches: &[PatchResult],
+) {
+    println!(
+        "{} wheel, model {}, step {} mm: y = {:.3} mm, z = {:.4} mm, roll = {:.3} mrad, yaw = {:.3} mrad; {} patch(es), {} isosceles pairs",
+        side.name(),
+        contact.opts.model.name(),
+        contact.opts.travel.step * 1e3,
+        pose.y * 1e3,
+        pose.z * 1e3,
+        pose.roll * 1e3,
+        pose.yaw * 1e3,
+        patches.len(),
+        summary.travel.pairs
+    );
+    if patches.is_empty() {
+        println!("no contact");
+        return;
+    }
+    println!(
+        "{:>5} {:>11} {:>11} {:>9} {:>9} {:>10} {:>10} {:>10} {:>9} {:>9} {:>9} {:>10}",
+        "patch",
+        "y_rail[mm]",
+        "y_wheel[mm]",
+        "angle[°]",
+        "pen[µm]",
+        "Fn[N]",
+        "Fx[N]",
+        "Fs[N]",
+        "Mz[N·m]",
+        "2a[mm]",
+        "2b[mm]",
+        "pmax[MPa]"
+    );
+    for (i, p) in patches.iter().enumerate() {
+        let f = &p.forces;
+        println!(
+            "{:>5} {:>11.3} {:>11.3} {:>9.3} {:>9.3} {:>10.1} {:>10.1} {:>10.1} {:>9.3} {:>9.3} {:>9.3} {:>10.1}",
+            i + 1,
+            p.y_rail_profile * 1e3,
+            p.y_wheel_profile * 1e3,
+            p.contact_angle.to_degrees(),
+            p.penetration * 1e6,
+            f.fn_,
+            f.fx,
+            f.fs,
+            f.mz,
+            f.length * 1e3,
+            f.width * 1e3,
+            f.p_max * 1e-6
+        );
+    }
+    println!(
+        "total force on the wheel, track frame: Fx = {:.1} N, Fy = {:.1} N, Fz = {:.1} N",
+        summary.force_track[0], summary.force_track[1], summary.force_track[2]
+    );
+}
+
+const SINGLE_COLUMNS: [&str; 17] = [
+    "side",
+    "patch",
+    "y_ws_mm",
+    "z_ws_mm",
+    "y_rail_mm",
+    "y_wheel_mm",
+    "contact_angle_rad",
+    "penetration_mm",
+    "fn_N",
+    "fx_N",
+    "fs_N",
+    "mz_Nm",
+    "length_mm",
+    "width_mm",
+    "pmax_MPa",
+    "fy_track_N",
+    "fz_track_N",
+];
+
+fn single_values(i: usize, pose: &WheelsetPose, p: &PatchResult) -> [f64; 16] {
+    let f = &p.forces;
+    [
+        (i + 1) as f64,
+        pose.y * 1e3,
+        pose.z * 1e3,
+        p.y_rail_profile * 1e3,
+        p.y_wheel_profile * 1e3,
+        p.contact_angle,
+        p.penetration * 1e3,
+        f.fn_,
+        f.fx,
+        f.fs,
+        f.mz,
+        f.length * 1e3,
+        f.width * 1e3,
+        f.p_max * 1e-6,
+        p.force_track[1],
+        p.force_track[2],
+    ]
+}
+
+fn write_single(
+    out: &Path,
+    side: Side,
+    pose: &WheelsetPose,
+    patches: &[PatchResult],
+) -> Result<()> {
+    let ext = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let mut s = String::new();
+    match ext.as_str() {
+        "csv" => {
+            s.push_str(&SINGLE_COLUMNS.join(","));
+            s.push('\n');
+            for (i, p) in patches.iter().enumerate() {
+                let v = single_values(i, pose, p);
+                s.push_str(side.name());
+                for x in v {
+                    write!(s, ",{x}").unwrap();
+                }
+                s.push('\n');
+            }
+        }
+        "json" => {
+            let arr: Vec<serde_json::Value> = patches
+                .iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    let v = single_values(i, pose, p);
+                    let mut m = serde_json::Map::new();
+                    m.insert("side".into(), side.name().into());
+                    for (k, x) in SINGLE_COLUMNS[1..].iter().zip(v) {
+                        m.insert((*k).into(), x.into());
+                    }
+                    serde_json::Value::Object(m)
+                })
+                .collect();
+            s = serde_json::to_string_pretty(&arr)?;
+            s.push('\n');
+        }
+        _ => bail!(
+            "--out {}: expected a file name ending in .csv or .json, found extension \"{ext}\"",
+            out.display()
+        ),
+    }
+    std::fs::write(out, s).with_context(|| format!("writing {}", out.display()))
+}
+
+/// Batch output columns: CONTACT's names and conventions.
+const BATCH_COLUMNS: [&str; 18] = [
+    "case",
+    "side",
+    "icp",
+    "z_ws_mm",
+    "ycp_r_mm",
+    "delttr_rad",
+    "pen_mm",
+    "fn_N",
+    "fx_N",
+    "fs_N",
+    "mz_Nmm",
+    "pmax_N_mm2",
+    "length_x_mm",
+    "width_s_mm",
+    "cksi",
+    "ceta",
+    "cphi_rad_mm",
+    "ycp_w_mm",
+];
+
+fn run_batch(
+    contact: &WheelRailContact,
+    cases: &Path,
+    out: &Path,
+    ws: &mut ContactWorkspace,
+) -> Result<ExitCode> {
+    let text =
+        std::fs::read_to_string(cases).with_context(|| format!("reading {}", cases.display()))?;
+    let name = cases.display().to_string();
+    let list = parse_cases_csv(&text, &name)?;
+    let mut s = BATCH_COLUMNS.join(",");
+    s.push('\n');
+    let mut rows: Vec<ContactRow> = Vec::new();
+    let mut n_rows = 0;
+    for (label, case) in &list {
+        let z = solve_case(contact, case, ws, &mut rows).with_context(|| {
+            format!(
+                "{name}: case {label} ({} wheel, y_ws = {} mm)",
+                case.side.name(),
+                case.y_ws_mm
+            )
+        })?;
+        for (i, r) in rows.iter().enumerate() {
+            write!(
+                s,
+                "{label},{},{},{z},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                case.side.name(),
+                i + 1,
+                r.ycp_r_mm,
+                r.delttr_rad,
+                r.pen_mm,
+                r.fn_n,
+                r.fx_n,
+                r.fs_n,
+                r.mz_nmm,
+                r.pmax_n_mm2,
+                r.length_x_mm,
+                r.width_s_mm,
+                r.cksi,
+                r.ceta,
+                r.cphi_rad_mm,
+                r.ycp_w_mm
+            )
+            .unwrap();
+            s.push('\n');
+            n_rows += 1;
+        }
+    }
+    std::fs::write(out, s).with_context(|| format!("writing {}", out.display()))?;
+    println!(
+        "{} cases, {} patch rows written to {}",
+        list.len(),
+        n_rows,
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
+    let wheel = match &a.pair.wheel {
+        Some(p) => load_profile(p, ProfileKind::Wheel)?,
+        None => analytic::s1002(),
+    };
+    let rail = match &a.pair.rail {
+        Some(p) => load_profile(p, ProfileKind::Rail)?,
+        None => analytic::uic60(),
+    };
+    let setup = WheelsetTrackSetup {
+        gauge: positive("--gauge-mm", a.pair.gauge_mm)? * 1e-3,
+        gauge_depth: 0.014,
+        inclination_rad: parse_inclination(&a.pair.inclination)?,
+        flange_back_spacing: positive("--flange-back-mm", a.pair.flange_back_mm)? * 1e-3,
+        flange_back_y: a.pair.flange_back_y_mm * 1e-3,
+        r0: positive("--r0-mm", a.pair.r0_mm)? * 1e-3,
+    };
+    let ys: Vec<f64> = (-400..=400).map(|i| i as f64 * 25e-6).collect();
+    let samples = rolling_radius_difference(&wheel, &rail, &setup, &ys)?;
+    println!(
+        "{:>8} {:>10} {:>12} {:>12} {:>10} {:>10}",
+        "y[mm]", "Δr[mm]", "S_left[mm]", "S_right[mm]", "γL[°]", "γR[°]"
+    );
+    for s in samples
+        .iter()
+        .filter(|s| ((s.y_ws * 1e3 * 2.0).round() - s.y_ws * 2e3).abs() < 1e-9 && s.y_ws >= 0.0)
+    {
+        println!(
+            "{:>8.2} {:>10.4} {:>12.3} {:>12.3} {:>10.3} {:>10.3}",
+            s.y_ws * 1e3,
+            s.delta_r * 1e3,
+            s.y_contact_wheel_left * 1e3,
+            s.y_contact_wheel_right * 1e3,
+            s.contact_angle_left.to_degrees(),
+            s.contact_angle_right.to_degrees()
+        );
+    }
+    let e0 = 0.5 * (setup.flange_back_spacing - 2.0 * setup.flange_back_y);
+    println!(
+        "{:>14} {:>12} {:>12} {:>14}",
+        "amplitude[mm]", "λe harmonic", "λe kinematic", "wavelength[m]"
+    );
+    for &amp in &a.amplitudes_mm {
+        let amp_m = positive("--amplitudes-mm", amp)? * 1e-3;
+        if amp_m > 0.0099 {
+            bail!("--amplitudes-mm: expected amplitudes up to 9.9 mm, found {amp}");
+        }
+        let f = |y: f64| delta_r_interp(&samples, y);
+        let h = equivalent_conicity_harmonic(f, amp_m);
+        let k = equivalent_conicity_kinematic(f, amp_m, e0, setup.r0);
+        match k {
+            Some((lk, l)) => println!("{amp:>14.2} {h:>12.4} {lk:>12.4} {l:>14.2}"),
+            None => println!("{amp:>14.2} {h:>12.4} {:>12} {:>14}", "-", "-"),
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

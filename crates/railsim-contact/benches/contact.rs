@@ -1,1 +1,163 @@
-fn main(){}
+//! Speed and accuracy of the contact models on the Manchester benchmark A-2.2 (42 wheel/rail
+//! cases, 10 kN per wheel) against CONTACT's exact results.
+//!
+//! For each model and travelling step, the set-up solves the 42 cases with the load prescribed
+//! and prints the errors against the reference (a markdown row for docs/performance.md); the
+//! timed part is one evaluation at the converged position of each case (what the dynamics does
+//! at every right-hand-side evaluation), so a criterion sample is 42 evaluations.
+//!
+//! Run: `cargo bench -p railsim-contact --bench contact`. Filter with a model name, e.g.
+//! `cargo bench -p railsim-contact --bench contact -- stripes`.
+#![allow(missing_docs)]
+
+use std::hint::black_box;
+use std::path::PathBuf;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use railsim_contact::contact_format::{ContactCase, parse_cases_csv, solve_case};
+use railsim_contact::{
+    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, WheelRailContact, WheelRailPair,
+    WheelsetPose, WheelsetVelocity,
+};
+use railsim_elastic::Material;
+use railsim_profile::{ProfileKind, read_simpack};
+
+fn repo(rel: &str) -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(rel)
+}
+
+fn pair() -> WheelRailPair {
+    let wheel = read_simpack(
+        &repo("vehicles/profiles/MBench_S1002_v3.prw"),
+        ProfileKind::Wheel,
+    )
+    .unwrap();
+    let rail = read_simpack(
+        &repo("tracks/profiles/MBench_UIC60_v3.prr"),
+        ProfileKind::Rail,
+    )
+    .unwrap();
+    WheelRailPair::new(&PairSpec {
+        wheel,
+        rail,
+        r0: 0.460,
+        flange_back_distance: 1.360,
+        flange_back_y: -0.070,
+        gauge: 1.435,
+        gauge_depth: 0.014,
+        inclination: 0.0,
+        material: Material::new(82e9, 0.28).unwrap(),
+        mu: 0.3,
+        curve_ds: 5e-5,
+        smoothing: 0.0,
+    })
+    .unwrap()
+}
+
+struct Reference {
+    cols: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Reference {
+    fn f(&self, r: usize, c: &str) -> f64 {
+        let i = self.cols.iter().position(|x| x == c).unwrap();
+        self.rows[r][i].parse().unwrap()
+    }
+}
+
+/// Errors of one model/step over the 42 cases: max |d ycp| [mm], max |d angle| [rad],
+/// max and mean |d pen|/pen, max |d Fx|/Fn, max |d Fs|/Fn.
+fn errors(
+    contact: &WheelRailContact,
+    cases: &[(String, ContactCase)],
+    r: &Reference,
+) -> ([f64; 6], Vec<(WheelsetPose, WheelsetVelocity)>) {
+    let mut ws = ContactWorkspace::new();
+    let mut rows = Vec::new();
+    let mut e = [0.0f64; 6];
+    let mut poses = Vec::new();
+    for (i, (_, case)) in cases.iter().enumerate() {
+        let z = solve_case(contact, case, &mut ws, &mut rows).unwrap();
+        let (mut pose, vel) = case.to_railsim();
+        pose.z = -z * 1e-3;
+        poses.push((pose, vel));
+        let m = rows
+            .iter()
+            .max_by(|a, b| a.fn_n.total_cmp(&b.fn_n))
+            .unwrap();
+        let fn_ref = r.f(i, "fn_N");
+        let pen = r.f(i, "pen_mm");
+        // The two-region case is compared region by region in the tests; here only its main
+        // patch's penetration and angle enter.
+        let two_regions = (r.f(i, "y_ws_mm") - 5.0).abs() < 1e-9 && r.rows[i][0] == "right";
+        if !two_regions {
+            e[0] = e[0].max((m.ycp_r_mm - r.f(i, "ycp_r_mm")).abs());
+            e[4] = e[4].max((m.fx_n - r.f(i, "fx_N")).abs() / fn_ref);
+            e[5] = e[5].max((m.fs_n - r.f(i, "fs_N")).abs() / fn_ref);
+        }
+        e[1] = e[1].max((m.delttr_rad - r.f(i, "delttr_rad")).abs());
+        e[2] = e[2].max((m.pen_mm / pen - 1.0).abs());
+        e[3] += (m.pen_mm / pen - 1.0).abs() / cases.len() as f64;
+    }
+    (e, poses)
+}
+
+fn bench(c: &mut Criterion) {
+    let text = std::fs::read_to_string(repo("tests/reference/mbench_a22/reference.csv")).unwrap();
+    let cases = parse_cases_csv(&text, "reference.csv").unwrap();
+    let mut lines = text.lines();
+    let reference = Reference {
+        cols: lines.next().unwrap().split(',').map(String::from).collect(),
+        rows: lines
+            .map(|l| l.split(',').map(String::from).collect())
+            .collect(),
+    };
+    let base = pair();
+    println!(
+        "| model | step mm | max d ycp_r mm | max d angle rad | max d pen % | mean d pen % | max d Fx / Fn | max d Fs / Fn |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    let mut group = c.benchmark_group("contact_42_cases");
+    group.sample_size(20);
+    for model in ContactModelKind::ALL {
+        for step in [0.5e-3, 0.2e-3, 0.1e-3] {
+            if model == ContactModelKind::Halfspace && step < 0.2e-3 {
+                continue;
+            }
+            let mut opts = ContactOptions {
+                model,
+                ..Default::default()
+            };
+            opts.travel.step = step;
+            let contact = WheelRailContact::new(base.clone(), opts).unwrap();
+            let (e, poses) = errors(&contact, &cases, &reference);
+            println!(
+                "| {} | {} | {:.3} | {:.4} | {:.1} | {:.2} | {:.3} | {:.3} |",
+                model.name(),
+                step * 1e3,
+                e[0],
+                e[1],
+                100.0 * e[2],
+                100.0 * e[3],
+                e[4],
+                e[5]
+            );
+            let mut ws = ContactWorkspace::new();
+            group.bench_function(format!("{}_step{}", model.name(), step * 1e3), |b| {
+                b.iter(|| {
+                    for (i, (pose, vel)) in poses.iter().enumerate() {
+                        let s = contact
+                            .evaluate(cases[i].1.side, pose, vel, &mut ws)
+                            .unwrap();
+                        black_box(s);
+                    }
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -139,7 +139,10 @@ pub struct CaseError {
 /// `fz_target_N` means the position is prescribed). Optional `case` (a label), and `speed_mm_s`
 /// (default 2000). Other columns are ignored, so CONTACT's reference files can be read as they
 /// are. Returns the cases with their labels.
-pub fn parse_cases_csv(text: &str, source_name: &str) -> Result<Vec<(String, ContactCase)>, CaseError> {
+pub fn parse_cases_csv(
+    text: &str,
+    source_name: &str,
+) -> Result<Vec<(String, ContactCase)>, CaseError> {
     let err = |line: usize, message: String| CaseError {
         source_name: source_name.to_string(),
         line,
@@ -150,7 +153,9 @@ pub fn parse_cases_csv(text: &str, source_name: &str) -> Result<Vec<(String, Con
         .enumerate()
         .map(|(i, l)| (i + 1, l.trim()))
         .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-    let (hline, header) = lines.next().ok_or_else(|| err(1, "the file is empty: expected a header line".into()))?;
+    let (hline, header) = lines
+        .next()
+        .ok_or_else(|| err(1, "the file is empty: expected a header line".into()))?;
     let cols: Vec<&str> = header.split(',').map(str::trim).collect();
     let find = |name: &str| cols.iter().position(|c| c.eq_ignore_ascii_case(name));
     let need = |name: &'static str| {
@@ -169,7 +174,10 @@ pub fn parse_cases_csv(text: &str, source_name: &str) -> Result<Vec<(String, Con
     let c_fz = find("fz_target_N");
     let c_z = find("z_ws_mm");
     if c_fz.is_none() && c_z.is_none() {
-        return Err(err(hline, "missing column: expected fz_target_N or z_ws_mm".into()));
+        return Err(err(
+            hline,
+            "missing column: expected fz_target_N or z_ws_mm".into(),
+        ));
     }
     let c_case = find("case");
     let c_v = find("speed_mm_s");
@@ -177,17 +185,29 @@ pub fn parse_cases_csv(text: &str, source_name: &str) -> Result<Vec<(String, Con
     for (ln, l) in lines {
         let f: Vec<&str> = l.split(',').map(str::trim).collect();
         let get = |c: usize, name: &str| -> Result<&str, CaseError> {
-            f.get(c)
-                .copied()
-                .ok_or_else(|| err(ln, format!("column '{name}' is missing: the line has only {} fields", f.len())))
+            f.get(c).copied().ok_or_else(|| {
+                err(
+                    ln,
+                    format!(
+                        "column '{name}' is missing: the line has only {} fields",
+                        f.len()
+                    ),
+                )
+            })
         };
         let num = |c: usize, name: &str| -> Result<f64, CaseError> {
             let s = get(c, name)?;
-            let v: f64 = s
-                .parse()
-                .map_err(|_| err(ln, format!("column '{name}': expected a number, found \"{s}\"")))?;
+            let v: f64 = s.parse().map_err(|_| {
+                err(
+                    ln,
+                    format!("column '{name}': expected a number, found \"{s}\""),
+                )
+            })?;
             if !v.is_finite() {
-                return Err(err(ln, format!("column '{name}': expected a finite number, found \"{s}\"")));
+                return Err(err(
+                    ln,
+                    format!("column '{name}': expected a finite number, found \"{s}\""),
+                ));
             }
             Ok(v)
         };
@@ -201,13 +221,19 @@ pub fn parse_cases_csv(text: &str, source_name: &str) -> Result<Vec<(String, Con
             "left" | "l" => Side::Left,
             "right" | "r" => Side::Right,
             other => {
-                return Err(err(ln, format!("column 'side': expected left or right, found \"{other}\"")));
+                return Err(err(
+                    ln,
+                    format!("column 'side': expected left or right, found \"{other}\""),
+                ));
             }
         };
         let fz = opt_num(c_fz, "fz_target_N")?;
         let z = opt_num(c_z, "z_ws_mm")?;
         if fz.is_none() && z.is_none() {
-            return Err(err(ln, "expected a value in fz_target_N or z_ws_mm, found neither".into()));
+            return Err(err(
+                ln,
+                "expected a value in fz_target_N or z_ws_mm, found neither".into(),
+            ));
         }
         let case = ContactCase {
             side,

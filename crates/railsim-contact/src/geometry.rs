@@ -264,7 +264,13 @@ fn base_angles(e: &PairEval) -> Option<(f64, f64)> {
 /// Apply the seed's correction (eq. 5) as a Newton step on `f`, moving the two points by equal
 /// and opposite arc lengths. Returns the new evaluation.
 #[inline]
-fn correct(pair: &WheelRailPair, ctx: &PoseCtx, s_w: &mut f64, s_r: &mut f64, e: &PairEval) -> PairEval {
+fn correct(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    s_w: &mut f64,
+    s_r: &mut f64,
+    e: &PairEval,
+) -> PairEval {
     let mut de = -e.f / e.dfds;
     // A step larger than a few mm means the pair map folds here; cap it.
     de = de.clamp(-2e-3, 2e-3);
@@ -322,8 +328,8 @@ fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
         Some((ta, tb)) => 0.5 * (ta + tb),
         None => std::f64::consts::FRAC_PI_2,
     };
-    let tangent_angle =
-        (e.b.t[0] * e.a.t[1] - e.b.t[1] * e.a.t[0]).atan2(e.b.t[0] * e.a.t[0] + e.b.t[1] * e.a.t[1]);
+    let tangent_angle = (e.b.t[0] * e.a.t[1] - e.b.t[1] * e.a.t[0])
+        .atan2(e.b.t[0] * e.a.t[0] + e.b.t[1] * e.a.t[1]);
     IsoPair {
         s_w,
         s_r,
@@ -382,7 +388,8 @@ pub fn travel(
                 let slope = (g - g0) / ds0;
                 if slope < 0.0 {
                     // Approaching an intersection: the seed's crossing distance (eq. 1).
-                    let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
+                    let chord =
+                        ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
                     let cos_c = rec.theta_c.cos().abs().max(1e-12);
                     let cd = chord / (2.0 * cos_c);
                     cand = cand.min(0.8 * cd).min(0.5 * g / -slope);
@@ -446,7 +453,12 @@ pub struct Zone {
 /// minimum is below `split_depth_ratio` of the smaller maximum and the contact angles at the
 /// two maxima differ by more than `split_angle`. Zones are never merged: STRIPES has no elastic
 /// coupling between patches, so two zones separated by a positive gap are two patches.
-pub fn find_zones(pairs: &[IsoPair], split_angle: f64, split_depth_ratio: f64, zones: &mut Vec<Zone>) {
+pub fn find_zones(
+    pairs: &[IsoPair],
+    split_angle: f64,
+    split_depth_ratio: f64,
+    zones: &mut Vec<Zone>,
+) {
     zones.clear();
     let mut i = 0;
     while i < pairs.len() {

@@ -19,9 +19,11 @@ use railsim_elastic::{
 use crate::error::ContactError;
 use crate::geometry::{IsoPair, PoseCtx, TravelOptions, TravelStats, Zone, find_zones, travel};
 use crate::pair::WheelRailPair;
-use crate::patch::{PatchFrame, WheelKinematics, longitudinal_curvature, mid, patch_frame};
+use crate::patch::{
+    PatchFrame, WheelKinematics, longitudinal_curvature, mid, patch_frame, reference_point,
+};
 use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
-use crate::stripes::{self, Local, StripesVariant, Strip};
+use crate::stripes::{self, Local, Strip, StripesVariant};
 
 /// The contact models, selected by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -160,15 +162,21 @@ pub struct PatchForces {
 /// A solved patch with its geometry, in the side frame and in the track frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PatchResult {
-    /// [m] lateral position of the contact point on the rail, in the rail-profile frame (toward
-    /// the field side)
+    /// [m] lateral position of the patch reference point on the rail, in the rail-profile frame
+    /// (toward the field side): the interpenetration-weighted centroid of the patch
     pub y_rail_profile: f64,
     /// [m] lateral position of the contact point on the wheel profile (S, toward the field side)
     pub y_wheel_profile: f64,
     /// [m] contact point on the rail in the track frame (x, y, z)
     pub point_track: [f64; 3],
-    /// [rad] contact angle, positive when the normal leans toward the flange
+    /// [rad] contact angle at the reference point, positive when the normal leans toward the
+    /// flange; the forces are given in this plane
     pub contact_angle: f64,
+    /// [m] the seed's rigid contact pair (theta_C = 90 deg, deepest interpenetration): lateral
+    /// position on the rail profile
+    pub rigid_pair_y_rail_profile: f64,
+    /// [rad] contact angle at the rigid contact pair
+    pub rigid_pair_contact_angle: f64,
     /// [m] largest interpenetration of the undeformed profiles (the seed's delta_0); for
     /// `halfspace` the elastic approach of the patch
     pub penetration: f64,
@@ -242,7 +250,11 @@ impl WheelRailContact {
     /// Combine a pair and options, checking the options.
     pub fn new(pair: WheelRailPair, opts: ContactOptions) -> Result<Self, ContactError> {
         opts.travel.validate()?;
-        if opts.fastsim_nx < 2 || opts.fastsim_nx > 1000 || opts.fastsim_ny < 2 || opts.fastsim_ny > 1000 {
+        if opts.fastsim_nx < 2
+            || opts.fastsim_nx > 1000
+            || opts.fastsim_ny < 2
+            || opts.fastsim_ny > 1000
+        {
             return Err(ContactError::BadOption {
                 key: "fastsim cells",
                 value: format!("{} x {}", opts.fastsim_nx, opts.fastsim_ny),
@@ -380,12 +392,13 @@ impl WheelRailContact {
         }
         let z_touch = p.z - dz_touch;
         // Bracket: F(z_touch) = 0; go down until the load is exceeded.
-        let f_at = |z: f64, ws: &mut ContactWorkspace| -> Result<(f64, WheelSummary), ContactError> {
-            let mut q = *pose;
-            q.z = z;
-            let s = self.evaluate(side, &q, vel, ws)?;
-            Ok((s.force_track[2], s))
-        };
+        let f_at =
+            |z: f64, ws: &mut ContactWorkspace| -> Result<(f64, WheelSummary), ContactError> {
+                let mut q = *pose;
+                q.z = z;
+                let s = self.evaluate(side, &q, vel, ws)?;
+                Ok((s.force_track[2], s))
+            };
         let mut z_hi = z_touch; // force 0
         let mut f_hi = 0.0;
         let mut dz = 2e-5;
@@ -463,7 +476,11 @@ impl WheelRailContact {
         Ok(s)
     }
 
-    fn solve_hertz(&self, input: &PatchInput<'_>, use_polach: bool) -> Result<PatchForces, ContactError> {
+    fn solve_hertz(
+        &self,
+        input: &PatchInput<'_>,
+        use_polach: bool,
+    ) -> Result<PatchForces, ContactError> {
         let fr = &input.frame;
         let mat = &self.pair.material;
         let hz = hertz_from_approach(fr.a_curv, fr.b_curv, fr.delta0, mat)?;
@@ -526,15 +543,29 @@ impl WheelRailContact {
         for p in &pairs[zone.first..=zone.last] {
             err = err.max(p.travel_error);
         }
+        // Report in the frame of the patch reference point (see `reference_point`): the same
+        // force vector, decomposed along the reference normal and tangent.
+        let (rp, angle) = reference_point(pairs, zone);
+        let (sa, ca) = angle.sin_cos();
+        let n_ref = [-sa, ca];
+        let t_ref = [ca, sa];
+        let mut fr_ref = f;
+        fr_ref.fn_ = fy * n_ref[0] + fzv * n_ref[1];
+        fr_ref.fs = fy * t_ref[0] + fzv * t_ref[1];
+        // Spin moment about the reference point: shift by the lateral offset of the points.
+        let dl = (rp.b[0] - fr.rail_point[0]) * fr.t[0] + (rp.b[1] - fr.rail_point[1]) * fr.t[1];
+        fr_ref.mz = f.mz + dl * f.fx;
         PatchResult {
-            y_rail_profile: self.pair.rail_profile_y(fr.rail_point[0], fr.rail_point[1]),
-            y_wheel_profile: self.pair.wheel.eval(fr.s_w).p[0],
-            point_track: [fr.wheel_point[0], sg * fr.rail_point[0], fr.rail_point[1]],
-            contact_angle: fr.contact_angle,
+            y_rail_profile: self.pair.rail_profile_y(rp.b[0], rp.b[1]),
+            y_wheel_profile: self.pair.wheel.eval(rp.s_w).p[0],
+            point_track: [rp.x, sg * rp.b[0], rp.b[1]],
+            contact_angle: angle,
+            rigid_pair_y_rail_profile: self.pair.rail_profile_y(fr.rail_point[0], fr.rail_point[1]),
+            rigid_pair_contact_angle: fr.contact_angle,
             penetration,
-            rolling_radius: fr.rho,
+            rolling_radius: rp.rho,
             creepages: creep,
-            forces: f,
+            forces: fr_ref,
             force_track: [f.fx, sg * fy, fzv],
             moment_track: [sg * m_side[0], m_side[1], sg * m_side[2]],
             travel_error: err,
@@ -622,12 +653,19 @@ fn solve_halfspace(
             j += 1;
         }
         let (la, lb) = (l_of(j), l_of((j + 1).min(hi)));
-        let f = if (lb - la).abs() > 1e-15 { ((l - la) / (lb - la)).clamp(0.0, 1.0) } else { 0.0 };
+        let f = if (lb - la).abs() > 1e-15 {
+            ((l - la) / (lb - la)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let pa = &pairs[j];
         let pb = &pairs[(j + 1).min(hi)];
         let d = d_of(j) + f * (d_of((j + 1).min(hi)) - d_of(j));
         let xc = pa.x + f * (pb.x - pa.x) - fr.wheel_point[0];
-        let a = longitudinal_curvature(pa.rho + f * (pb.rho - pa.rho), pa.rho_slope + f * (pb.rho_slope - pa.rho_slope));
+        let a = longitudinal_curvature(
+            pa.rho + f * (pb.rho - pa.rho),
+            pa.rho_slope + f * (pb.rho_slope - pa.rho_slope),
+        );
         for ix in 0..nx {
             let x = grid.x0 + ix as f64 * dx;
             sc.gap[ix + nx * iy] = fr.delta0 - d + a * (x - xc) * (x - xc);
@@ -668,7 +706,14 @@ fn solve_halfspace(
         let r = (f.area / std::f64::consts::PI).sqrt();
         let a_eq = r * (f.length / f.width).sqrt();
         let b_eq = r * (f.width / f.length).sqrt();
-        blended_flexibilities(a_eq, b_eq, f.fn_, input.pair.mu, &input.creep, &input.pair.material)?
+        blended_flexibilities(
+            a_eq,
+            b_eq,
+            f.fn_,
+            input.pair.mu,
+            &input.creep,
+            &input.pair.material,
+        )?
     };
     let mut j = lo;
     let mut n_adh = 0;
@@ -690,18 +735,37 @@ fn solve_halfspace(
             j += 1;
         }
         let (la, lb) = (l_of(j), l_of((j + 1).min(hi)));
-        let fr_ = if (lb - la).abs() > 1e-15 { ((l - la) / (lb - la)).clamp(0.0, 1.0) } else { 0.0 };
+        let fr_ = if (lb - la).abs() > 1e-15 {
+            ((l - la) / (lb - la)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let p = crate::patch::lerp_pair(&pairs[j], &pairs[(j + 1).min(hi)], fr_);
         let creep = input.kin.creepages([p.x, p.a[0], p.a[1]], fr.t, p.n);
-        let p0 = 2.0 * q / (std::f64::consts::PI * hl);
-        let st = fastsim_strip(0.0, dy, xc, hl, p0, opts.bound, &creep, &flex, input.pair.mu, opts.fastsim_nx);
+        let p0 = stripes::peak_for_line_load(q, hl, opts.bound);
+        let st = fastsim_strip(
+            0.0,
+            dy,
+            xc,
+            hl,
+            p0,
+            opts.bound,
+            &creep,
+            &flex,
+            input.pair.mu,
+            opts.fastsim_nx,
+        );
         f.fx += st.fx;
         f.fs += st.fy;
         f.mz += st.mz - l * st.fx;
         n_adh += st.n_adhesion;
         n_cells += st.n_cells;
     }
-    f.adhesion_fraction = if n_cells > 0 { n_adh as f64 / n_cells as f64 } else { 0.0 };
+    f.adhesion_fraction = if n_cells > 0 {
+        n_adh as f64 / n_cells as f64
+    } else {
+        0.0
+    };
     let _ = sol.approach;
     Ok(f)
 }

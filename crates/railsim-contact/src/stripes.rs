@@ -26,7 +26,8 @@
 //! aspect-preserving equivalent ellipse (Kik & Piotrowski 2008, as CONTACT does).
 
 use railsim_elastic::{
-    Creepages, TractionBound, blended_flexibilities, fastsim_strip, hertz_coeffs_fast, stripes_epsilon,
+    Creepages, TractionBound, blended_flexibilities, fastsim_strip, hertz_coeffs_fast,
+    stripes_epsilon,
 };
 
 use crate::error::ContactError;
@@ -60,6 +61,15 @@ pub struct Local {
     k: f64,
     load: f64,
     width: f64,
+}
+
+/// [Pa] peak of the pressure along a strip of half-length `a` that carries the line load `q`:
+/// `2q/(pi a)` for a semi-ellipse, `3q/(4a)` for a parabola.
+pub fn peak_for_line_load(q: f64, a: f64, bound: TractionBound) -> f64 {
+    match bound {
+        TractionBound::Elliptic => 2.0 * q / (std::f64::consts::PI * a),
+        TractionBound::Parabolic => 0.75 * q / a,
+    }
 }
 
 /// Parabola through three (l, u) points, evaluated at `l`.
@@ -157,8 +167,16 @@ pub fn solve(
     for k in 0..n_loc.saturating_sub(1) {
         let (p0, p1) = (local[k], local[k + 1]);
         let prev = if k > 0 { Some(local[k - 1]) } else { None };
-        let next = if k + 2 < n_loc { Some(local[k + 2]) } else { None };
-        if p0.u <= 0.0 && p1.u <= 0.0 && prev.is_none_or(|p| p.u <= 0.0) && next.is_none_or(|p| p.u <= 0.0) {
+        let next = if k + 2 < n_loc {
+            Some(local[k + 2])
+        } else {
+            None
+        };
+        if p0.u <= 0.0
+            && p1.u <= 0.0
+            && prev.is_none_or(|p| p.u <= 0.0)
+            && next.is_none_or(|p| p.u <= 0.0)
+        {
             continue;
         }
         let interp = |l: f64| -> f64 {
@@ -265,8 +283,19 @@ pub fn solve(
     for s in strips.iter() {
         let p = &pairs[s.pair];
         let creep: Creepages = input.kin.creepages([p.x, p.a[0], p.a[1]], fr.t, p.n);
-        let p0 = 2.0 * s.q / (std::f64::consts::PI * s.a);
-        let st = fastsim_strip(0.0, s.w, s.x, s.a, p0, bound, &creep, &flex, input.pair.mu, nx);
+        let p0 = peak_for_line_load(s.q, s.a, bound);
+        let st = fastsim_strip(
+            0.0,
+            s.w,
+            s.x,
+            s.a,
+            p0,
+            bound,
+            &creep,
+            &flex,
+            input.pair.mu,
+            nx,
+        );
         f.fx += st.fx;
         f.fs += st.fy;
         f.mz += st.mz - s.l * st.fx;
