@@ -2,6 +2,7 @@
 //! (ripgrep's layout); each module is one reference case or family. Tolerances live in
 //! `tests/reference/<case>/tolerances.toml` and are multiplied by `RAILSIM_TOL_SCALE`.
 
+mod bad_input;
 mod common;
 mod mbench;
 mod stripes_hertz;

@@ -51,8 +51,8 @@ impl Default for TravelOptions {
     fn default() -> Self {
         TravelOptions {
             step: 0.2e-3,
-            max_step: 3.0e-3,
-            angle_tol: 1e-7,
+            max_step: 5.0e-3,
+            angle_tol: 1e-5,
             max_corrections: 6,
         }
     }
@@ -96,13 +96,14 @@ pub struct IsoPair {
     pub gap: f64,
     /// unit normal of the pair (perpendicular to the mean tangent), pointing from rail to wheel
     pub n: [f64; 2],
-    /// [rad] the seed's base angle theta_C (pi/2 at the rigid contact pair)
-    pub theta_c: f64,
+    /// [-] cosine of the seed's base angle theta_C (mean of the two base angles' cosines; 0 at
+    /// the rigid contact pair, where theta_C = 90 deg)
+    pub cos_theta_c: f64,
     /// [rad] travelling error |theta_A - theta_B| after one correction (seed Fig. 10);
     /// negative where the chord is too short for the angles to be defined
     pub travel_error: f64,
-    /// [rad] angle between the two tangents (wheel minus rail), zero at the rigid pair
-    pub tangent_angle: f64,
+    /// [-] sine of the angle from the rail tangent to the wheel tangent (zero at the rigid pair)
+    pub tangent_sin: f64,
     /// [1/m] signed curvature of the wheel locus curve
     pub kappa_w: f64,
     /// [1/m] signed curvature of the rail curve
@@ -247,9 +248,10 @@ fn eval_pair(pair: &WheelRailPair, ctx: &PoseCtx, s_w: f64, s_r: f64) -> PairEva
     }
 }
 
-/// Seed's base angles: theta_A between AB and t_A, theta_B between BA and t_B (eq. 2–3).
+/// Cosines of the seed's base angles: theta_A between AB and t_A, theta_B between BA and t_B
+/// (eq. 2–3), or `None` where the chord is too short for them to be defined.
 #[inline]
-fn base_angles(e: &PairEval) -> Option<(f64, f64)> {
+fn base_cosines(e: &PairEval) -> Option<(f64, f64)> {
     let d = [e.b.p[0] - e.a.p[1], e.b.p[1] - e.a.p[2]];
     let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
     if len < 1e-9 {
@@ -258,7 +260,23 @@ fn base_angles(e: &PairEval) -> Option<(f64, f64)> {
     let u = [d[0] / len, d[1] / len];
     let ca = (u[0] * e.a.t[0] + u[1] * e.a.t[1]).clamp(-1.0, 1.0);
     let cb = (-(u[0] * e.b.t[0] + u[1] * e.b.t[1])).clamp(-1.0, 1.0);
-    Some((ca.acos(), cb.acos()))
+    Some((ca, cb))
+}
+
+/// The travelling error |theta_A - theta_B| (seed Fig. 10) from the base angles' cosines:
+/// `sin(a - b) = sin a cos b - cos a sin b`.
+#[inline]
+fn travel_error(e: &PairEval) -> f64 {
+    match base_cosines(e) {
+        Some((ca, cb)) => {
+            let (sa, sb) = (
+                (1.0 - ca * ca).max(0.0).sqrt(),
+                (1.0 - cb * cb).max(0.0).sqrt(),
+            );
+            (sa * cb - ca * sb).clamp(-1.0, 1.0).asin().abs()
+        }
+        None => -1.0,
+    }
 }
 
 /// Apply the seed's correction (eq. 5) as a Newton step on `f`, moving the two points by equal
@@ -279,29 +297,36 @@ fn correct(
     eval_pair(pair, ctx, *s_w, *s_r)
 }
 
-/// Find the wheel arc length whose locus pairs with the rail point at `s_r` (bisection on the
-/// locus y, then Newton on f moving the wheel point only).
+/// Find the wheel arc length whose locus pairs with the rail point at `s_r`: a first guess from
+/// the rigid placement of the profile (roll about the axle, yaw neglected), Newton on the locus
+/// y, then Newton on f moving the wheel point only.
 fn seed_wheel(pair: &WheelRailPair, ctx: &PoseCtx, s_r: f64, s_lo: f64) -> f64 {
     let yb = pair.rail.eval(s_r).p[0];
-    let (mut lo, mut hi) = (s_lo, pair.wheel.length());
-    if locus(pair, ctx, lo).p[1] >= yb {
-        return lo;
-    }
-    if locus(pair, ctx, hi).p[1] <= yb {
-        return hi;
-    }
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if locus(pair, ctx, mid).p[1] < yb {
-            lo = mid;
+    let (l_w, _) = (pair.wheel.length(), ());
+    // y of a profile point ~ C_y + cos(roll) * axial + sin(roll) * rho (R row 1, yaw neglected)
+    let (sf, cf) = (ctx.r[2][1], ctx.r[1][1]);
+    let axial = (yb - ctx.c[1] - sf * pair.r0) / cf.max(0.5);
+    let mut s_w = pair
+        .wheel
+        .s_at_y(axial - pair.wheel_y0)
+        .unwrap_or(if axial - pair.wheel_y0 < pair.wheel.y_range().0 {
+            s_lo
         } else {
-            hi = mid;
+            l_w
+        })
+        .clamp(s_lo, l_w);
+    for _ in 0..4 {
+        let a = locus(pair, ctx, s_w);
+        let dy = a.t[0] * a.speed;
+        if dy.abs() < 1e-3 {
+            break;
         }
-        if hi - lo < 1e-9 {
+        let step = ((yb - a.p[1]) / dy).clamp(-2e-3, 2e-3);
+        s_w = (s_w + step).clamp(s_lo, l_w);
+        if step.abs() < 1e-10 {
             break;
         }
     }
-    let mut s_w = 0.5 * (lo + hi);
     for _ in 0..8 {
         let a = locus(pair, ctx, s_w);
         let b = pair.rail.eval(s_r);
@@ -310,7 +335,7 @@ fn seed_wheel(pair: &WheelRailPair, ctx: &PoseCtx, s_r: f64, s_lo: f64) -> f64 {
         let f = d[0] * ts[0] + d[1] * ts[1];
         let df = -a.speed * (1.0 + a.t[0] * b.t[0] + a.t[1] * b.t[1]);
         let step = (-f / df).clamp(-2e-3, 2e-3);
-        s_w = (s_w + step).clamp(s_lo, pair.wheel.length());
+        s_w = (s_w + step).clamp(s_lo, l_w);
         if step.abs() < 1e-12 {
             break;
         }
@@ -324,12 +349,11 @@ fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
     tm = [tm[0] / l, tm[1] / l];
     let n = [-tm[1], tm[0]];
     let gap = (e.a.p[1] - e.b.p[0]) * n[0] + (e.a.p[2] - e.b.p[1]) * n[1];
-    let theta_c = match base_angles(e) {
-        Some((ta, tb)) => 0.5 * (ta + tb),
-        None => std::f64::consts::FRAC_PI_2,
+    let cos_theta_c = match base_cosines(e) {
+        Some((ca, cb)) => 0.5 * (ca + cb),
+        None => 0.0,
     };
-    let tangent_angle = (e.b.t[0] * e.a.t[1] - e.b.t[1] * e.a.t[0])
-        .atan2(e.b.t[0] * e.a.t[0] + e.b.t[1] * e.a.t[1]);
+    let tangent_sin = e.b.t[0] * e.a.t[1] - e.b.t[1] * e.a.t[0];
     IsoPair {
         s_w,
         s_r,
@@ -338,9 +362,9 @@ fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
         x: e.a.p[0],
         gap,
         n,
-        theta_c,
+        cos_theta_c,
         travel_error,
-        tangent_angle,
+        tangent_sin,
         kappa_w: e.a.kappa,
         kappa_r: e.b.kappa,
         rho: e.a.rho,
@@ -372,7 +396,6 @@ pub fn travel(
     }
     let l_w = pair.wheel.length();
     let l_r = pair.rail.length();
-    let kmax = pair.kappa_max.max(1.0);
     let mut prev_gap: Option<(f64, f64)> = None;
     let mut err = -1.0;
     loop {
@@ -383,14 +406,15 @@ pub fn travel(
         let g = rec.gap;
         let mut h = opts.step;
         if g > 0.0 {
-            let mut cand = (g / kmax).sqrt();
+            let kb = pair.kappa_bound(s_w, s_r).max(1.0);
+            let mut cand = (g / kb).sqrt();
             if let Some((g0, ds0)) = prev_gap {
                 let slope = (g - g0) / ds0;
                 if slope < 0.0 {
                     // Approaching an intersection: the seed's crossing distance (eq. 1).
                     let chord =
                         ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
-                    let cos_c = rec.theta_c.cos().abs().max(1e-12);
+                    let cos_c = rec.cos_theta_c.abs().max(1e-12);
                     let cd = chord / (2.0 * cos_c);
                     cand = cand.min(0.8 * cd).min(0.5 * g / -slope);
                 }
@@ -410,10 +434,7 @@ pub fn travel(
         // One correction (the seed's), whose residual is the travelling error ...
         e = correct(pair, &ctx, &mut s_w, &mut s_r, &e);
         stats.corrections += 1;
-        err = match base_angles(&e) {
-            Some((ta, tb)) => (ta - tb).abs(),
-            None => -1.0,
-        };
+        err = travel_error(&e);
         // ... then more until the pair is exact to the tolerance.
         let mut k = 1;
         while k < opts.max_corrections {

@@ -58,8 +58,43 @@ pub struct WheelRailPair {
     pub material: Material,
     /// [-] Coulomb friction coefficient
     pub mu: f64,
-    /// [1/m] largest |curvature| of the wheel plus that of the rail, used for step control
-    pub kappa_max: f64,
+    /// [1/m] largest |curvature| of the wheel curve within [`KAPPA_WINDOW`] ahead of each node
+    /// (index `floor(s / ds)`), for the far-field step control of the travelling
+    pub wheel_kappa_ahead: Vec<f64>,
+    /// [1/m] the same for the rail curve
+    pub rail_kappa_ahead: Vec<f64>,
+}
+
+/// [m] length of the window over which curvature bounds are taken ahead of a point; at least
+/// the largest travelling step.
+pub const KAPPA_WINDOW: f64 = 6e-3;
+
+/// Largest |curvature| within `KAPPA_WINDOW` ahead of each node of a curve (and one node behind,
+/// so that a bound holds between nodes).
+fn kappa_ahead(c: &ArcCurve) -> Vec<f64> {
+    let ds = c.ds();
+    let n = (c.length() / ds).round() as usize + 1;
+    let k: Vec<f64> = (0..n)
+        .map(|i| c.eval((i as f64 * ds).min(c.length())).kappa.abs())
+        .collect();
+    let w = (KAPPA_WINDOW / ds).ceil() as usize;
+    (0..n)
+        .map(|i| {
+            let lo = i.saturating_sub(1);
+            let hi = (i + w).min(n - 1);
+            k[lo..=hi].iter().fold(0.0f64, |a, &b| a.max(b))
+        })
+        .collect()
+}
+
+impl WheelRailPair {
+    /// [1/m] bound on the relative curvature of the pair over the window ahead of (s_w, s_r).
+    #[inline]
+    pub fn kappa_bound(&self, s_w: f64, s_r: f64) -> f64 {
+        let iw = ((s_w / self.wheel.ds()) as usize).min(self.wheel_kappa_ahead.len() - 1);
+        let ir = ((s_r / self.rail.ds()) as usize).min(self.rail_kappa_ahead.len() - 1);
+        self.wheel_kappa_ahead[iw] + self.rail_kappa_ahead[ir]
+    }
 }
 
 impl WheelRailPair {
@@ -98,7 +133,6 @@ impl WheelRailPair {
         let n = (wheel.length() / spec.curve_ds).ceil() as usize;
         let mut s_tip = 0.0;
         let mut z_min = f64::INFINITY;
-        let mut kw: f64 = 0.0;
         let z_ref = spec.wheel.z_at(0.0).unwrap_or(0.0);
         for i in 0..=n {
             let s = (i as f64 * spec.curve_ds).min(wheel.length());
@@ -107,17 +141,12 @@ impl WheelRailPair {
                 z_min = c.p[1];
                 s_tip = s;
             }
-            kw = kw.max(c.kappa.abs());
         }
         if z_min > z_ref - 5e-3 {
             s_tip = 0.0;
         }
-        let nr = (rail.length() / spec.curve_ds).ceil() as usize;
-        let mut kr: f64 = 0.0;
-        for i in 0..=nr {
-            let s = (i as f64 * spec.curve_ds).min(rail.length());
-            kr = kr.max(rail.eval(s).kappa.abs());
-        }
+        let wheel_kappa_ahead = kappa_ahead(&wheel);
+        let rail_kappa_ahead = kappa_ahead(&rail);
         Ok(WheelRailPair {
             wheel,
             rail,
@@ -127,7 +156,8 @@ impl WheelRailPair {
             wheel_s_tip: s_tip,
             material: spec.material,
             mu: spec.mu,
-            kappa_max: kw + kr,
+            wheel_kappa_ahead,
+            rail_kappa_ahead,
         })
     }
 

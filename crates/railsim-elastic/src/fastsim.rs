@@ -197,7 +197,7 @@ pub fn fastsim_strip(
         px -= step * gx;
         py -= step * (ey + sy * xm);
         let g = mu_p * bound.shape((x - xc) / hl);
-        let mag = px.hypot(py);
+        let mag = (px * px + py * py).sqrt();
         if mag <= g {
             n_adh += 1;
         } else {

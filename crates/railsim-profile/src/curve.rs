@@ -156,7 +156,7 @@ impl ArcCurve {
     pub fn eval(&self, s: f64) -> CurvePoint {
         let (i, tau) = self.locate(s);
         let (p, d) = self.hermite(i, tau);
-        let v = d[0].hypot(d[1]);
+        let v = (d[0] * d[0] + d[1] * d[1]).sqrt();
         let t = if v > 0.0 {
             [d[0] / v, d[1] / v]
         } else {

@@ -1,0 +1,82 @@
+//! Repeated evaluations of one benchmark case, for profiling with perf or callgrind:
+//! `cargo run --release -p railsim-contact --example profile_eval -- [model] [step_mm] [n]`.
+use std::path::PathBuf;
+
+use railsim_contact::contact_format::{parse_cases_csv, solve_case};
+use railsim_contact::{
+    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, WheelRailContact, WheelRailPair,
+};
+use railsim_elastic::Material;
+use railsim_profile::{ProfileKind, read_simpack};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let model =
+        ContactModelKind::from_name(args.get(1).map(String::as_str).unwrap_or("stripes")).unwrap();
+    let step: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0.2);
+    let n: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(20000);
+    let repo = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let wheel = read_simpack(
+        &repo.join("vehicles/profiles/MBench_S1002_v3.prw"),
+        ProfileKind::Wheel,
+    )
+    .unwrap();
+    let rail = read_simpack(
+        &repo.join("tracks/profiles/MBench_UIC60_v3.prr"),
+        ProfileKind::Rail,
+    )
+    .unwrap();
+    let pair = WheelRailPair::new(&PairSpec {
+        wheel,
+        rail,
+        r0: 0.46,
+        flange_back_distance: 1.36,
+        flange_back_y: -0.07,
+        gauge: 1.435,
+        gauge_depth: 0.014,
+        inclination: 0.0,
+        material: Material::new(82e9, 0.28).unwrap(),
+        mu: 0.3,
+        curve_ds: 5e-5,
+        smoothing: 0.0,
+    })
+    .unwrap();
+    let mut opts = ContactOptions {
+        model,
+        ..Default::default()
+    };
+    opts.travel.step = step * 1e-3;
+    let c = WheelRailContact::new(pair, opts).unwrap();
+    let text =
+        std::fs::read_to_string(repo.join("tests/reference/mbench_a22/reference.csv")).unwrap();
+    let cases = parse_cases_csv(&text, "reference.csv").unwrap();
+    let mut ws = ContactWorkspace::new();
+    let mut rows = Vec::new();
+    let mut poses = Vec::new();
+    for (_, case) in &cases {
+        let z = solve_case(&c, case, &mut ws, &mut rows).unwrap();
+        let (mut p, v) = case.to_railsim();
+        p.z = -z * 1e-3;
+        poses.push((case.side, p, v));
+    }
+    let t0 = std::time::Instant::now();
+    let mut pairs = 0u64;
+    let mut corr = 0u64;
+    let mut reseeds = 0u64;
+    for k in 0..n {
+        let (side, p, v) = &poses[k % poses.len()];
+        let s = c.evaluate(*side, p, v, &mut ws).unwrap();
+        pairs += s.travel.pairs as u64;
+        corr += s.travel.corrections as u64;
+        reseeds += s.travel.reseeds as u64;
+    }
+    let dt = t0.elapsed().as_secs_f64() / n as f64;
+    println!(
+        "{} step {step} mm: {:.2} µs per evaluation, {:.1} pairs, {:.1} corrections, {:.2} reseeds",
+        model.name(),
+        dt * 1e6,
+        pairs as f64 / n as f64,
+        corr as f64 / n as f64,
+        reseeds as f64 / n as f64
+    );
+}
