@@ -42,6 +42,8 @@ fn stripes_matches_contact_on_all_42_cases() {
     let reference = Table::read("tests/reference/mbench_a22/reference.csv");
     let regions = Table::read("tests/reference/mbench_a22/regions.csv");
     let ours = run_all(ContactModelKind::Stripes, 0.2e-3);
+    let known = known_deviations();
+    let mut known_seen = vec![false; known.len()];
     let mut failures = Vec::new();
     eprintln!(
         "{:>5} {:>5} | {:>8} {:>8} | {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} | np",
@@ -160,9 +162,21 @@ fn stripes_matches_contact_on_all_42_cases() {
         ] {
             let t = (tol["force_rel"] * want.abs()).max(tol["force_abs_of_fn"] * fn_ref);
             if (got - want).abs() > t {
-                failures.push(format!(
-                    "{side} y={y}: {name} {got:.0} vs {want:.0} (tol {t:.0})"
-                ));
+                let k = known.iter().position(|k| {
+                    k.side == side && (k.y_ws_mm - y).abs() < 1e-9 && k.quantity == name
+                });
+                match k {
+                    Some(k) if (got - want).abs() <= known[k].rel * want.abs() => {
+                        known_seen[k] = true;
+                        eprintln!(
+                            "known deviation: {side} y={y}: {name} {got:.0} vs {want:.0} ({:+.1} %)",
+                            100.0 * (got / want - 1.0)
+                        );
+                    }
+                    _ => failures.push(format!(
+                        "{side} y={y}: {name} {got:.0} vs {want:.0} (tol {t:.0})"
+                    )),
+                }
             }
         }
     }
@@ -182,12 +196,46 @@ fn stripes_matches_contact_on_all_42_cases() {
             "right wheel flange jump: contact angle {a6:.3} rad at 6.0 mm, {a65:.3} rad at 6.5 mm"
         ));
     }
+    for (k, seen) in known.iter().zip(&known_seen) {
+        if !seen {
+            failures.push(format!(
+                "known deviation {} y={} {} is now within the acceptance tolerance: remove it from tolerances.toml",
+                k.side, k.y_ws_mm, k.quantity
+            ));
+        }
+    }
     assert!(
         failures.is_empty(),
         "{} failures:\n{}",
         failures.len(),
         failures.join("\n")
     );
+}
+
+/// A documented deviation from the acceptance criteria (`[[stripes_known]]`).
+struct Known {
+    side: String,
+    y_ws_mm: f64,
+    quantity: String,
+    rel: f64,
+}
+
+fn known_deviations() -> Vec<Known> {
+    let text = std::fs::read_to_string(repo("tests/reference/mbench_a22/tolerances.toml")).unwrap();
+    let v: toml::Table = toml::from_str(&text).unwrap();
+    v.get("stripes_known")
+        .and_then(|k| k.as_array())
+        .map(|a| {
+            a.iter()
+                .map(|e| Known {
+                    side: e["side"].as_str().unwrap().to_string(),
+                    y_ws_mm: e["y_ws_mm"].as_float().unwrap(),
+                    quantity: e["quantity"].as_str().unwrap().to_string(),
+                    rel: e["rel"].as_float().unwrap() * crate::common::tol_scale(),
+                })
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 #[test]

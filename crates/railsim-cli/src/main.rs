@@ -75,19 +75,19 @@ struct PairArgs {
     /// is already inclined, such as the Manchester benchmark .prr).
     #[arg(long, default_value = "1:40")]
     inclination: String,
-    /// Track gauge [mm], measured 14 mm below the top of the rail.
+    /// Track gauge (mm), measured 14 mm below the top of the rail.
     #[arg(long, default_value_t = 1435.0)]
     gauge_mm: f64,
-    /// Flange-back distance [mm].
+    /// Flange-back distance (mm).
     #[arg(long, default_value_t = 1360.0)]
     flange_back_mm: f64,
-    /// Lateral position of the flange back on the wheel profile [mm].
+    /// Lateral position of the flange back on the wheel profile (mm).
     #[arg(long, default_value_t = -70.0, allow_hyphen_values = true)]
     flange_back_y_mm: f64,
-    /// Nominal rolling radius [mm].
+    /// Nominal rolling radius (mm).
     #[arg(long, default_value_t = 460.0)]
     r0_mm: f64,
-    /// Combined shear modulus [GPa] (82 GPa with nu = 0.28 is E = 210 GPa).
+    /// Combined shear modulus (GPa) (82 GPa with nu = 0.28 is E = 210 GPa).
     #[arg(long, default_value_t = 82.0)]
     shear_modulus_gpa: f64,
     /// Poisson's ratio.
@@ -105,31 +105,31 @@ struct ContactArgs {
     /// Contact model.
     #[arg(long, value_enum, default_value = "stripes")]
     model: ModelName,
-    /// Travelling step of the isosceles pairs [mm].
+    /// Travelling step of the isosceles pairs (mm).
     #[arg(long, default_value_t = 0.2)]
     step_mm: f64,
     /// Which wheel.
     #[arg(long, value_enum, default_value = "left")]
     side: SideName,
-    /// Lateral wheelset displacement [mm], positive to the left (track frame).
+    /// Lateral wheelset displacement (mm), positive to the left (track frame).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     y_mm: f64,
-    /// Yaw angle [mrad], positive nose to the left.
+    /// Yaw angle (mrad), positive nose to the left.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     yaw_mrad: f64,
-    /// Roll angle [mrad] about the track x-axis.
+    /// Roll angle (mrad) about the track x-axis.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     roll_mrad: f64,
-    /// Forward speed [m/s].
+    /// Forward speed (m/s).
     #[arg(long, default_value_t = 20.0)]
     speed_m_s: f64,
-    /// Wheelset spin [rad/s]; default pure rolling, speed / r0.
+    /// Wheelset spin (rad/s); default pure rolling, speed / r0.
     #[arg(long, allow_hyphen_values = true)]
     spin_rad_s: Option<f64>,
-    /// Vertical wheel load [kN] (the wheelset height is iterated to carry it).
+    /// Vertical wheel load (kN) (the wheelset height is iterated to carry it).
     #[arg(long, conflicts_with = "z_mm")]
     load_kn: Option<f64>,
-    /// Vertical wheelset position [mm] (up), instead of a load.
+    /// Vertical wheelset position (mm) (up), instead of a load.
     #[arg(long, allow_hyphen_values = true)]
     z_mm: Option<f64>,
     /// Batch mode: a CSV of cases with CONTACT's column names (side, y_ws_mm, yaw_ws_rad,
@@ -145,7 +145,7 @@ struct ContactArgs {
 struct ConicityArgs {
     #[command(flatten)]
     pair: PairArgs,
-    /// Amplitudes at which the equivalent conicity is reported [mm].
+    /// Amplitudes at which the equivalent conicity is reported (mm).
     #[arg(long, value_delimiter = ',', default_value = "1,2,3,4,5,6")]
     amplitudes_mm: Vec<f64>,
 }

@@ -16,19 +16,19 @@ use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
 pub struct ContactCase {
     /// Which wheel.
     pub side: Side,
-    /// [mm] lateral wheelset position, CONTACT y (to the right)
+    /// \[mm\] lateral wheelset position, CONTACT y (to the right)
     pub y_ws_mm: f64,
-    /// [rad] yaw, CONTACT convention
+    /// \[rad\] yaw, CONTACT convention
     pub yaw_ws_rad: f64,
-    /// [rad] roll, CONTACT convention (same as railsim's)
+    /// \[rad\] roll, CONTACT convention (same as railsim's)
     pub roll_ws_rad: f64,
-    /// [rad/s] pitch velocity about CONTACT's y-axis (negative when rolling forward)
+    /// \[rad/s\] pitch velocity about CONTACT's y-axis (negative when rolling forward)
     pub vpitch_rad_s: f64,
-    /// [mm] vertical wheelset position (down), if prescribed
+    /// \[mm\] vertical wheelset position (down), if prescribed
     pub z_ws_mm: Option<f64>,
-    /// [N] vertical force on the rail, if prescribed
+    /// \[N\] vertical force on the rail, if prescribed
     pub fz_target_n: Option<f64>,
-    /// [mm/s] forward speed
+    /// \[mm/s\] forward speed
     pub speed_mm_s: f64,
 }
 
@@ -53,34 +53,34 @@ impl ContactCase {
 /// One patch in CONTACT's output conventions.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactRow {
-    /// [mm] lateral contact position in rail-profile coordinates (CONTACT orientation)
+    /// \[mm\] lateral contact position in rail-profile coordinates (CONTACT orientation)
     pub ycp_r_mm: f64,
-    /// [rad] contact angle about the track x-axis (CONTACT sign: positive on the left rail
+    /// \[rad\] contact angle about the track x-axis (CONTACT sign: positive on the left rail
     /// toward the flange, negative on the right)
     pub delttr_rad: f64,
-    /// [mm] penetration
+    /// \[mm\] penetration
     pub pen_mm: f64,
-    /// [N] normal force on the rail
+    /// \[N\] normal force on the rail
     pub fn_n: f64,
-    /// [N] longitudinal force on the rail
+    /// \[N\] longitudinal force on the rail
     pub fx_n: f64,
-    /// [N] lateral force on the rail along CONTACT's inclined s-axis
+    /// \[N\] lateral force on the rail along CONTACT's inclined s-axis
     pub fs_n: f64,
-    /// [N mm] spin moment on the rail about CONTACT's normal
+    /// \[N mm\] spin moment on the rail about CONTACT's normal
     pub mz_nmm: f64,
-    /// [N/mm^2] maximum pressure
+    /// \[N/mm^2\] maximum pressure
     pub pmax_n_mm2: f64,
-    /// [mm] patch length along x
+    /// \[mm\] patch length along x
     pub length_x_mm: f64,
-    /// [mm] patch width along s
+    /// \[mm\] patch width along s
     pub width_s_mm: f64,
-    /// [-] longitudinal creepage of the rail relative to the wheel
+    /// \[-\] longitudinal creepage of the rail relative to the wheel
     pub cksi: f64,
-    /// [-] lateral creepage of the rail relative to the wheel
+    /// \[-\] lateral creepage of the rail relative to the wheel
     pub ceta: f64,
-    /// [rad/mm] spin creepage of the rail relative to the wheel
+    /// \[rad/mm\] spin creepage of the rail relative to the wheel
     pub cphi_rad_mm: f64,
-    /// [mm] wheel-profile lateral coordinate of the contact (CONTACT orientation)
+    /// \[mm\] wheel-profile lateral coordinate of the contact (CONTACT orientation)
     pub ycp_w_mm: f64,
 }
 
@@ -256,7 +256,7 @@ pub fn parse_cases_csv(
 
 /// Solve one case: with the load prescribed, the wheelset height is iterated; otherwise the
 /// position is used as given. Returns the patches in CONTACT's conventions and the vertical
-/// wheelset position found [mm, CONTACT's z down].
+/// wheelset position found \[mm, CONTACT's z down\].
 pub fn solve_case(
     contact: &crate::model::WheelRailContact,
     case: &ContactCase,

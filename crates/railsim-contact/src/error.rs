@@ -31,9 +31,9 @@ pub enum ContactError {
     AbsurdPenetration {
         /// Which wheel.
         side: &'static str,
-        /// [mm] interpenetration found.
+        /// \[mm\] interpenetration found.
         found_mm: f64,
-        /// [mm] the limit.
+        /// \[mm\] the limit.
         limit_mm: f64,
     },
     /// The prescribed vertical load could not be reached.
@@ -41,7 +41,7 @@ pub enum ContactError {
     LoadNotReached {
         /// Which wheel.
         side: &'static str,
-        /// [N] the target.
+        /// \[N\] the target.
         target_n: f64,
         /// Why.
         reason: String,
@@ -51,7 +51,7 @@ pub enum ContactError {
     NoOverlap {
         /// Which wheel.
         side: &'static str,
-        /// [mm] the lateral wheelset displacement.
+        /// \[mm\] the lateral wheelset displacement.
         y_mm: f64,
     },
     /// An option has an unusable value.

@@ -37,13 +37,13 @@ use crate::pose::{WheelsetPose, mat_vec, rotation};
 /// Options of the travelling algorithm.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TravelOptions {
-    /// [m] arc-length step inside and near penetrated zones (the seed's 0.5 / 0.1 mm)
+    /// \[m\] arc-length step inside and near penetrated zones (the seed's 0.5 / 0.1 mm)
     pub step: f64,
-    /// [m] largest step far from contact
+    /// \[m\] largest step far from contact
     pub max_step: f64,
-    /// [-] the travelling correction is repeated while the angle error exceeds this (rad)
+    /// \[-\] the travelling correction is repeated while the angle error exceeds this (rad)
     pub angle_tol: f64,
-    /// [-] maximum corrections per step
+    /// \[-\] maximum corrections per step
     pub max_corrections: u32,
 }
 
@@ -82,35 +82,35 @@ impl TravelOptions {
 /// One isosceles pair found by the travelling, in the side frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct IsoPair {
-    /// [m] arc length on the wheel profile curve
+    /// \[m\] arc length on the wheel profile curve
     pub s_w: f64,
-    /// [m] arc length on the (placed) rail curve
+    /// \[m\] arc length on the (placed) rail curve
     pub s_r: f64,
-    /// [m] wheel locus point (y, z)
+    /// \[m\] wheel locus point (y, z)
     pub a: [f64; 2],
-    /// [m] rail point (y, z)
+    /// \[m\] rail point (y, z)
     pub b: [f64; 2],
-    /// [m] longitudinal position x of the wheel locus point (lead ahead of the axle)
+    /// \[m\] longitudinal position x of the wheel locus point (lead ahead of the axle)
     pub x: f64,
-    /// [m] signed gap along the pair normal: > 0 separated, < 0 interpenetrating
+    /// \[m\] signed gap along the pair normal: > 0 separated, < 0 interpenetrating
     pub gap: f64,
     /// unit normal of the pair (perpendicular to the mean tangent), pointing from rail to wheel
     pub n: [f64; 2],
-    /// [-] cosine of the seed's base angle theta_C (mean of the two base angles' cosines; 0 at
+    /// \[-\] cosine of the seed's base angle theta_C (mean of the two base angles' cosines; 0 at
     /// the rigid contact pair, where theta_C = 90 deg)
     pub cos_theta_c: f64,
-    /// [rad] travelling error |theta_A - theta_B| after one correction (seed Fig. 10);
+    /// \[rad\] travelling error |theta_A - theta_B| after one correction (seed Fig. 10);
     /// negative where the chord is too short for the angles to be defined
     pub travel_error: f64,
-    /// [-] sine of the angle from the rail tangent to the wheel tangent (zero at the rigid pair)
+    /// \[-\] sine of the angle from the rail tangent to the wheel tangent (zero at the rigid pair)
     pub tangent_sin: f64,
-    /// [1/m] signed curvature of the wheel locus curve
+    /// \[1/m\] signed curvature of the wheel locus curve
     pub kappa_w: f64,
-    /// [1/m] signed curvature of the rail curve
+    /// \[1/m\] signed curvature of the rail curve
     pub kappa_r: f64,
-    /// [m] wheel radius at the pair (distance from the axle)
+    /// \[m\] wheel radius at the pair (distance from the axle)
     pub rho: f64,
-    /// [-] wheel profile slope d(rho)/d(axial)
+    /// \[-\] wheel profile slope d(rho)/d(axial)
     pub rho_slope: f64,
 }
 

@@ -23,7 +23,7 @@ use crate::patch::{
     PatchFrame, WheelKinematics, longitudinal_curvature, mid, patch_frame, reference_point,
 };
 use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
-use crate::stripes::{self, Local, Strip, StripesVariant};
+use crate::stripes::{self, Local, Strip, StripesVariant, Tangential};
 
 /// The contact models, selected by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -79,13 +79,15 @@ pub struct ContactOptions {
     pub model: ContactModelKind,
     /// Travelling (geometry) options.
     pub travel: TravelOptions,
-    /// [rad] a penetrated run is split into two patches only if the contact angles of its two
+    /// \[rad\] a penetrated run is split into two patches only if the contact angles of its two
     /// penetration maxima differ by more than this
     pub split_angle: f64,
-    /// [-] ... and the penetration between them falls below this fraction of the smaller maximum
+    /// \[-\] ... and the penetration between them falls below this fraction of the smaller maximum
     pub split_depth_ratio: f64,
     /// Which virtual-penetration ratio STRIPES uses.
     pub stripes_variant: StripesVariant,
+    /// Tangential solution per strip (`stripes`) or per grid row (`halfspace`).
+    pub tangential: Tangential,
     /// FASTSIM cells per strip (along x)
     pub fastsim_nx: usize,
     /// FASTSIM strips for a Hertz ellipse (`fastsim` model)
@@ -94,7 +96,7 @@ pub struct ContactOptions {
     pub bound: TractionBound,
     /// Half-space grid: cells along x and along the lateral coordinate.
     pub halfspace_cells: (usize, usize),
-    /// [m] interpenetration beyond which a pose is rejected as absurd
+    /// \[m\] interpenetration beyond which a pose is rejected as absurd
     pub max_penetration: f64,
 }
 
@@ -106,6 +108,7 @@ impl Default for ContactOptions {
             split_angle: 0.1,
             split_depth_ratio: 0.5,
             stripes_variant: StripesVariant::LocalEpsilon,
+            tangential: Tangential::Fastrip,
             fastsim_nx: 16,
             fastsim_ny: 16,
             bound: TractionBound::Elliptic,
@@ -137,23 +140,23 @@ pub struct PatchInput<'a> {
 /// contact plane toward the field side, n normal from rail to wheel).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct PatchForces {
-    /// [N] normal force (compressive positive)
+    /// \[N\] normal force (compressive positive)
     pub fn_: f64,
-    /// [N] longitudinal creep force on the wheel
+    /// \[N\] longitudinal creep force on the wheel
     pub fx: f64,
-    /// [N] lateral creep force on the wheel, along s
+    /// \[N\] lateral creep force on the wheel, along s
     pub fs: f64,
-    /// [N m] spin moment on the wheel about the normal through the reference point
+    /// \[N m\] spin moment on the wheel about the normal through the reference point
     pub mz: f64,
-    /// [Pa] maximum pressure
+    /// \[Pa\] maximum pressure
     pub p_max: f64,
-    /// [m] patch length along x
+    /// \[m\] patch length along x
     pub length: f64,
-    /// [m] patch width along s
+    /// \[m\] patch width along s
     pub width: f64,
-    /// [m^2] contact area
+    /// \[m^2\] contact area
     pub area: f64,
-    /// [-] fraction of the contact in adhesion
+    /// \[-\] fraction of the contact in adhesion
     pub adhesion_fraction: f64,
     /// number of strips, grid cells in contact, or 1 for an ellipse
     pub n_elements: u32,
@@ -162,35 +165,35 @@ pub struct PatchForces {
 /// A solved patch with its geometry, in the side frame and in the track frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PatchResult {
-    /// [m] lateral position of the patch reference point on the rail, in the rail-profile frame
+    /// \[m\] lateral position of the patch reference point on the rail, in the rail-profile frame
     /// (toward the field side): the interpenetration-weighted centroid of the patch
     pub y_rail_profile: f64,
-    /// [m] lateral position of the contact point on the wheel profile (S, toward the field side)
+    /// \[m\] lateral position of the contact point on the wheel profile (S, toward the field side)
     pub y_wheel_profile: f64,
-    /// [m] contact point on the rail in the track frame (x, y, z)
+    /// \[m\] contact point on the rail in the track frame (x, y, z)
     pub point_track: [f64; 3],
-    /// [rad] contact angle at the reference point, positive when the normal leans toward the
+    /// \[rad\] contact angle at the reference point, positive when the normal leans toward the
     /// flange; the forces are given in this plane
     pub contact_angle: f64,
-    /// [m] the seed's rigid contact pair (theta_C = 90 deg, deepest interpenetration): lateral
+    /// \[m\] the seed's rigid contact pair (theta_C = 90 deg, deepest interpenetration): lateral
     /// position on the rail profile
     pub rigid_pair_y_rail_profile: f64,
-    /// [rad] contact angle at the rigid contact pair
+    /// \[rad\] contact angle at the rigid contact pair
     pub rigid_pair_contact_angle: f64,
-    /// [m] largest interpenetration of the undeformed profiles (the seed's delta_0); for
+    /// \[m\] largest interpenetration of the undeformed profiles (the seed's delta_0); for
     /// `halfspace` the elastic approach of the patch
     pub penetration: f64,
-    /// [m] wheel radius at the contact point
+    /// \[m\] wheel radius at the contact point
     pub rolling_radius: f64,
     /// Creepages at the reference point (Kalker's convention, patch axes; spin in 1/m).
     pub creepages: Creepages,
     /// Forces in the patch axes.
     pub forces: PatchForces,
-    /// [N] force on the wheel in the track frame (x, y, z)
+    /// \[N\] force on the wheel in the track frame (x, y, z)
     pub force_track: [f64; 3],
-    /// [N m] spin moment on the wheel as a vector in the track frame
+    /// \[N m\] spin moment on the wheel as a vector in the track frame
     pub moment_track: [f64; 3],
-    /// [rad] largest travelling error (seed Fig. 10) among the patch's pairs
+    /// \[rad\] largest travelling error (seed Fig. 10) among the patch's pairs
     pub travel_error: f64,
 }
 
@@ -199,15 +202,15 @@ pub struct PatchResult {
 pub struct WheelSummary {
     /// Number of patches.
     pub n_patches: usize,
-    /// [N] total force on the wheel in the track frame
+    /// \[N\] total force on the wheel in the track frame
     pub force_track: [f64; 3],
     /// Travelling statistics.
     pub travel: TravelStats,
-    /// [m] vertical wheelset position used (after load iteration, if any)
+    /// \[m\] vertical wheelset position used (after load iteration, if any)
     pub z: f64,
     /// Number of load iterations (0 when the position was prescribed).
     pub load_iterations: u32,
-    /// [N] vertical force minus the prescribed load after the load iteration (non-zero only
+    /// \[N\] vertical force minus the prescribed load after the load iteration (non-zero only
     /// where the force jumps with the height, e.g. a patch appearing at a coarse step)
     pub load_residual: f64,
 }
@@ -323,6 +326,7 @@ impl WheelRailContact {
                     stripes::solve(
                         &input,
                         self.opts.stripes_variant,
+                        self.opts.tangential,
                         self.opts.fastsim_nx,
                         self.opts.bound,
                         &mut ws.strips,

@@ -14,26 +14,26 @@ pub struct PairSpec {
     pub wheel: Profile,
     /// Rail profile in its profile frame (y toward the field side, z up).
     pub rail: Profile,
-    /// [m] nominal rolling radius r0 (radius at the wheel profile's z = 0)
+    /// \[m\] nominal rolling radius r0 (radius at the wheel profile's z = 0)
     pub r0: f64,
-    /// [m] distance between the flange backs of the two wheels (1360 mm)
+    /// \[m\] distance between the flange backs of the two wheels (1360 mm)
     pub flange_back_distance: f64,
-    /// [m] profile y-coordinate of the flange back (-70 mm for S1002)
+    /// \[m\] profile y-coordinate of the flange back (-70 mm for S1002)
     pub flange_back_y: f64,
-    /// [m] track gauge, measured `gauge_depth` below the top of the rails (1435 mm)
+    /// \[m\] track gauge, measured `gauge_depth` below the top of the rails (1435 mm)
     pub gauge: f64,
-    /// [m] depth below the rail top at which the gauge is measured (14 mm)
+    /// \[m\] depth below the rail top at which the gauge is measured (14 mm)
     pub gauge_depth: f64,
-    /// [rad] rail inclination toward the track centre applied to the rail profile
+    /// \[rad\] rail inclination toward the track centre applied to the rail profile
     /// (atan(1/40)); 0 for a profile file that is already inclined
     pub inclination: f64,
     /// Combined elastic constants of wheel and rail.
     pub material: Material,
-    /// [-] Coulomb friction coefficient
+    /// \[-\] Coulomb friction coefficient
     pub mu: f64,
-    /// [m] sampling step of the arc-length curves built from the profiles
+    /// \[m\] sampling step of the arc-length curves built from the profiles
     pub curve_ds: f64,
-    /// [-] smoothing parameter of the profile splines (0 = interpolating)
+    /// \[-\] smoothing parameter of the profile splines (0 = interpolating)
     pub smoothing: f64,
 }
 
@@ -48,24 +48,24 @@ pub struct WheelRailPair {
     pub rail: ArcCurve,
     /// Where the rail profile's origin went in the side frame.
     pub rail_placement: RailPlacement,
-    /// [m] axial distance from the wheelset centre to the wheel profile's y = 0
+    /// \[m\] axial distance from the wheelset centre to the wheel profile's y = 0
     pub wheel_y0: f64,
-    /// [m] nominal rolling radius
+    /// \[m\] nominal rolling radius
     pub r0: f64,
-    /// [m] arc length on the wheel curve of the flange tip (lowest point); travelling starts there
+    /// \[m\] arc length on the wheel curve of the flange tip (lowest point); travelling starts there
     pub wheel_s_tip: f64,
     /// Combined elastic constants.
     pub material: Material,
-    /// [-] Coulomb friction coefficient
+    /// \[-\] Coulomb friction coefficient
     pub mu: f64,
-    /// [1/m] largest |curvature| of the wheel curve within [`KAPPA_WINDOW`] ahead of each node
+    /// \[1/m\] largest |curvature| of the wheel curve within [`KAPPA_WINDOW`] ahead of each node
     /// (index `floor(s / ds)`), for the far-field step control of the travelling
     pub wheel_kappa_ahead: Vec<f64>,
-    /// [1/m] the same for the rail curve
+    /// \[1/m\] the same for the rail curve
     pub rail_kappa_ahead: Vec<f64>,
 }
 
-/// [m] length of the window over which curvature bounds are taken ahead of a point; at least
+/// \[m\] length of the window over which curvature bounds are taken ahead of a point; at least
 /// the largest travelling step.
 pub const KAPPA_WINDOW: f64 = 6e-3;
 
@@ -88,7 +88,7 @@ fn kappa_ahead(c: &ArcCurve) -> Vec<f64> {
 }
 
 impl WheelRailPair {
-    /// [1/m] bound on the relative curvature of the pair over the window ahead of (s_w, s_r).
+    /// \[1/m\] bound on the relative curvature of the pair over the window ahead of (s_w, s_r).
     #[inline]
     pub fn kappa_bound(&self, s_w: f64, s_r: f64) -> f64 {
         let iw = ((s_w / self.wheel.ds()) as usize).min(self.wheel_kappa_ahead.len() - 1);

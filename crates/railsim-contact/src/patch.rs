@@ -6,35 +6,35 @@ use crate::pair::WheelRailPair;
 use crate::pose::{WheelsetVelocity, cross, dot3, mat_vec};
 use railsim_elastic::Creepages;
 
-/// [1/m] smallest lateral relative curvature used in Hertz formulas; concave (conformal) spots
+/// \[1/m\] smallest lateral relative curvature used in Hertz formulas; concave (conformal) spots
 /// are clamped to it (CONTACT's KPEC/ANALYN floor of 1e-4 1/mm, contact-theory.md §1.2).
 pub const B_MIN: f64 = 0.1;
 
 /// The rigid contact pair of a patch and the patch's planar frame, in the side frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PatchFrame {
-    /// [m] reference point on the rail (y, z), side frame: the rail point of the rigid pair
+    /// \[m\] reference point on the rail (y, z), side frame: the rail point of the rigid pair
     pub rail_point: [f64; 2],
-    /// [m] reference point on the wheel (x, y, z), side frame: the wheel locus point
+    /// \[m\] reference point on the wheel (x, y, z), side frame: the wheel locus point
     pub wheel_point: [f64; 3],
-    /// [m] arc length of the reference on the wheel profile curve
+    /// \[m\] arc length of the reference on the wheel profile curve
     pub s_w: f64,
     /// unit normal (y, z) from rail to wheel
     pub n: [f64; 2],
     /// unit lateral tangent (y, z) toward the field side
     pub t: [f64; 2],
-    /// [rad] contact angle: rotation from the track z-axis to the normal, positive when the
+    /// \[rad\] contact angle: rotation from the track z-axis to the normal, positive when the
     /// normal leans toward the gauge side (toward the flange)
     pub contact_angle: f64,
-    /// [m] largest interpenetration of the undeformed surfaces (the seed's delta_0)
+    /// \[m\] largest interpenetration of the undeformed surfaces (the seed's delta_0)
     pub delta0: f64,
-    /// [1/m] longitudinal relative curvature A at the reference (half the sum of curvatures)
+    /// \[1/m\] longitudinal relative curvature A at the reference (half the sum of curvatures)
     pub a_curv: f64,
-    /// [1/m] lateral relative curvature B at the reference, clamped to [`B_MIN`]
+    /// \[1/m\] lateral relative curvature B at the reference, clamped to [`B_MIN`]
     pub b_curv: f64,
-    /// [m] wheel radius at the reference
+    /// \[m\] wheel radius at the reference
     pub rho: f64,
-    /// [-] index of the deepest pair within the travelled pairs
+    /// \[-\] index of the deepest pair within the travelled pairs
     pub deepest: usize,
 }
 
@@ -146,13 +146,13 @@ pub(crate) fn lerp_pair(p: &IsoPair, q: &IsoPair, f: f64) -> IsoPair {
 /// Rigid-body kinematics of the wheel in the side frame, for creepages.
 #[derive(Clone, Copy, Debug)]
 pub struct WheelKinematics {
-    /// [m] axle centre
+    /// \[m\] axle centre
     pub c: [f64; 3],
-    /// [m/s] axle centre velocity
+    /// \[m/s\] axle centre velocity
     pub v_c: [f64; 3],
-    /// [rad/s] angular velocity
+    /// \[rad/s\] angular velocity
     pub omega: [f64; 3],
-    /// [m/s] reference speed dividing the creepages (the rolling speed)
+    /// \[m/s\] reference speed dividing the creepages (the rolling speed)
     pub v_ref: f64,
 }
 

@@ -43,30 +43,30 @@ impl Side {
 /// Rigid-body pose of a wheelset relative to the track frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WheelsetPose {
-    /// [m] lateral displacement of the axle centre, positive to the left
+    /// \[m\] lateral displacement of the axle centre, positive to the left
     pub y: f64,
-    /// [m] vertical displacement of the axle centre from its nominal height r0, positive up
+    /// \[m\] vertical displacement of the axle centre from its nominal height r0, positive up
     pub z: f64,
-    /// [rad] roll angle about the track x-axis (right-hand rule, x forward)
+    /// \[rad\] roll angle about the track x-axis (right-hand rule, x forward)
     pub roll: f64,
-    /// [rad] yaw angle about the track z-axis (positive turns the nose to the left)
+    /// \[rad\] yaw angle about the track z-axis (positive turns the nose to the left)
     pub yaw: f64,
 }
 
 /// Velocities of a wheelset relative to the track frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WheelsetVelocity {
-    /// [m/s] forward speed of the axle centre (rolling speed); must be positive
+    /// \[m/s\] forward speed of the axle centre (rolling speed); must be positive
     pub vx: f64,
-    /// [m/s] lateral velocity of the axle centre
+    /// \[m/s\] lateral velocity of the axle centre
     pub vy: f64,
-    /// [m/s] vertical velocity of the axle centre
+    /// \[m/s\] vertical velocity of the axle centre
     pub vz: f64,
-    /// [rad/s] roll rate
+    /// \[rad/s\] roll rate
     pub roll_rate: f64,
-    /// [rad/s] yaw rate
+    /// \[rad/s\] yaw rate
     pub yaw_rate: f64,
-    /// [rad/s] spin about the wheelset axle; pure rolling forward is `vx / r0` (positive)
+    /// \[rad/s\] spin about the wheelset axle; pure rolling forward is `vx / r0` (positive)
     pub spin: f64,
 }
 

@@ -26,13 +26,25 @@
 //! aspect-preserving equivalent ellipse (Kik & Piotrowski 2008, as CONTACT does).
 
 use railsim_elastic::{
-    Creepages, TractionBound, blended_flexibilities, fastsim_strip, hertz_coeffs_fast,
-    stripes_epsilon,
+    Creepages, FastripPatch, TractionBound, blended_flexibilities, fastrip_strip, fastsim_strip,
+    hertz_coeffs_fast, kalker_coeffs, stripes_epsilon,
 };
 
 use crate::error::ContactError;
 use crate::model::{PatchForces, PatchInput};
 use crate::patch::{B_MIN, longitudinal_curvature, mid};
+
+/// The tangential solution per strip.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Tangential {
+    /// FASTSIM (Kalker 1982), three flexibilities of the equivalent ellipse, CONTACT's blending.
+    Fastsim,
+    /// FaStrip (Sichani, Enblom & Berg 2016): strip theory with spin calibrated to Kalker's
+    /// linear theory, FASTSIM directions in slip and FASTSIM where strip theory breaks down.
+    /// Semi-elliptic pressure (the traction-bound option does not apply).
+    Fastrip,
+}
 
 /// Which virtual-penetration ratio bounds the strips.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -57,13 +69,13 @@ pub struct Local {
     l: f64,
     b: f64,
     hc: railsim_elastic::HertzCoeffs,
-    /// [Pa] line load per unit virtual interpenetration, E*/(n r eps)
+    /// \[Pa\] line load per unit virtual interpenetration, E*/(n r eps)
     k: f64,
     load: f64,
     width: f64,
 }
 
-/// [Pa] peak of the pressure along a strip of half-length `a` that carries the line load `q`:
+/// \[Pa\] peak of the pressure along a strip of half-length `a` that carries the line load `q`:
 /// `2q/(pi a)` for a semi-ellipse, `3q/(4a)` for a parabola.
 pub fn peak_for_line_load(q: f64, a: f64, bound: TractionBound) -> f64 {
     match bound {
@@ -84,17 +96,17 @@ fn quad(a: &Local, b: &Local, c: &Local, l: f64) -> f64 {
 /// One strip of a STRIPES patch.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Strip {
-    /// [m] lateral coordinate in the patch plane, from the reference point
+    /// \[m\] lateral coordinate in the patch plane, from the reference point
     pub l: f64,
-    /// [m] width carried by the strip
+    /// \[m\] width carried by the strip
     pub w: f64,
-    /// [m] virtual interpenetration h_i
+    /// \[m\] virtual interpenetration h_i
     pub h: f64,
-    /// [N/m] line load
+    /// \[N/m\] line load
     pub q: f64,
-    /// [m] half-length
+    /// \[m\] half-length
     pub a: f64,
-    /// [m] longitudinal position of the strip centre relative to the reference point
+    /// \[m\] longitudinal position of the strip centre relative to the reference point
     pub x: f64,
     /// index of the isosceles pair
     pub pair: usize,
@@ -104,6 +116,7 @@ pub struct Strip {
 pub fn solve(
     input: &PatchInput<'_>,
     variant: StripesVariant,
+    tangential: Tangential,
     nx: usize,
     bound: TractionBound,
     strips: &mut Vec<Strip>,
@@ -278,24 +291,37 @@ pub fn solve(
     let a_eq = r * (len / wid).sqrt();
     let b_eq = r * (wid / len).sqrt();
     let flex = blended_flexibilities(a_eq, b_eq, f.fn_, input.pair.mu, &input.creep, &mat)?;
+    let fastrip = match tangential {
+        Tangential::Fastrip => {
+            let c = kalker_coeffs(a_eq, b_eq, mat.nu)?;
+            Some(FastripPatch {
+                c11: c.c11,
+                c22: c.c22,
+                c23: c.c23,
+                a: a_eq,
+                b: b_eq,
+                g: mat.g,
+                nu: mat.nu,
+            })
+        }
+        Tangential::Fastsim => None,
+    };
     let mut n_adh = 0u32;
     let mut n_cells = 0u32;
     for s in strips.iter() {
         let p = &pairs[s.pair];
         let creep: Creepages = input.kin.creepages([p.x, p.a[0], p.a[1]], fr.t, p.n);
-        let p0 = peak_for_line_load(s.q, s.a, bound);
-        let st = fastsim_strip(
-            0.0,
-            s.w,
-            s.x,
-            s.a,
-            p0,
-            bound,
-            &creep,
-            &flex,
-            input.pair.mu,
-            nx,
-        );
+        let mu = input.pair.mu;
+        let st = match &fastrip {
+            Some(patch) => {
+                let p0 = peak_for_line_load(s.q, s.a, TractionBound::Elliptic);
+                fastrip_strip(0.0, s.w, s.x, s.a, p0, &creep, &flex, patch, mu, nx).0
+            }
+            None => {
+                let p0 = peak_for_line_load(s.q, s.a, bound);
+                fastsim_strip(0.0, s.w, s.x, s.a, p0, bound, &creep, &flex, mu, nx)
+            }
+        };
         f.fx += st.fx;
         f.fs += st.fy;
         f.mz += st.mz - s.l * st.fx;

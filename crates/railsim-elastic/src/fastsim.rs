@@ -25,7 +25,7 @@ pub struct Flexibilities {
 }
 
 impl Flexibilities {
-    fn is_valid(&self) -> bool {
+    pub(crate) fn is_valid(&self) -> bool {
         [self.l1, self.l2, self.l3]
             .iter()
             .all(|l| l.is_finite() && *l > 0.0)

@@ -21,6 +21,7 @@
 #![deny(rustdoc::broken_intra_doc_links)]
 
 pub mod error;
+pub mod fastrip;
 pub mod fastsim;
 pub mod halfspace;
 pub mod hertz;
@@ -29,6 +30,7 @@ pub mod material;
 pub mod polach;
 
 pub use error::ElasticError;
+pub use fastrip::{FastripPatch, StripMethod, fastrip_strip};
 pub use fastsim::{
     Flexibilities, StripTraction, TractionBound, blended_flexibilities, fastsim_ellipse,
     fastsim_strip, flexibilities,
