@@ -59,6 +59,22 @@ fn main() {
         p.z = -z * 1e-3;
         poses.push((case.side, p, v));
     }
+    if std::env::var("PAIRS").is_ok() {
+        for k in [4usize, 25] {
+            let (side, p, v) = &poses[k];
+            c.evaluate(*side, p, v, &mut ws).unwrap();
+            let mut prev = 0.0;
+            for q in &ws.pairs {
+                println!(
+                    "case {k} s_r {:7.3} ds {:6.3} gap {:9.4} mm",
+                    q.s_r * 1e3,
+                    (q.s_r - prev) * 1e3,
+                    q.gap * 1e3
+                );
+                prev = q.s_r;
+            }
+        }
+    }
     let t0 = std::time::Instant::now();
     let mut pairs = 0u64;
     let mut corr = 0u64;
@@ -71,6 +87,25 @@ fn main() {
         reseeds += s.travel.reseeds as u64;
     }
     let dt = t0.elapsed().as_secs_f64() / n as f64;
+    // Per-case times: each case evaluated n/42 times, the median over the cases.
+    let reps = (n / poses.len()).max(10);
+    let mut per_case: Vec<f64> = poses
+        .iter()
+        .map(|(side, p, v)| {
+            let t = std::time::Instant::now();
+            for _ in 0..reps {
+                c.evaluate(*side, p, v, &mut ws).unwrap();
+            }
+            t.elapsed().as_secs_f64() / reps as f64
+        })
+        .collect();
+    per_case.sort_by(f64::total_cmp);
+    println!(
+        "per case: median {:.2} µs, min {:.2}, max {:.2}",
+        per_case[per_case.len() / 2] * 1e6,
+        per_case[0] * 1e6,
+        per_case[per_case.len() - 1] * 1e6
+    );
     println!(
         "{} step {step} mm: {:.2} µs per evaluation, {:.1} pairs, {:.1} corrections, {:.2} reseeds",
         model.name(),

@@ -63,11 +63,13 @@ pub struct WheelRailPair {
     pub wheel_kappa_ahead: Vec<f64>,
     /// \[1/m\] the same for the rail curve
     pub rail_kappa_ahead: Vec<f64>,
+    wheel_inv_ds: f64,
+    rail_inv_ds: f64,
 }
 
 /// \[m\] length of the window over which curvature bounds are taken ahead of a point; at least
 /// the largest travelling step.
-pub const KAPPA_WINDOW: f64 = 6e-3;
+pub const KAPPA_WINDOW: f64 = 10e-3;
 
 /// Largest |curvature| within `KAPPA_WINDOW` ahead of each node of a curve (and one node behind,
 /// so that a bound holds between nodes).
@@ -91,8 +93,8 @@ impl WheelRailPair {
     /// \[1/m\] bound on the relative curvature of the pair over the window ahead of (s_w, s_r).
     #[inline]
     pub fn kappa_bound(&self, s_w: f64, s_r: f64) -> f64 {
-        let iw = ((s_w / self.wheel.ds()) as usize).min(self.wheel_kappa_ahead.len() - 1);
-        let ir = ((s_r / self.rail.ds()) as usize).min(self.rail_kappa_ahead.len() - 1);
+        let iw = ((s_w * self.wheel_inv_ds) as usize).min(self.wheel_kappa_ahead.len() - 1);
+        let ir = ((s_r * self.rail_inv_ds) as usize).min(self.rail_kappa_ahead.len() - 1);
         self.wheel_kappa_ahead[iw] + self.rail_kappa_ahead[ir]
     }
 }
@@ -146,6 +148,8 @@ impl WheelRailPair {
             s_tip = 0.0;
         }
         let wheel_kappa_ahead = kappa_ahead(&wheel);
+        let wheel_inv_ds = 1.0 / wheel.ds();
+        let rail_inv_ds = 1.0 / rail.ds();
         let rail_kappa_ahead = kappa_ahead(&rail);
         Ok(WheelRailPair {
             wheel,
@@ -158,6 +162,8 @@ impl WheelRailPair {
             mu: spec.mu,
             wheel_kappa_ahead,
             rail_kappa_ahead,
+            wheel_inv_ds,
+            rail_inv_ds,
         })
     }
 
