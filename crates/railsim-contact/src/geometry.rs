@@ -449,15 +449,15 @@ pub fn travel(
             let kb = pair.kappa_bound(s_w, s_r).max(1.0);
             let gp = rec.tangent_sin.abs();
             let mut cand = (-gp + (gp * gp + kb * g).sqrt()) / kb;
-            if let Some((g0, ds0)) = prev_gap {
-                if g < g0 && ds0 > 0.0 {
-                    // Approaching an intersection: the seed's crossing distance (eq. 1).
-                    let chord =
-                        ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
-                    let cos_c = rec.cos_theta_c.abs().max(1e-12);
-                    let cd = chord / (2.0 * cos_c);
-                    cand = cand.min(0.8 * cd);
-                }
+            if let Some((g0, ds0)) = prev_gap
+                && g < g0
+                && ds0 > 0.0
+            {
+                // Approaching an intersection: the seed's crossing distance (eq. 1).
+                let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
+                let cos_c = rec.cos_theta_c.abs().max(1e-12);
+                let cd = chord / (2.0 * cos_c);
+                cand = cand.min(0.8 * cd);
             }
             h = cand.clamp(opts.step, opts.max_step);
         }
