@@ -2,7 +2,7 @@
 //! half-space solution (`tests/reference/mbench_a22`).
 
 use railsim_contact::contact_format::{ContactRow, parse_cases_csv, solve_case};
-use railsim_contact::{ContactModelKind, ContactWorkspace};
+use railsim_contact::{ContactModelKind, ContactOptions, ContactWorkspace};
 
 use crate::common::{Table, mbench_contact, repo, tolerances};
 
@@ -41,7 +41,10 @@ fn stripes_matches_contact_on_all_42_cases() {
     let tol = tolerances("mbench_a22", "stripes");
     let reference = Table::read("tests/reference/mbench_a22/reference.csv");
     let regions = Table::read("tests/reference/mbench_a22/regions.csv");
-    let ours = run_all(ContactModelKind::Stripes, 0.2e-3);
+    let ours = run_all(
+        ContactModelKind::Stripes,
+        ContactOptions::default().travel.step,
+    );
     let known = known_deviations();
     let mut known_seen = vec![false; known.len()];
     let mut failures = Vec::new();
@@ -242,7 +245,10 @@ fn known_deviations() -> Vec<Known> {
 fn halfspace_penetration_matches_contact() {
     let tol = tolerances("mbench_a22", "halfspace");
     let reference = Table::read("tests/reference/mbench_a22/reference.csv");
-    let ours = run_all(ContactModelKind::Halfspace, 0.2e-3);
+    let ours = run_all(
+        ContactModelKind::Halfspace,
+        ContactOptions::default().travel.step,
+    );
     let mut failures = Vec::new();
     for (r, rows) in &ours {
         let side = reference.s(*r, "side");

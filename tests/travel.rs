@@ -5,7 +5,7 @@
 use railsim_contact::contact_format::ContactCase;
 use railsim_contact::{ContactModelKind, ContactWorkspace, PatchResult, Side};
 
-use crate::common::{mbench_contact, tol_scale};
+use crate::common::{mbench_contact_with, tol_scale};
 
 /// Right wheel of the benchmark at y = 5 mm (yaw 12 mrad) at CONTACT's converged height.
 fn case(y_mm: f64, yaw: f64, roll: f64, z_mm: f64, vpitch: f64) -> ContactCase {
@@ -29,8 +29,9 @@ fn y65() -> ContactCase {
     case(6.5, 0.0156, -0.004376, -3.046792175, -4.3293718)
 }
 
+/// The seed's scheme: a fixed step inside the zones (no narrow-zone refinement).
 fn solve(c: &ContactCase, step: f64, ws: &mut ContactWorkspace) -> Vec<PatchResult> {
-    let contact = mbench_contact(ContactModelKind::Stripes, step);
+    let contact = mbench_contact_with(ContactModelKind::Stripes, step, 0);
     let (pose, vel) = c.to_railsim();
     contact.evaluate(c.side, &pose, &vel, ws).unwrap();
     let mut p = ws.patches.clone();

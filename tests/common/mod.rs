@@ -65,10 +65,21 @@ pub fn mbench_pair() -> WheelRailPair {
     .unwrap()
 }
 
-/// The benchmark contact with a model and step.
+/// The benchmark contact with a model and step (narrow-zone refinement as by default).
 pub fn mbench_contact(model: ContactModelKind, step: f64) -> WheelRailContact {
+    mbench_contact_with(model, step, ContactOptions::default().min_zone_pairs)
+}
+
+/// The benchmark contact with a model, step and narrow-zone refinement (0: the seed's fixed
+/// step inside zones).
+pub fn mbench_contact_with(
+    model: ContactModelKind,
+    step: f64,
+    min_zone_pairs: usize,
+) -> WheelRailContact {
     let mut opts = ContactOptions {
         model,
+        min_zone_pairs,
         ..Default::default()
     };
     opts.travel.step = step;

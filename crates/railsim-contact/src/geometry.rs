@@ -50,7 +50,7 @@ pub struct TravelOptions {
 impl Default for TravelOptions {
     fn default() -> Self {
         TravelOptions {
-            step: 0.2e-3,
+            step: 0.5e-3,
             max_step: 8.0e-3,
             angle_tol: 1e-5,
             max_corrections: 6,
@@ -78,6 +78,10 @@ impl TravelOptions {
         Ok(())
     }
 }
+
+/// [m] gap beyond which travelled pairs are not corrected to full accuracy (they only steer the
+/// step; pairs near or inside contact are always exact to `angle_tol`).
+pub const FAR_GAP: f64 = 0.3e-3;
 
 /// One isosceles pair found by the travelling, in the side frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -430,8 +434,6 @@ pub fn travel(
         }
         e = correct(pair, &ctx, &mut s_w, &mut s_r, &e);
     }
-    let l_w = pair.wheel.length();
-    let l_r = pair.rail.length();
     let mut prev_gap: Option<(f64, f64)> = None;
     let mut err = -1.0;
     loop {
@@ -462,47 +464,135 @@ pub fn travel(
             h = cand.clamp(opts.step, opts.max_step);
         }
         prev_gap = Some((g, h));
-        // Stepping: equal arc lengths on both curves (wheel locus and rail), seed §3.2.
-        let s_w_new = s_w + h / e.a.speed;
-        let s_r_new = s_r + h;
-        if s_w_new >= l_w || s_r_new >= l_r {
-            break;
-        }
-        s_w = s_w_new;
-        s_r = s_r_new;
-        e = eval_pair(pair, &ctx, s_w, s_r);
-        // One correction (the seed's eq. 5, as a Newton step), whose residual is the travelling
-        // error ...
-        e = correct(pair, &ctx, &mut s_w, &mut s_r, &e);
-        stats.corrections += 1;
-        // The travelling error is a diagnostic of the pairs near contact (seed Fig. 10).
-        err = if e.f.abs() < 1e-3 {
-            travel_error(&e)
-        } else {
-            -1.0
-        };
-        // ... then more until the pair is exact to the tolerance.
-        let mut k = 1;
-        while k < opts.max_corrections {
-            let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
-            if e.f.abs() <= opts.angle_tol * chord.max(1e-9) {
-                break;
+        match advance(
+            pair,
+            &ctx,
+            opts,
+            &mut s_w,
+            &mut s_r,
+            &e,
+            h,
+            g <= FAR_GAP,
+            &mut stats,
+        ) {
+            Some((next, next_err)) => {
+                e = next;
+                err = next_err;
             }
-            e = correct(pair, &ctx, &mut s_w, &mut s_r, &e);
-            stats.corrections += 1;
-            k += 1;
-        }
-        let s_r_min = s_r_new - h + 0.25 * h;
-        if k == opts.max_corrections || s_r < s_r_min {
-            // Lost the pair (a fold of the pair map), or the correction undid the step: re-seed
-            // from the stepped rail point, so that the travelling always moves forward.
-            s_r = s_r.max(s_r_min);
-            s_w = seed_wheel(pair, &ctx, s_r, pair.wheel_s_tip);
-            e = eval_pair(pair, &ctx, s_w, s_r);
-            stats.reseeds += 1;
+            None => break,
         }
     }
     stats
+}
+
+/// One step of the travelling from the evaluated pair `e` at (`s_w`, `s_r`) by the arc `h`:
+/// stepping by equal arcs (seed §3.2), one correction (eq. 5 as a Newton step) whose residual is
+/// the travelling error, further corrections to `angle_tol` when `exact`, and a re-seed if the
+/// pair was lost. Returns the new pair and its travelling error, or `None` past a curve's end.
+#[allow(clippy::too_many_arguments)]
+fn advance(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    opts: &TravelOptions,
+    s_w: &mut f64,
+    s_r: &mut f64,
+    e: &PairEval,
+    h: f64,
+    exact: bool,
+    stats: &mut TravelStats,
+) -> Option<(PairEval, f64)> {
+    let s_w_new = *s_w + h / e.a.speed;
+    let s_r_new = *s_r + h;
+    if s_w_new >= pair.wheel.length() || s_r_new >= pair.rail.length() {
+        return None;
+    }
+    *s_w = s_w_new;
+    *s_r = s_r_new;
+    let mut e = eval_pair(pair, ctx, *s_w, *s_r);
+    if !exact {
+        // Far from contact the pairs only steer the step size: a pair within 0.05 rad of
+        // isosceles measures the gap to a relative error below 0.1 %, so it is kept as it is.
+        let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
+        if e.f.abs() <= 0.05 * chord {
+            return Some((e, -1.0));
+        }
+    }
+    e = correct(pair, ctx, s_w, s_r, &e);
+    stats.corrections += 1;
+    // The travelling error is a diagnostic of the pairs near contact (seed Fig. 10).
+    let err = if e.f.abs() < 1e-3 {
+        travel_error(&e)
+    } else {
+        -1.0
+    };
+    let mut k = 1;
+    while k < opts.max_corrections {
+        let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
+        if e.f.abs() <= opts.angle_tol * chord.max(1e-9) {
+            break;
+        }
+        e = correct(pair, ctx, s_w, s_r, &e);
+        stats.corrections += 1;
+        k += 1;
+    }
+    let s_r_min = s_r_new - 0.75 * h;
+    if k == opts.max_corrections || *s_r < s_r_min {
+        // Lost the pair (a fold of the pair map), or the correction undid the step: re-seed
+        // from the stepped rail point, so that the travelling always moves forward.
+        *s_r = s_r.max(s_r_min);
+        *s_w = seed_wheel(pair, ctx, *s_r, pair.wheel_s_tip);
+        e = eval_pair(pair, ctx, *s_w, *s_r);
+        stats.reseeds += 1;
+    }
+    Some((e, err))
+}
+
+/// Re-travel every zone resolved by fewer than `min_pairs` pairs with a step that gives it
+/// `min_pairs`, so that narrow patches (flange root, flange) are resolved whatever the base
+/// step. The refined pairs replace the zone's pairs; `scratch` is reused as the new list.
+/// Returns whether anything changed (the zones must then be found again).
+pub fn refine_narrow_zones(
+    pair: &WheelRailPair,
+    pose: &WheelsetPose,
+    opts: &TravelOptions,
+    min_pairs: usize,
+    pairs: &mut Vec<IsoPair>,
+    zones: &[Zone],
+    scratch: &mut Vec<IsoPair>,
+    stats: &mut TravelStats,
+) -> bool {
+    if !zones.iter().any(|z| z.last + 1 - z.first < min_pairs) {
+        return false;
+    }
+    let ctx = PoseCtx::new(pair, pose);
+    scratch.clear();
+    let mut next = 0;
+    for z in zones {
+        if z.last + 1 - z.first >= min_pairs {
+            continue;
+        }
+        let i0 = z.first.saturating_sub(1);
+        let i1 = (z.last + 1).min(pairs.len() - 1);
+        scratch.extend_from_slice(&pairs[next..=i0]);
+        let (mut s_w, mut s_r) = (pairs[i0].s_w, pairs[i0].s_r);
+        let s_end = pairs[i1].s_r;
+        let h = ((s_end - s_r) / (min_pairs + 1) as f64).max(1e-6);
+        let mut e = eval_pair(pair, &ctx, s_w, s_r);
+        while s_r + 1.5 * h < s_end {
+            match advance(pair, &ctx, opts, &mut s_w, &mut s_r, &e, h, true, stats) {
+                Some((n, err)) => {
+                    e = n;
+                    scratch.push(record(&e, s_w, s_r, err));
+                    stats.pairs += 1;
+                }
+                None => break,
+            }
+        }
+        next = i1;
+    }
+    scratch.extend_from_slice(&pairs[next..]);
+    std::mem::swap(pairs, scratch);
+    true
 }
 
 /// One patch: a run of consecutive interpenetrating pairs.

@@ -17,7 +17,9 @@ use railsim_elastic::{
 };
 
 use crate::error::ContactError;
-use crate::geometry::{IsoPair, PoseCtx, TravelOptions, TravelStats, Zone, find_zones, travel};
+use crate::geometry::{
+    IsoPair, PoseCtx, TravelOptions, TravelStats, Zone, find_zones, refine_narrow_zones, travel,
+};
 use crate::pair::WheelRailPair;
 use crate::patch::{
     PatchFrame, WheelKinematics, longitudinal_curvature, mid, patch_frame, reference_point,
@@ -84,6 +86,9 @@ pub struct ContactOptions {
     pub split_angle: f64,
     /// \[-\] ... and the penetration between them falls below this fraction of the smaller maximum
     pub split_depth_ratio: f64,
+    /// A zone resolved by fewer travelled pairs than this is travelled again with a finer step
+    /// (narrow flange-root and flange patches); 0 disables the refinement.
+    pub min_zone_pairs: usize,
     /// Which virtual-penetration ratio STRIPES uses.
     pub stripes_variant: StripesVariant,
     /// Tangential solution per strip (`stripes`) or per grid row (`halfspace`).
@@ -107,6 +112,7 @@ impl Default for ContactOptions {
             travel: TravelOptions::default(),
             split_angle: 0.1,
             split_depth_ratio: 0.5,
+            min_zone_pairs: 12,
             stripes_variant: StripesVariant::LocalEpsilon,
             tangential: Tangential::Fastrip,
             fastsim_nx: 16,
@@ -223,6 +229,7 @@ pub struct ContactWorkspace {
     pub pairs: Vec<IsoPair>,
     /// The zones of the last travelling.
     pub zones: Vec<Zone>,
+    pairs_scratch: Vec<IsoPair>,
     /// Strips of the last STRIPES patch.
     pub strips: Vec<Strip>,
     local: Vec<Local>,
@@ -283,7 +290,7 @@ impl WheelRailContact {
         vel.validate()?;
         let sp = pose.to_side(side);
         let sv = vel.to_side(side);
-        let stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
+        let mut stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
         if ws.pairs.len() < 3 {
             return Err(ContactError::NoOverlap {
                 side: side.name(),
@@ -296,6 +303,25 @@ impl WheelRailContact {
             self.opts.split_depth_ratio,
             &mut ws.zones,
         );
+        if self.opts.min_zone_pairs > 0
+            && refine_narrow_zones(
+                &self.pair,
+                &sp,
+                &self.opts.travel,
+                self.opts.min_zone_pairs,
+                &mut ws.pairs,
+                &ws.zones,
+                &mut ws.pairs_scratch,
+                &mut stats,
+            )
+        {
+            find_zones(
+                &ws.pairs,
+                self.opts.split_angle,
+                self.opts.split_depth_ratio,
+                &mut ws.zones,
+            );
+        }
         let ctx = PoseCtx::new(&self.pair, &sp);
         let kin = WheelKinematics::new(&ctx, sp.roll, &sv);
         ws.patches.clear();
