@@ -115,9 +115,9 @@ fn bench(c: &mut Criterion) {
     };
     let base = pair();
     println!(
-        "| model | step mm | max d ycp_r mm | max d angle rad | max d pen % | mean d pen % | max d Fx / Fn | max d Fs / Fn |"
+        "| model | step mm | max d ycp_r mm | max d angle rad | max d pen % | mean d pen % | max d Fx / Fn | max d Fs / Fn | median µs/case | max µs/case |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     let mut group = c.benchmark_group("contact_42_cases");
     group.sample_size(20);
     for model in ContactModelKind::ALL {
@@ -132,8 +132,34 @@ fn bench(c: &mut Criterion) {
             opts.travel.step = step;
             let contact = WheelRailContact::new(base.clone(), opts).unwrap();
             let (e, poses) = errors(&contact, &cases, &reference);
+            // Per-case times (the median over the 42 cases is the acceptance figure): each case
+            // timed over repeated evaluations after a warm-up, the fastest of 5 rounds.
+            let mut ws = ContactWorkspace::new();
+            let reps = if model == ContactModelKind::Halfspace {
+                3
+            } else {
+                300
+            };
+            let mut per_case: Vec<f64> = poses
+                .iter()
+                .enumerate()
+                .map(|(i, (pose, vel))| {
+                    let side = cases[i].1.side;
+                    contact.evaluate(side, pose, vel, &mut ws).unwrap();
+                    (0..5)
+                        .map(|_| {
+                            let t = std::time::Instant::now();
+                            for _ in 0..reps {
+                                black_box(contact.evaluate(side, pose, vel, &mut ws).unwrap());
+                            }
+                            t.elapsed().as_secs_f64() / reps as f64
+                        })
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .collect();
+            per_case.sort_by(f64::total_cmp);
             println!(
-                "| {} | {} | {:.3} | {:.4} | {:.1} | {:.2} | {:.3} | {:.3} |",
+                "| {} | {} | {:.3} | {:.4} | {:.1} | {:.2} | {:.3} | {:.3} | {:.1} | {:.1} |",
                 model.name(),
                 step * 1e3,
                 e[0],
@@ -141,7 +167,9 @@ fn bench(c: &mut Criterion) {
                 100.0 * e[2],
                 100.0 * e[3],
                 e[4],
-                e[5]
+                e[5],
+                per_case[per_case.len() / 2] * 1e6,
+                per_case[per_case.len() - 1] * 1e6
             );
             let mut ws = ContactWorkspace::new();
             group.bench_function(format!("{}_step{}", model.name(), step * 1e3), |b| {
