@@ -79,7 +79,7 @@ impl TravelOptions {
     }
 }
 
-/// [m] gap beyond which travelled pairs are not corrected to full accuracy (they only steer the
+/// \[m\] gap beyond which travelled pairs are not corrected to full accuracy (they only steer the
 /// step; pairs near or inside contact are always exact to `angle_tol`).
 pub const FAR_GAP: f64 = 0.3e-3;
 

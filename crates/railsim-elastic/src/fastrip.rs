@@ -7,12 +7,12 @@
 //! equivalent ellipse with semi-axes `a`, `b`):
 //! - `X = -2G(1-nu) C11 w_x / (pi^2 k)`, `Y = -2G(1-nu) C22 eta / (pi^2 k)` \[m\], with
 //!   `w_x = xi - phi y`, and `P = -3G sqrt(ab) C23 phi / (2 pi a k)` \[-\];
-//! - slip-zone length `2d`, `d = \[sqrt(Y^2 + (1-P^2) X^2) + Y P\] / ((1-P^2)(1-nu))`; the adhesion
+//! - slip-zone length `2d`, `d = [sqrt(Y^2 + (1-P^2) X^2) + Y P] / ((1-P^2)(1-nu))`; the adhesion
 //!   zone is the leading part `x - xc > 2d - hl`;
 //! - in adhesion, with `Q = sqrt(X^2 + (Y + P d)^2)`, `kappa = X/Q`, `lambda = (Y + P d)/Q`,
 //!   `lambda' = lambda - P`:
-//!   `p_x = k \[kappa sqrt(hl^2 - x^2) - kappa sqrt((hl-d)^2 - (x-d)^2)\]`,
-//!   `p_y = k \[lambda sqrt(hl^2 - x^2) - lambda' sqrt((hl-d)^2 - (x-d)^2)\]` (x from the strip
+//!   `p_x = k [kappa sqrt(hl^2 - x^2) - kappa sqrt((hl-d)^2 - (x-d)^2)]`,
+//!   `p_y = k [lambda sqrt(hl^2 - x^2) - lambda' sqrt((hl-d)^2 - (x-d)^2)]` (x from the strip
 //!   centre);
 //! - in slip, `|p| = mu p(x)` in the direction FASTSIM gives at that point.
 //!
@@ -54,7 +54,7 @@ pub enum StripMethod {
 }
 
 /// One FaStrip strip: the line at lateral coordinate `y` \[m\], width `dy` \[m\], semi-elliptic
-/// pressure with peak `p_peak` \[Pa\] on `\[xc - hl, xc + hl\]` \[m\], creepages `creep`, FASTSIM
+/// pressure with peak `p_peak` \[Pa\] on `[xc - hl, xc + hl]` \[m\], creepages `creep`, FASTSIM
 /// flexibilities `flex` (for the slip directions and the fallback), `nx` cells. Moment about the
 /// origin (x = 0, y = 0). Invalid input gives a zero result with `n_cells = 0`.
 pub fn fastrip_strip(
