@@ -4,10 +4,8 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-use railsim_contact::{
-    ContactModelKind, ContactOptions, PairSpec, WheelRailContact, WheelRailPair,
-};
-use railsim_elastic::Material;
+use railsim_contact::contact_format::manchester_benchmark_spec;
+use railsim_contact::{ContactModelKind, ContactOptions, WheelRailContact, WheelRailPair};
 use railsim_profile::{ProfileKind, read_simpack};
 
 /// Path of a file in the repository.
@@ -48,21 +46,7 @@ pub fn mbench_pair() -> WheelRailPair {
         ProfileKind::Rail,
     )
     .unwrap();
-    WheelRailPair::new(&PairSpec {
-        wheel,
-        rail,
-        r0: 0.460,
-        flange_back_distance: 1.360,
-        flange_back_y: -0.070,
-        gauge: 1.435,
-        gauge_depth: 0.014,
-        inclination: 0.0,
-        material: Material::new(82e9, 0.28).unwrap(),
-        mu: 0.3,
-        curve_ds: 5e-5,
-        smoothing: 0.0,
-    })
-    .unwrap()
+    WheelRailPair::new(&manchester_benchmark_spec(wheel, rail)).unwrap()
 }
 
 /// The benchmark contact with a model and step (narrow-zone refinement as by default).

@@ -14,12 +14,13 @@ use std::hint::black_box;
 use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use railsim_contact::contact_format::{ContactCase, parse_cases_csv, solve_case};
+use railsim_contact::contact_format::{
+    ContactCase, manchester_benchmark_spec, parse_cases_csv, solve_case,
+};
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, WheelRailContact, WheelRailPair,
+    ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact, WheelRailPair,
     WheelsetPose, WheelsetVelocity,
 };
-use railsim_elastic::Material;
 use railsim_profile::{ProfileKind, read_simpack};
 
 fn repo(rel: &str) -> PathBuf {
@@ -37,21 +38,7 @@ fn pair() -> WheelRailPair {
         ProfileKind::Rail,
     )
     .unwrap();
-    WheelRailPair::new(&PairSpec {
-        wheel,
-        rail,
-        r0: 0.460,
-        flange_back_distance: 1.360,
-        flange_back_y: -0.070,
-        gauge: 1.435,
-        gauge_depth: 0.014,
-        inclination: 0.0,
-        material: Material::new(82e9, 0.28).unwrap(),
-        mu: 0.3,
-        curve_ds: 5e-5,
-        smoothing: 0.0,
-    })
-    .unwrap()
+    WheelRailPair::new(&manchester_benchmark_spec(wheel, rail)).unwrap()
 }
 
 struct Reference {

@@ -2,11 +2,10 @@
 //! `cargo run --release -p railsim-contact --example profile_eval -- [model] [step_mm] [n]`.
 use std::path::PathBuf;
 
-use railsim_contact::contact_format::{parse_cases_csv, solve_case};
+use railsim_contact::contact_format::{manchester_benchmark_spec, parse_cases_csv, solve_case};
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, WheelRailContact, WheelRailPair,
+    ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact, WheelRailPair,
 };
-use railsim_elastic::Material;
 use railsim_profile::{ProfileKind, read_simpack};
 
 fn main() {
@@ -26,21 +25,7 @@ fn main() {
         ProfileKind::Rail,
     )
     .unwrap();
-    let pair = WheelRailPair::new(&PairSpec {
-        wheel,
-        rail,
-        r0: 0.46,
-        flange_back_distance: 1.36,
-        flange_back_y: -0.07,
-        gauge: 1.435,
-        gauge_depth: 0.014,
-        inclination: 0.0,
-        material: Material::new(82e9, 0.28).unwrap(),
-        mu: 0.3,
-        curve_ds: 5e-5,
-        smoothing: 0.0,
-    })
-    .unwrap();
+    let pair = WheelRailPair::new(&manchester_benchmark_spec(wheel, rail)).unwrap();
     let mut opts = ContactOptions {
         model,
         ..Default::default()

@@ -272,3 +272,27 @@ pub fn solve_case(
     rows.extend(ws.patches.iter().map(|p| to_contact(case.side, p)));
     Ok(-summary.z * 1e3)
 }
+
+/// The wheel/rail pair of CONTACT's Manchester benchmark inputs (`mbench_a22_*.inp`): the given
+/// profiles (the benchmark's `.prw`/`.prr`, whose rail is already inclined 1:40), gauge 1435 mm
+/// measured 14 mm below the rail top, no further inclination, flange-back distance 1360 mm with
+/// the flange back at profile y = -70 mm, r0 = 460 mm, G = 82 GPa, nu = 0.28, mu = 0.3.
+pub fn manchester_benchmark_spec(
+    wheel: railsim_profile::Profile,
+    rail: railsim_profile::Profile,
+) -> crate::pair::PairSpec {
+    crate::pair::PairSpec {
+        wheel,
+        rail,
+        r0: 0.460,
+        flange_back_distance: 1.360,
+        flange_back_y: -0.070,
+        gauge: 1.435,
+        gauge_depth: 0.014,
+        inclination: 0.0,
+        material: railsim_elastic::Material { g: 82e9, nu: 0.28 },
+        mu: 0.3,
+        curve_ds: 5e-5,
+        smoothing: 0.0,
+    }
+}
