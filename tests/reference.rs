@@ -4,6 +4,7 @@
 
 mod bad_input;
 mod common;
+mod hertz_reference;
 mod mbench;
 mod stripes_hertz;
 mod travel;
