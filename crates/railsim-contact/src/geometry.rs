@@ -108,8 +108,11 @@ pub struct IsoPair {
     pub travel_error: f64,
     /// \[-\] sine of the angle from the rail tangent to the wheel tangent (zero at the rigid pair)
     pub tangent_sin: f64,
-    /// \[1/m\] signed curvature of the wheel locus curve
+    /// \[1/m\] signed curvature of the wheel profile at the pair (the locus curvature without
+    /// yaw; see [`locus_curvature_at`] for the yawed locus)
     pub kappa_w: f64,
+    /// unit tangent (y, z) of the wheel locus curve at the pair
+    pub t_w: [f64; 2],
     /// \[1/m\] signed curvature of the rail curve
     pub kappa_r: f64,
     /// \[m\] wheel radius at the pair (distance from the axle)
@@ -253,6 +256,25 @@ pub(crate) fn locus_curvature(pair: &WheelRailPair, ctx: &PoseCtx, s: f64) -> f6
     let dz = hi.p[2] - lo.p[2];
     let ds = (dy * dy + dz * dz).sqrt().max(1e-12);
     dang / ds
+}
+
+/// Signed curvature of the wheel locus at pair `i` from the travelled pairs alone: the profile
+/// curvature without yaw; with yaw the change of the locus tangent between the neighbouring pairs
+/// over the arc between their wheel points (a central difference on the pairs, no extra curve
+/// evaluation).
+pub fn locus_curvature_at(pairs: &[IsoPair], i: usize, yawed: bool) -> f64 {
+    if !yawed || pairs.len() < 2 {
+        return pairs[i].kappa_w;
+    }
+    let lo = i.saturating_sub(1);
+    let hi = (i + 1).min(pairs.len() - 1);
+    let (p, q) = (&pairs[lo], &pairs[hi]);
+    let (dy, dz) = (q.a[0] - p.a[0], q.a[1] - p.a[1]);
+    let ds = (dy * dy + dz * dz).sqrt();
+    if ds < 1e-9 {
+        return pairs[i].kappa_w;
+    }
+    (p.t_w[0] * q.t_w[1] - p.t_w[1] * q.t_w[0]) / ds
 }
 
 /// Evaluation of a candidate pair.
@@ -406,6 +428,7 @@ fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
         travel_error,
         tangent_sin,
         kappa_w: e.a.kappa,
+        t_w: e.a.t,
         kappa_r: e.b.kappa,
         rho: e.a.rho,
         rho_slope: e.a.rho_slope(),

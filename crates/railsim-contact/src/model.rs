@@ -138,7 +138,6 @@ pub struct PatchInput<'a> {
     pub kin: &'a WheelKinematics,
     /// Creepages at the reference point.
     pub creep: Creepages,
-    pub(crate) ctx: &'a PoseCtx,
     pub(crate) yawed: bool,
 }
 
@@ -344,7 +343,6 @@ impl WheelRailContact {
                 frame,
                 kin: &kin,
                 creep,
-                ctx: &ctx,
                 yawed: ctx.yawed,
             };
             let (forces, penetration) = match self.opts.model {

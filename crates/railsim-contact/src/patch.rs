@@ -137,6 +137,7 @@ pub(crate) fn lerp_pair(p: &IsoPair, q: &IsoPair, f: f64) -> IsoPair {
         travel_error: p.travel_error.max(q.travel_error),
         tangent_sin: l(p.tangent_sin, q.tangent_sin),
         kappa_w: l(p.kappa_w, q.kappa_w),
+        t_w: [l(p.t_w[0], q.t_w[0]), l(p.t_w[1], q.t_w[1])],
         kappa_r: l(p.kappa_r, q.kappa_r),
         rho: l(p.rho, q.rho),
         rho_slope: l(p.rho_slope, q.rho_slope),

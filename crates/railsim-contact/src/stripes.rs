@@ -141,11 +141,7 @@ pub fn solve(
     for i in lo..=hi {
         let p = &pairs[i];
         let a_i = longitudinal_curvature(p.rho, p.rho_slope);
-        let kw = if input.yawed {
-            crate::geometry::locus_curvature(input.pair, input.ctx, p.s_w)
-        } else {
-            p.kappa_w
-        };
+        let kw = crate::geometry::locus_curvature_at(pairs, i, input.yawed);
         let b_i = (0.5 * (kw - p.kappa_r)).max(B_MIN);
         let hc = hertz_coeffs_fast(a_i, b_i);
         let eps_i = stripes_epsilon(&hc, a_i, b_i);
