@@ -1,0 +1,797 @@
+//! `TrackModel`: the compiled, immutable track (SI, checked), and its evaluation.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use toml::Spanned;
+
+use crate::alignment::{Alignment, Segment, SegmentInput, SegmentKind, TrackFrame};
+use crate::error::{Sink, TrackError, TrackErrors};
+use crate::irregularity::{
+    self, Irregularity, IrregularitySeries, Spectrum, SyntheticParams, default_components,
+};
+use crate::spec::{IrregularitySpec, SegmentSpec, TrackSpec};
+
+/// \[m\] hard lower limit of a curve radius.
+pub const HARD_MIN_RADIUS_M: f64 = 50.0;
+/// \[mm\] largest cant accepted.
+pub const MAX_CANT_MM: f64 = 200.0;
+/// \[‰\] steepest gradient accepted.
+pub const MAX_GRADIENT_PERMILLE: f64 = 100.0;
+
+/// Built-in rail profile names.
+pub const BUILTIN_RAIL_PROFILES: [&str; 1] = ["uic60"];
+
+/// A rail profile reference, resolved.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum RailProfile {
+    /// The built-in UIC60 (60E1) profile of `railsim-profile`.
+    Uic60,
+    /// A profile file (path resolved relative to the track file; it exists).
+    File(PathBuf),
+}
+
+/// Options the caller adds to a compile (e.g. a vehicle's limit on curve radius).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CompileOptions {
+    /// \[m\] reject curves tighter than this (the larger of this and the file's
+    /// `min_radius_m` applies; never below [`HARD_MIN_RADIUS_M`]).
+    pub min_radius: f64,
+}
+
+impl Default for CompileOptions {
+    fn default() -> Self {
+        CompileOptions {
+            min_radius: HARD_MIN_RADIUS_M,
+        }
+    }
+}
+
+/// The compiled track: immutable, SI, shareable between threads.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackModel {
+    name: String,
+    source: String,
+    gauge: f64,
+    rail_inclination: f64,
+    rail_profiles: [RailProfile; 2],
+    alignment: Alignment,
+    irregularities: Option<IrregularitySeries>,
+}
+
+fn span_of<T>(v: &Spanned<T>) -> Range<usize> {
+    v.span()
+}
+
+/// Parse `"1:N"` (or `"none"`) into an angle.
+fn parse_inclination(text: &str) -> Option<f64> {
+    let t = text.trim();
+    if t.eq_ignore_ascii_case("none") {
+        return Some(0.0);
+    }
+    let (a, b) = t.split_once(':')?;
+    let a: f64 = a.trim().parse().ok()?;
+    let b: f64 = b.trim().parse().ok()?;
+    if a == 1.0 && b.is_finite() && (5.0..=1000.0).contains(&b) {
+        Some((1.0 / b).atan())
+    } else {
+        None
+    }
+}
+
+impl TrackModel {
+    /// Read and compile a track file.
+    pub fn from_file(path: impl AsRef<Path>) -> Result<TrackModel, TrackErrors> {
+        let path = path.as_ref();
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| TrackError::Io {
+            file: name.clone(),
+            message: e.to_string(),
+        })?;
+        let spec = TrackSpec::from_toml_str(&text, &name)?;
+        TrackModel::compile(&spec, &name)
+    }
+
+    /// Compile a spec with default options. `source_name` is the path of the track file: it
+    /// prefixes every message and relative file names are resolved from its directory.
+    ///
+    /// ```
+    /// use railsim_track::{TrackModel, TrackSpec};
+    /// let text = r#"
+    /// gauge_mm = 1435
+    /// rail_inclination = "1:40"
+    /// rail_profile = { left = "uic60", right = "uic60" }
+    /// [[segment]]
+    /// type = "tangent"
+    /// length_m = 100
+    /// [[segment]]
+    /// type = "curve"
+    /// radius_m = 1200
+    /// cant_mm = 100
+    /// direction = "left"
+    /// length_m = 200
+    /// "#;
+    /// let spec = TrackSpec::from_toml_str(text, "doc.toml").unwrap();
+    /// let track = TrackModel::compile(&spec, "doc.toml").unwrap();
+    /// assert_eq!(track.length(), 300.0);
+    /// let f = track.frame_at(250.0);
+    /// assert!((f.curvature - 1.0 / 1200.0).abs() < 1e-15);
+    /// ```
+    pub fn compile(spec: &TrackSpec, source_name: &str) -> Result<TrackModel, TrackErrors> {
+        TrackModel::compile_with(spec, source_name, &CompileOptions::default())
+    }
+
+    /// Compile a spec, reporting every problem found with `file:line:col`.
+    pub fn compile_with(
+        spec: &TrackSpec,
+        source_name: &str,
+        options: &CompileOptions,
+    ) -> Result<TrackModel, TrackErrors> {
+        let mut sink = Sink::new(source_name, &spec.source);
+        let dir = Path::new(source_name)
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
+
+        // Gauge.
+        let gauge_mm = *spec.gauge_mm.get_ref();
+        if !(gauge_mm.is_finite() && (600.0..=2000.0).contains(&gauge_mm)) {
+            sink.invalid(
+                &span_of(&spec.gauge_mm),
+                "gauge_mm",
+                format!("gauge_mm = {gauge_mm} must be between 600 and 2000 (a plausible track gauge in mm)"),
+            );
+        }
+        // Rail inclination.
+        let incl = parse_inclination(spec.rail_inclination.get_ref());
+        if incl.is_none() {
+            sink.invalid(
+                &span_of(&spec.rail_inclination),
+                "rail_inclination",
+                format!(
+                    "rail_inclination = {:?} must be \"1:N\" with 5 ≤ N ≤ 1000 (e.g. \"1:40\") or \"none\"",
+                    spec.rail_inclination.get_ref()
+                ),
+            );
+        }
+        // Rail profiles.
+        let mut profiles = [RailProfile::Uic60, RailProfile::Uic60];
+        let rp = spec.rail_profile.get_ref();
+        for (i, (side, v)) in [("left", &rp.left), ("right", &rp.right)].into_iter().enumerate() {
+            let name = v.get_ref().trim();
+            let lower = name.to_ascii_lowercase();
+            if lower == "uic60" {
+                profiles[i] = RailProfile::Uic60;
+            } else if name.contains('/') || name.contains('\\') || name.contains('.') {
+                let path = dir.join(name);
+                if path.is_file() {
+                    profiles[i] = RailProfile::File(path);
+                } else {
+                    sink.invalid(
+                        &span_of(v),
+                        &format!("rail_profile.{side}"),
+                        format!(
+                            "rail_profile.{side} = {name:?}: file {} not found (paths are relative to the track file)",
+                            path.display()
+                        ),
+                    );
+                }
+            } else {
+                sink.invalid(
+                    &span_of(v),
+                    &format!("rail_profile.{side}"),
+                    format!(
+                        "rail_profile.{side} = {name:?} is not a built-in profile (expected one of {:?} or a file path)",
+                        BUILTIN_RAIL_PROFILES
+                    ),
+                );
+            }
+        }
+        // Cant base.
+        let cant_base_mm = match &spec.cant_base_mm {
+            Some(v) => {
+                let b = *v.get_ref();
+                if !(b.is_finite() && b >= gauge_mm && b <= gauge_mm + 300.0) {
+                    sink.invalid(
+                        &span_of(v),
+                        "cant_base_mm",
+                        format!("cant_base_mm = {b} must be between gauge_mm and gauge_mm + 300"),
+                    );
+                }
+                b
+            }
+            None => gauge_mm + 65.0,
+        };
+        // Minimum radius.
+        let mut min_radius = options.min_radius.max(HARD_MIN_RADIUS_M);
+        if let Some(v) = &spec.min_radius_m {
+            let r = *v.get_ref();
+            if !(r.is_finite() && r >= HARD_MIN_RADIUS_M) {
+                sink.invalid(
+                    &span_of(v),
+                    "min_radius_m",
+                    format!("min_radius_m = {r} must be at least {HARD_MIN_RADIUS_M}"),
+                );
+            } else {
+                min_radius = min_radius.max(r);
+            }
+        }
+        let vertical_radius = match &spec.vertical_curve_radius_m {
+            Some(v) => {
+                let r = *v.get_ref();
+                if !(r.is_finite() && r >= 100.0) {
+                    sink.invalid(
+                        &span_of(v),
+                        "vertical_curve_radius_m",
+                        format!("vertical_curve_radius_m = {r} must be at least 100"),
+                    );
+                    None
+                } else {
+                    Some(r)
+                }
+            }
+            None => None,
+        };
+
+        // Segments.
+        if spec.segment.is_empty() {
+            sink.invalid(
+                &(0..0),
+                "segment",
+                "segment: the track needs at least one [[segment]] (tangent, clothoid or curve)"
+                    .to_owned(),
+            );
+        }
+        let mut inputs: Vec<SegmentInput> = Vec::with_capacity(spec.segment.len());
+        for (i, seg) in spec.segment.iter().enumerate() {
+            inputs.push(check_segment(&mut sink, i + 1, seg, min_radius));
+        }
+        // Clothoids take curvature and cant from their neighbours.
+        let n = inputs.len();
+        for i in 0..n {
+            if inputs[i].kind != SegmentKind::Clothoid {
+                continue;
+            }
+            let prev = if i > 0 { Some(inputs[i - 1]) } else { None };
+            let next = inputs.get(i + 1).copied();
+            for (nb, j) in [(prev, i.wrapping_sub(1)), (next, i + 1)] {
+                if let Some(nb) = nb
+                    && nb.kind == SegmentKind::Clothoid
+                    && j > i
+                {
+                    sink.invalid(
+                        &span_of(&spec.segment[j].get_ref().kind),
+                        "type",
+                        format!(
+                            "segment {} (clothoid): follows another clothoid; put a tangent or curve between transitions",
+                            j + 1
+                        ),
+                    );
+                }
+            }
+            let k0 = prev.map_or(0.0, |p| p.curvature.1);
+            let c0 = prev.map_or(0.0, |p| p.cant.1);
+            let k1 = next.map_or(0.0, |p| p.curvature.0);
+            let c1 = next.map_or(0.0, |p| p.cant.0);
+            inputs[i].curvature = (k0, k1);
+            inputs[i].cant = (c0, c1);
+        }
+        // Vertical curves must fit: each rounding takes at most half of either segment.
+        if let Some(rv) = vertical_radius {
+            for i in 1..n {
+                let dg = inputs[i].gradient - inputs[i - 1].gradient;
+                let half = 0.5 * rv * dg.abs();
+                if half > 0.5 * inputs[i].length.min(inputs[i - 1].length) {
+                    let seg = spec.segment[i].get_ref();
+                    let span = seg
+                        .gradient_permille
+                        .as_ref()
+                        .map_or_else(|| span_of(&seg.kind), span_of);
+                    sink.invalid(
+                        &span,
+                        "gradient_permille",
+                        format!(
+                            "segment {}: the vertical curve (R = {rv} m, {:.1} ‰ change) is {:.1} m long and does not fit into half of this segment or the previous one; use a smaller vertical_curve_radius_m or longer segments",
+                            i + 1,
+                            dg * 1e3,
+                            2.0 * half
+                        ),
+                    );
+                }
+            }
+        }
+        let cant_base = cant_base_mm * 1e-3;
+        let alignment_ok = sink.errors.is_empty();
+        let alignment = if alignment_ok && !inputs.is_empty() {
+            Some(Alignment::build(&inputs, cant_base, vertical_radius))
+        } else {
+            None
+        };
+        let track_length: f64 = inputs.iter().map(|s| s.length).sum();
+
+        // Irregularities.
+        let mut irregularities = None;
+        if let Some(irr) = &spec.irregularities {
+            irregularities = check_irregularities(&mut sink, irr, &dir, track_length);
+        }
+
+        let name = spec
+            .name
+            .as_ref()
+            .map_or_else(|| source_name.to_owned(), |n| n.get_ref().clone());
+        sink.finish()?;
+        let alignment = alignment.ok_or_else(|| TrackErrors { errors: Vec::new() })?;
+        Ok(TrackModel {
+            name,
+            source: source_name.to_owned(),
+            gauge: gauge_mm * 1e-3,
+            rail_inclination: incl.unwrap_or(0.0),
+            rail_profiles: profiles,
+            alignment,
+            irregularities,
+        })
+    }
+
+    /// The track frame at s \[m\]: position, heading, curvature, cant, gradient and their
+    /// d/ds. O(log n_segments), no allocation. Beyond either end the track continues with the
+    /// end's curvature, cant and gradient.
+    #[inline]
+    pub fn frame_at(&self, s: f64) -> TrackFrame {
+        self.alignment.frame_at(s)
+    }
+
+    /// The irregularity at s \[m\] with its d/ds; zero on ideal track (nothing is evaluated)
+    /// and outside the irregularity series.
+    #[inline]
+    pub fn irregularity_at(&self, s: f64) -> Irregularity {
+        match &self.irregularities {
+            Some(series) => series.at(s),
+            None => Irregularity::default(),
+        }
+    }
+
+    /// Name (the file's `name`, or its path).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The file the track was read from.
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// \[m\] total length of the alignment.
+    pub fn length(&self) -> f64 {
+        self.alignment.length
+    }
+
+    /// \[m\] nominal gauge.
+    pub fn gauge(&self) -> f64 {
+        self.gauge
+    }
+
+    /// \[m\] cant base (distance between rail-head centres).
+    pub fn cant_base(&self) -> f64 {
+        self.alignment.cant_base
+    }
+
+    /// \[rad\] rail inclination (atan(1/40) for 1:40), toward the track centre.
+    pub fn rail_inclination(&self) -> f64 {
+        self.rail_inclination
+    }
+
+    /// Rail profile of the left (`[0]`) and right (`[1]`) rail.
+    pub fn rail_profiles(&self) -> &[RailProfile; 2] {
+        &self.rail_profiles
+    }
+
+    /// The compiled segments.
+    pub fn segments(&self) -> &[Segment] {
+        &self.alignment.segments
+    }
+
+    /// The irregularity series, `None` on ideal track.
+    pub fn irregularities(&self) -> Option<&IrregularitySeries> {
+        self.irregularities.as_ref()
+    }
+}
+
+/// Check one segment and convert it; the returned input is a placeholder when invalid.
+fn check_segment(
+    sink: &mut Sink<'_>,
+    index: usize,
+    seg: &Spanned<SegmentSpec>,
+    min_radius: f64,
+) -> SegmentInput {
+    let s = seg.get_ref();
+    let kind_name = s.kind.get_ref().as_str();
+    let kind = match kind_name {
+        "tangent" => Some(SegmentKind::Tangent),
+        "clothoid" => Some(SegmentKind::Clothoid),
+        "curve" => Some(SegmentKind::Curve),
+        other => {
+            sink.invalid(
+                &span_of(&s.kind),
+                "type",
+                format!(
+                    "segment {index}: type = {other:?} must be \"tangent\", \"clothoid\" or \"curve\""
+                ),
+            );
+            None
+        }
+    };
+    let label = format!("segment {index} ({kind_name})");
+    let mut out = SegmentInput {
+        kind: kind.unwrap_or(SegmentKind::Tangent),
+        length: 1.0,
+        curvature: (0.0, 0.0),
+        cant: (0.0, 0.0),
+        gradient: 0.0,
+    };
+    let seg_span = seg.span();
+    match &s.length_m {
+        None => sink.invalid(
+            &seg_span,
+            "length_m",
+            format!("{label}: missing key length_m (length in m, > 0)"),
+        ),
+        Some(v) => {
+            let l = *v.get_ref();
+            if !(l.is_finite() && l > 0.0) {
+                sink.invalid(
+                    &span_of(v),
+                    "length_m",
+                    format!("{label}: length_m = {l} must be positive"),
+                );
+            } else {
+                out.length = l;
+            }
+        }
+    }
+    if let Some(v) = &s.gradient_permille {
+        let g = *v.get_ref();
+        if !(g.is_finite() && g.abs() <= MAX_GRADIENT_PERMILLE) {
+            sink.invalid(
+                &span_of(v),
+                "gradient_permille",
+                format!(
+                    "{label}: gradient_permille = {g} must be between -{MAX_GRADIENT_PERMILLE} and {MAX_GRADIENT_PERMILLE}"
+                ),
+            );
+        } else {
+            out.gradient = g * 1e-3;
+        }
+    }
+    let Some(kind) = kind else { return out };
+    if kind != SegmentKind::Curve {
+        let why = if kind == SegmentKind::Clothoid {
+            "a clothoid takes curvature and cant from its neighbours"
+        } else {
+            "a tangent is straight with no cant"
+        };
+        for (key, present) in [
+            ("radius_m", s.radius_m.as_ref().map(span_of)),
+            ("cant_mm", s.cant_mm.as_ref().map(span_of)),
+            ("direction", s.direction.as_ref().map(span_of)),
+        ] {
+            if let Some(span) = present {
+                sink.invalid(&span, key, format!("{label}: key {key} is not allowed ({why})"));
+            }
+        }
+        return out;
+    }
+    // Curve.
+    let mut radius = None;
+    match &s.radius_m {
+        None => sink.invalid(
+            &seg_span,
+            "radius_m",
+            format!("{label}: missing key radius_m (curve radius in m)"),
+        ),
+        Some(v) => {
+            let r = *v.get_ref();
+            if !r.is_finite() || r <= 0.0 {
+                sink.invalid(
+                    &span_of(v),
+                    "radius_m",
+                    format!("{label}: radius_m = {r} must be positive"),
+                );
+            } else if r < min_radius {
+                sink.invalid(
+                    &span_of(v),
+                    "radius_m",
+                    format!(
+                        "{label}: radius_m = {r} is tighter than the minimum radius {min_radius} m"
+                    ),
+                );
+            } else {
+                radius = Some(r);
+            }
+        }
+    }
+    let mut sign = None;
+    match &s.direction {
+        None => sink.invalid(
+            &seg_span,
+            "direction",
+            format!("{label}: missing key direction (\"left\" or \"right\")"),
+        ),
+        Some(v) => match v.get_ref().as_str() {
+            "left" => sign = Some(1.0),
+            "right" => sign = Some(-1.0),
+            other => sink.invalid(
+                &span_of(v),
+                "direction",
+                format!("{label}: direction = {other:?} must be \"left\" or \"right\""),
+            ),
+        },
+    }
+    let mut cant_mm = 0.0;
+    if let Some(v) = &s.cant_mm {
+        let c = *v.get_ref();
+        if !(c.is_finite() && c.abs() <= MAX_CANT_MM) {
+            sink.invalid(
+                &span_of(v),
+                "cant_mm",
+                format!(
+                    "{label}: cant_mm = {c} must be between -{MAX_CANT_MM} and {MAX_CANT_MM}"
+                ),
+            );
+        } else {
+            cant_mm = c;
+        }
+    }
+    if let (Some(r), Some(sg)) = (radius, sign) {
+        out.curvature = (sg / r, sg / r);
+        // Left curve banked toward its centre: the right rail is higher (cant < 0).
+        let c = -sg * cant_mm * 1e-3;
+        out.cant = (c, c);
+    }
+    out.kind = kind;
+    out
+}
+
+/// Check the `[irregularities]` table and build the series.
+fn check_irregularities(
+    sink: &mut Sink<'_>,
+    irr: &Spanned<IrregularitySpec>,
+    dir: &Path,
+    track_length: f64,
+) -> Option<IrregularitySeries> {
+    let p = irr.get_ref();
+    let span = irr.span();
+    let kind = p.kind.get_ref().as_str();
+    let used: &[&str] = match kind {
+        "none" => &[],
+        "measured" => &["file"],
+        "synthetic" => &[
+            "spectrum",
+            "seed",
+            "wavelength_min_m",
+            "wavelength_max_m",
+            "step_m",
+            "components",
+            "taper_m",
+            "start_m",
+            "length_m",
+        ],
+        other => {
+            sink.invalid(
+                &span_of(&p.kind),
+                "type",
+                format!(
+                    "irregularities: type = {other:?} must be \"none\", \"measured\" or \"synthetic\""
+                ),
+            );
+            return None;
+        }
+    };
+    let present: [(&str, Option<Range<usize>>); 10] = [
+        ("file", p.file.as_ref().map(span_of)),
+        ("spectrum", p.spectrum.as_ref().map(span_of)),
+        ("seed", p.seed.as_ref().map(span_of)),
+        ("wavelength_min_m", p.wavelength_min_m.as_ref().map(span_of)),
+        ("wavelength_max_m", p.wavelength_max_m.as_ref().map(span_of)),
+        ("step_m", p.step_m.as_ref().map(span_of)),
+        ("components", p.components.as_ref().map(span_of)),
+        ("taper_m", p.taper_m.as_ref().map(span_of)),
+        ("start_m", p.start_m.as_ref().map(span_of)),
+        ("length_m", p.length_m.as_ref().map(span_of)),
+    ];
+    for (key, sp) in present {
+        if let Some(sp) = sp
+            && !used.contains(&key)
+        {
+            sink.invalid(
+                &sp,
+                key,
+                format!("irregularities: key {key} is not used by type = {kind:?}"),
+            );
+        }
+    }
+    match kind {
+        "measured" => {
+            let Some(file) = &p.file else {
+                sink.invalid(
+                    &span,
+                    "file",
+                    "irregularities: missing key file (CSV path relative to the track file)"
+                        .to_owned(),
+                );
+                return None;
+            };
+            let path = dir.join(file.get_ref());
+            let display = path.display().to_string();
+            if !path.is_file() {
+                sink.invalid(
+                    &span_of(file),
+                    "file",
+                    format!("irregularities: file = {:?}: {display} not found", file.get_ref()),
+                );
+                return None;
+            }
+            match irregularity::read_csv(&path, &display) {
+                Ok(series) => Some(series),
+                Err(e) => {
+                    sink.errors.extend(e.errors);
+                    None
+                }
+            }
+        }
+        "synthetic" => {
+            let mut ok = true;
+            let mut require = |sink: &mut Sink<'_>, key: &str, what: &str, v: bool| {
+                if !v {
+                    sink.invalid(&span, key, format!("irregularities: missing key {key} ({what})"));
+                    ok = false;
+                }
+            };
+            require(sink, "spectrum", "\"erri_b176_low\" or \"erri_b176_high\"", p.spectrum.is_some());
+            require(sink, "seed", "a non-negative integer", p.seed.is_some());
+            require(sink, "wavelength_min_m", "shortest wavelength in m", p.wavelength_min_m.is_some());
+            require(sink, "wavelength_max_m", "longest wavelength in m", p.wavelength_max_m.is_some());
+            let spectrum = p.spectrum.as_ref().and_then(|v| {
+                let sp = Spectrum::from_name(v.get_ref());
+                if sp.is_none() {
+                    sink.invalid(
+                        &span_of(v),
+                        "spectrum",
+                        format!(
+                            "irregularities: spectrum = {:?} must be one of {:?}",
+                            v.get_ref(),
+                            Spectrum::NAMES
+                        ),
+                    );
+                }
+                sp
+            });
+            let positive = |sink: &mut Sink<'_>, key: &str, v: &Option<Spanned<f64>>| {
+                v.as_ref().and_then(|v| {
+                    let x = *v.get_ref();
+                    if x.is_finite() && x > 0.0 {
+                        Some(x)
+                    } else {
+                        sink.invalid(
+                            &span_of(v),
+                            key,
+                            format!("irregularities: {key} = {x} must be positive"),
+                        );
+                        None
+                    }
+                })
+            };
+            let lmin = positive(sink, "wavelength_min_m", &p.wavelength_min_m);
+            let lmax = positive(sink, "wavelength_max_m", &p.wavelength_max_m);
+            if let (Some(a), Some(b), Some(v)) = (lmin, lmax, &p.wavelength_max_m)
+                && b <= a
+            {
+                sink.invalid(
+                    &span_of(v),
+                    "wavelength_max_m",
+                    format!("irregularities: wavelength_max_m = {b} must be greater than wavelength_min_m = {a}"),
+                );
+                ok = false;
+            }
+            let start = match &p.start_m {
+                Some(v) if !(v.get_ref().is_finite() && *v.get_ref() >= 0.0) => {
+                    sink.invalid(
+                        &span_of(v),
+                        "start_m",
+                        format!("irregularities: start_m = {} must be ≥ 0", v.get_ref()),
+                    );
+                    ok = false;
+                    0.0
+                }
+                Some(v) => *v.get_ref(),
+                None => 0.0,
+            };
+            let length = match &p.length_m {
+                Some(_) => positive(sink, "length_m", &p.length_m),
+                None if track_length - start > 0.0 => Some(track_length - start),
+                None => {
+                    sink.invalid(
+                        &span,
+                        "length_m",
+                        "irregularities: start_m leaves no track to cover; set length_m".to_owned(),
+                    );
+                    None
+                }
+            };
+            let step = match &p.step_m {
+                Some(_) => positive(sink, "step_m", &p.step_m),
+                None => lmin.map(|a| a / 8.0),
+            };
+            if let (Some(st), Some(a), Some(v)) = (step, lmin, &p.step_m)
+                && st > a / 4.0
+            {
+                sink.invalid(
+                    &span_of(v),
+                    "step_m",
+                    format!("irregularities: step_m = {st} must be at most wavelength_min_m / 4 = {}", a / 4.0),
+                );
+                ok = false;
+            }
+            let taper = match &p.taper_m {
+                Some(v) => {
+                    let t = *v.get_ref();
+                    let max = length.unwrap_or(f64::INFINITY) / 2.0;
+                    if !(t.is_finite() && t >= 0.0 && t <= max) {
+                        sink.invalid(
+                            &span_of(v),
+                            "taper_m",
+                            format!("irregularities: taper_m = {t} must be between 0 and half the series length ({max} m)"),
+                        );
+                        ok = false;
+                    }
+                    t
+                }
+                None => 0.0,
+            };
+            let components = match (&p.components, lmin, lmax, length) {
+                (Some(v), ..) => {
+                    let c = *v.get_ref();
+                    if !(1..=1_000_000).contains(&c) {
+                        sink.invalid(
+                            &span_of(v),
+                            "components",
+                            format!("irregularities: components = {c} must be between 1 and 1000000"),
+                        );
+                        ok = false;
+                    }
+                    Some(c as usize)
+                }
+                (None, Some(a), Some(b), Some(l)) if b > a => Some(default_components(a, b, l)),
+                _ => None,
+            };
+            let (Some(spectrum), Some(seed), Some(lmin), Some(lmax), Some(step), Some(length), Some(components), true) =
+                (spectrum, p.seed.as_ref().map(|v| *v.get_ref()), lmin, lmax, step, length, components, ok)
+            else {
+                return None;
+            };
+            let samples = length / step;
+            if samples * components as f64 > 4e10 {
+                sink.invalid(
+                    &span,
+                    "components",
+                    format!("irregularities: {samples:.0} samples × {components} components is too much work; use fewer components, a larger step_m or a shorter length_m"),
+                );
+                return None;
+            }
+            if !sink.errors.is_empty() {
+                return None;
+            }
+            Some(irregularity::synthesize(&SyntheticParams {
+                spectrum,
+                seed,
+                wavelength_min: lmin,
+                wavelength_max: lmax,
+                step,
+                components,
+                taper,
+                start,
+                length,
+            }))
+        }
+        _ => None,
+    }
+}
