@@ -280,3 +280,59 @@ fn halfspace_penetration_matches_contact() {
         failures.join("\n")
     );
 }
+
+#[test]
+fn wheelset_frame_forces_follow_contacts_convention() {
+    // CONTACT reports each wheel's total force in track and in wheelset coordinates; our
+    // track-to-wheelset rotation applied to its track forces must give its wheelset forces
+    // (conventions: CONTACT's frame is ours turned by pi about x, forces on the rail).
+    let reference = Table::read("tests/reference/mbench_a22/reference.csv");
+    let text = std::fs::read_to_string(repo("tests/reference/mbench_a22/reference.csv")).unwrap();
+    let cases = parse_cases_csv(&text, "reference.csv").unwrap();
+    let contact = crate::common::mbench_contact(ContactModelKind::Stripes, 0.5e-3);
+    let mut ws = ContactWorkspace::new();
+    let mut rows = Vec::new();
+    for (r, (_, case)) in cases.iter().enumerate() {
+        let (pose, _) = case.to_railsim();
+        let wheel = |c: &str| {
+            // force on the wheel, railsim axes, from CONTACT's force on the rail
+            let v = [
+                reference.f(r, &format!("fx_{c}_N")),
+                reference.f(r, &format!("fy_{c}_N")),
+                reference.f(r, &format!("fz_{c}_N")),
+            ];
+            [-v[0], v[1], v[2]]
+        };
+        let (tr, wsf) = (wheel("tr"), wheel("ws"));
+        let mapped = pose.track_to_wheelset(tr);
+        for k in 0..3 {
+            assert!(
+                (mapped[k] - wsf[k]).abs() < 1e-6 * 1e4,
+                "case {r}: component {k}: {} vs {}",
+                mapped[k],
+                wsf[k]
+            );
+        }
+        // Our own patches: the wheelset-frame force is the rotated track-frame force, and the
+        // vertical component matches CONTACT's to 0.5 % (load prescribed in the track frame).
+        solve_case(&contact, case, &mut ws, &mut rows).unwrap();
+        let mut ft = [0.0; 3];
+        let mut fw = [0.0; 3];
+        for p in &ws.patches {
+            for k in 0..3 {
+                ft[k] += p.force_track[k];
+                fw[k] += p.force_wheelset[k];
+            }
+        }
+        let m = pose.track_to_wheelset(ft);
+        for k in 0..3 {
+            assert!((m[k] - fw[k]).abs() < 1e-6, "case {r}: {k}");
+        }
+        assert!(
+            (fw[2] - wsf[2]).abs() < 0.005 * wsf[2].abs(),
+            "case {r}: Fz_ws {} vs {}",
+            fw[2],
+            wsf[2]
+        );
+    }
+}

@@ -198,6 +198,9 @@ pub struct PatchResult {
     pub force_track: [f64; 3],
     /// \[N m\] spin moment on the wheel as a vector in the track frame
     pub moment_track: [f64; 3],
+    /// \[N\] force on the wheel in the wheelset frame (x forward, y along the axle to the left,
+    /// z up, turned with the wheelset's yaw and roll): `R_TW^T F_track`
+    pub force_wheelset: [f64; 3],
     /// \[rad\] largest travelling error (seed Fig. 10) among the patch's pairs
     pub travel_error: f64,
 }
@@ -368,7 +371,7 @@ impl WheelRailContact {
             if forces.fn_ <= 0.0 {
                 continue;
             }
-            let r = self.result(side, &frame, creep, forces, penetration, &ws.pairs, &zone);
+            let r = self.result(side, pose, &frame, creep, forces, penetration, &ws.pairs, &zone);
             for k in 0..3 {
                 total[k] += r.force_track[k];
             }
@@ -581,6 +584,7 @@ impl WheelRailContact {
     fn result(
         &self,
         side: Side,
+        pose: &WheelsetPose,
         fr: &PatchFrame,
         creep: Creepages,
         f: PatchForces,
@@ -622,6 +626,7 @@ impl WheelRailContact {
             creepages: creep,
             forces: fr_ref,
             force_track: [f.fx, sg * fy, fzv],
+            force_wheelset: pose.track_to_wheelset([f.fx, sg * fy, fzv]),
             moment_track: [sg * m_side[0], m_side[1], sg * m_side[2]],
             travel_error: err,
         }

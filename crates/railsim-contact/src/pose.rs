@@ -101,6 +101,22 @@ impl WheelsetPose {
         Ok(())
     }
 
+    /// The rotation `R_TW = Rx(roll) Rz(yaw)` from the wheelset frame to the track frame
+    /// (row-major).
+    pub fn rotation(&self) -> [[f64; 3]; 3] {
+        rotation(self.roll, self.yaw)
+    }
+
+    /// A track-frame vector in the wheelset frame: `R_TW^T v`.
+    pub fn track_to_wheelset(&self, v: [f64; 3]) -> [f64; 3] {
+        let r = self.rotation();
+        [
+            r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2],
+            r[0][1] * v[0] + r[1][1] * v[1] + r[2][1] * v[2],
+            r[0][2] * v[0] + r[1][2] * v[1] + r[2][2] * v[2],
+        ]
+    }
+
     /// The pose as seen in the side frame of `side` (mirror in y for the right wheel).
     pub fn to_side(&self, side: Side) -> WheelsetPose {
         let s = side.sign();

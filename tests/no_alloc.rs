@@ -1,0 +1,104 @@
+//! An evaluation allocates nothing once the workspace has grown (issue 2: "a reusable workspace so
+//! that an evaluation allocates nothing"). A counting global allocator counts the allocations made
+//! by this thread while a flag is set. The half-space model is excluded: it re-plans its FFT when
+//! the grid size changes.
+#![allow(unsafe_code)]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use railsim_contact::contact_format::{manchester_benchmark_spec, parse_cases_csv, solve_case};
+use railsim_contact::{
+    ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact, WheelRailPair,
+};
+use railsim_profile::{ProfileKind, read_simpack};
+
+struct Counting;
+
+static COUNT: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    static ON: Cell<bool> = const { Cell::new(false) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if ON.with(|c| c.get()) {
+            COUNT.fetch_add(1, Ordering::Relaxed);
+        }
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if ON.with(|c| c.get()) {
+            COUNT.fetch_add(1, Ordering::Relaxed);
+        }
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn repo(rel: &str) -> std::path::PathBuf {
+    std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(rel)
+}
+
+#[test]
+fn evaluations_allocate_nothing_after_warm_up() {
+    // The counter works: an allocation while counting is seen.
+    COUNT.store(0, Ordering::Relaxed);
+    ON.with(|c| c.set(true));
+    let v: Vec<u64> = std::hint::black_box(Vec::with_capacity(16));
+    ON.with(|c| c.set(false));
+    drop(v);
+    assert!(
+        COUNT.load(Ordering::Relaxed) >= 1,
+        "the counting allocator saw nothing"
+    );
+
+    let wheel = read_simpack(
+        &repo("vehicles/profiles/MBench_S1002_v3.prw"),
+        ProfileKind::Wheel,
+    )
+    .unwrap();
+    let rail = read_simpack(
+        &repo("tracks/profiles/MBench_UIC60_v3.prr"),
+        ProfileKind::Rail,
+    )
+    .unwrap();
+    let pair = WheelRailPair::new(&manchester_benchmark_spec(wheel, rail)).unwrap();
+    let text = std::fs::read_to_string(repo("tests/reference/mbench_a22/reference.csv")).unwrap();
+    let cases = parse_cases_csv(&text, "reference.csv").unwrap();
+    for model in [
+        ContactModelKind::Polach,
+        ContactModelKind::Fastsim,
+        ContactModelKind::Stripes,
+    ] {
+        let opts = ContactOptions {
+            model,
+            ..Default::default()
+        };
+        let contact = WheelRailContact::new(pair.clone(), opts).unwrap();
+        let mut ws = ContactWorkspace::new();
+        let mut rows = Vec::new();
+        // Warm-up: every case once (the workspace grows to the largest), with load control.
+        let mut poses = Vec::new();
+        for (_, case) in &cases {
+            let z = solve_case(&contact, case, &mut ws, &mut rows).unwrap();
+            let (mut pose, vel) = case.to_railsim();
+            pose.z = -z * 1e-3;
+            poses.push((case.side, pose, vel));
+        }
+        COUNT.store(0, Ordering::Relaxed);
+        ON.with(|c| c.set(true));
+        for (side, pose, vel) in &poses {
+            contact.evaluate(*side, pose, vel, &mut ws).unwrap();
+        }
+        ON.with(|c| c.set(false));
+        let n = COUNT.load(Ordering::Relaxed);
+        assert_eq!(n, 0, "{}: {n} allocations in 42 evaluations", model.name());
+    }
+}
