@@ -27,8 +27,11 @@
 //! Stepping moves both points by the same arc length (seed §3.2 "stepping"); the correction
 //! moves the leading point back and the lagging one forward by equal arc lengths (seed eq. 5),
 //! computed as a Newton step on `f`. The step is variable: the base step inside and near the
-//! penetrated zones, larger outside, limited by the crossing distance CD of seed eq. (1) when
-//! the profiles approach each other, and by `sqrt(gap / kappa_max)` so that no zone is skipped.
+//! penetrated zones, larger outside: the largest step over which the gap cannot fall below half
+//! its value given the tangent angle and a curvature bound over the window ahead, and at most
+//! 0.8 of the crossing distance CD of seed eq. (1) when the profiles approach each other. Zones
+//! resolved by too few pairs are travelled again with a finer step
+//! ([`refine_narrow_zones`]).
 
 use crate::error::ContactError;
 use crate::pair::WheelRailPair;
