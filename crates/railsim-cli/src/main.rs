@@ -122,13 +122,13 @@ struct ContactArgs {
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     roll_mrad: f64,
     /// Forward speed (m/s).
-    #[arg(long, default_value_t = 20.0)]
+    #[arg(long, default_value_t = 20.0, allow_hyphen_values = true)]
     speed_m_s: f64,
     /// Wheelset spin (rad/s); default pure rolling, speed / r0.
     #[arg(long, allow_hyphen_values = true)]
     spin_rad_s: Option<f64>,
     /// Vertical wheel load (kN) (the wheelset height is iterated to carry it).
-    #[arg(long, conflicts_with = "z_mm")]
+    #[arg(long, conflicts_with = "z_mm", allow_hyphen_values = true)]
     load_kn: Option<f64>,
     /// Vertical wheelset position (mm) (up), instead of a load.
     #[arg(long, allow_hyphen_values = true)]
@@ -243,6 +243,19 @@ fn build_pair(a: &PairArgs) -> Result<WheelRailPair> {
 }
 
 fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
+    if let (Some(out), None) = (&a.out, &a.cases) {
+        let ext = out
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        if ext != "csv" && ext != "json" {
+            bail!(
+                "--out {}: expected a file name ending in .csv or .json, found extension \"{ext}\"",
+                out.display()
+            );
+        }
+    }
     let pair = build_pair(&a.pair)?;
     let mut opts = ContactOptions {
         model: a.model.into(),
