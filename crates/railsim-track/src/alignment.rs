@@ -142,7 +142,11 @@ fn arc(x: f64, y: f64, psi: f64, kappa: f64, d: f64) -> (f64, f64, f64) {
         d * half.sin() / half
     };
     let dir = psi + half;
-    (x + chord * dir.cos(), y + chord * dir.sin(), psi + kappa * d)
+    (
+        x + chord * dir.cos(),
+        y + chord * dir.sin(),
+        psi + kappa * d,
+    )
 }
 
 /// Integrate (cos ψ, sin ψ) for ψ(v) = ψ₀ + κ₀ v + κ′ v²/2 over v ∈ \[0, d\] with 8-point
@@ -376,11 +380,7 @@ mod tests {
     #[test]
     fn clothoid_quadrature_matches_fresnel() {
         let (l, r) = (150.0, 400.0);
-        let al = Alignment::build(
-            &[one(SegmentKind::Clothoid, l, (0.0, 1.0 / r))],
-            1.5,
-            None,
-        );
+        let al = Alignment::build(&[one(SegmentKind::Clothoid, l, (0.0, 1.0 / r))], 1.5, None);
         let a = (r * l).sqrt();
         let scale = a * std::f64::consts::PI.sqrt();
         for &u in &[3.3, 47.0, 99.99, 150.0] {

@@ -400,7 +400,11 @@ pub fn parse_csv(text: &str, file: &str) -> Result<IrregularitySeries, TrackErro
             errors.push(err(
                 lineno,
                 1,
-                format!("expected 5 fields ({}), found {}", CSV_COLUMNS.join(","), fields.len()),
+                format!(
+                    "expected 5 fields ({}), found {}",
+                    CSV_COLUMNS.join(","),
+                    fields.len()
+                ),
             ));
             continue;
         }
@@ -444,7 +448,10 @@ pub fn parse_csv(text: &str, file: &str) -> Result<IrregularitySeries, TrackErro
         errors.push(err(
             1,
             1,
-            format!("expected the header `{}`, found an empty file", CSV_COLUMNS.join(",")),
+            format!(
+                "expected the header `{}`, found an empty file",
+                CSV_COLUMNS.join(",")
+            ),
         ));
     } else if errors.is_empty() && s.len() < 2 {
         errors.push(err(

@@ -157,7 +157,10 @@ impl TrackModel {
         // Rail profiles.
         let mut profiles = [RailProfile::Uic60, RailProfile::Uic60];
         let rp = spec.rail_profile.get_ref();
-        for (i, (side, v)) in [("left", &rp.left), ("right", &rp.right)].into_iter().enumerate() {
+        for (i, (side, v)) in [("left", &rp.left), ("right", &rp.right)]
+            .into_iter()
+            .enumerate()
+        {
             let name = v.get_ref().trim();
             let lower = name.to_ascii_lowercase();
             if lower == "uic60" {
@@ -291,8 +294,9 @@ impl TrackModel {
                         &span,
                         "gradient_permille",
                         format!(
-                            "segment {}: the vertical curve (R = {rv} m, {:.1} ‰ change) is {:.1} m long and does not fit into half of this segment or the previous one; use a smaller vertical_curve_radius_m or longer segments",
+                            "segment {}: gradient_permille = {}: the vertical curve (R = {rv} m, {:.1} ‰ change) is {:.1} m long and does not fit into half of this segment or the previous one; use a smaller vertical_curve_radius_m or longer segments",
                             i + 1,
+                            inputs[i].gradient * 1e3,
                             dg * 1e3,
                             2.0 * half
                         ),
@@ -475,7 +479,11 @@ fn check_segment(
             ("direction", s.direction.as_ref().map(span_of)),
         ] {
             if let Some(span) = present {
-                sink.invalid(&span, key, format!("{label}: key {key} is not allowed ({why})"));
+                sink.invalid(
+                    &span,
+                    key,
+                    format!("{label}: key {key} is not allowed ({why})"),
+                );
             }
         }
         return out;
@@ -533,9 +541,7 @@ fn check_segment(
             sink.invalid(
                 &span_of(v),
                 "cant_mm",
-                format!(
-                    "{label}: cant_mm = {c} must be between -{MAX_CANT_MM} and {MAX_CANT_MM}"
-                ),
+                format!("{label}: cant_mm = {c} must be between -{MAX_CANT_MM} and {MAX_CANT_MM}"),
             );
         } else {
             cant_mm = c;
@@ -626,7 +632,10 @@ fn check_irregularities(
                 sink.invalid(
                     &span_of(file),
                     "file",
-                    format!("irregularities: file = {:?}: {display} not found", file.get_ref()),
+                    format!(
+                        "irregularities: file = {:?}: {display} not found",
+                        file.get_ref()
+                    ),
                 );
                 return None;
             }
@@ -642,14 +651,33 @@ fn check_irregularities(
             let mut ok = true;
             let mut require = |sink: &mut Sink<'_>, key: &str, what: &str, v: bool| {
                 if !v {
-                    sink.invalid(&span, key, format!("irregularities: missing key {key} ({what})"));
+                    sink.invalid(
+                        &span,
+                        key,
+                        format!("irregularities: missing key {key} ({what})"),
+                    );
                     ok = false;
                 }
             };
-            require(sink, "spectrum", "\"erri_b176_low\" or \"erri_b176_high\"", p.spectrum.is_some());
+            require(
+                sink,
+                "spectrum",
+                "\"erri_b176_low\" or \"erri_b176_high\"",
+                p.spectrum.is_some(),
+            );
             require(sink, "seed", "a non-negative integer", p.seed.is_some());
-            require(sink, "wavelength_min_m", "shortest wavelength in m", p.wavelength_min_m.is_some());
-            require(sink, "wavelength_max_m", "longest wavelength in m", p.wavelength_max_m.is_some());
+            require(
+                sink,
+                "wavelength_min_m",
+                "shortest wavelength in m",
+                p.wavelength_min_m.is_some(),
+            );
+            require(
+                sink,
+                "wavelength_max_m",
+                "longest wavelength in m",
+                p.wavelength_max_m.is_some(),
+            );
             let spectrum = p.spectrum.as_ref().and_then(|v| {
                 let sp = Spectrum::from_name(v.get_ref());
                 if sp.is_none() {
@@ -727,7 +755,10 @@ fn check_irregularities(
                 sink.invalid(
                     &span_of(v),
                     "step_m",
-                    format!("irregularities: step_m = {st} must be at most wavelength_min_m / 4 = {}", a / 4.0),
+                    format!(
+                        "irregularities: step_m = {st} must be at most wavelength_min_m / 4 = {}",
+                        a / 4.0
+                    ),
                 );
                 ok = false;
             }
@@ -754,7 +785,9 @@ fn check_irregularities(
                         sink.invalid(
                             &span_of(v),
                             "components",
-                            format!("irregularities: components = {c} must be between 1 and 1000000"),
+                            format!(
+                                "irregularities: components = {c} must be between 1 and 1000000"
+                            ),
                         );
                         ok = false;
                     }
@@ -763,8 +796,25 @@ fn check_irregularities(
                 (None, Some(a), Some(b), Some(l)) if b > a => Some(default_components(a, b, l)),
                 _ => None,
             };
-            let (Some(spectrum), Some(seed), Some(lmin), Some(lmax), Some(step), Some(length), Some(components), true) =
-                (spectrum, p.seed.as_ref().map(|v| *v.get_ref()), lmin, lmax, step, length, components, ok)
+            let (
+                Some(spectrum),
+                Some(seed),
+                Some(lmin),
+                Some(lmax),
+                Some(step),
+                Some(length),
+                Some(components),
+                true,
+            ) = (
+                spectrum,
+                p.seed.as_ref().map(|v| *v.get_ref()),
+                lmin,
+                lmax,
+                step,
+                length,
+                components,
+                ok,
+            )
             else {
                 return None;
             };

@@ -162,10 +162,15 @@ impl TrackSpec {
                             item.clone(),
                         )) {
                             Ok(seg) => segments.push(seg),
-                            Err(e) => sink.parse(
-                                e.span().or_else(|| Some(item.span())),
-                                format!("segment {}: {}", i + 1, e.message().trim()),
-                            ),
+                            Err(e) => {
+                                let key = e
+                                    .span()
+                                    .and_then(|sp| key_in_value(item.get_ref(), sp.start, ""));
+                                sink.parse(
+                                    e.span().or_else(|| Some(item.span())),
+                                    format!("segment {}: {}", i + 1, with_key(key, e.message())),
+                                )
+                            }
                         }
                     }
                 }
@@ -182,15 +187,22 @@ impl TrackSpec {
         let mut irregularities = None;
         if let Some(value) = irregularities_value {
             let span = value.span();
+            let copy = value.clone();
             match Spanned::<IrregularitySpec>::deserialize(ValueDeserializer::from(value)) {
                 Ok(irr) => irregularities = Some(irr),
-                Err(e) => sink.parse(
-                    e.span().or(Some(span)),
-                    format!("irregularities: {}", e.message().trim()),
-                ),
+                Err(e) => {
+                    let key = e
+                        .span()
+                        .and_then(|sp| key_in_value(copy.get_ref(), sp.start, ""));
+                    sink.parse(
+                        e.span().or(Some(span)),
+                        format!("irregularities: {}", with_key(key, e.message())),
+                    )
+                }
             }
         }
 
+        let root_copy = DeValue::Table(table.clone());
         let root_result = TrackSpec::deserialize(toml::de::Deserializer::from(Spanned::new(
             root_span.clone(),
             table,
@@ -198,7 +210,10 @@ impl TrackSpec {
         let spec = match root_result {
             Ok(spec) => Some(spec),
             Err(e) => {
-                sink.parse(e.span().or(Some(root_span)), e.message().trim().to_owned());
+                let key = e
+                    .span()
+                    .and_then(|sp| key_in_value(&root_copy, sp.start, ""));
+                sink.parse(e.span().or(Some(root_span)), with_key(key, e.message()));
                 None
             }
         };
@@ -214,4 +229,31 @@ impl TrackSpec {
         spec.source = map;
         Ok(spec)
     }
+}
+
+/// Prefix a serde message with the key it is about, unless the message already names it.
+fn with_key(key: Option<String>, message: &str) -> String {
+    let message = message.trim();
+    match key {
+        Some(k) if !message.contains(&format!("`{k}`")) => format!("{k}: {message}"),
+        _ => message.to_owned(),
+    }
+}
+
+/// The dotted key whose key or value span contains byte `offset` (deepest match).
+fn key_in_value(value: &DeValue<'_>, offset: usize, prefix: &str) -> Option<String> {
+    let DeValue::Table(table) = value else {
+        return None;
+    };
+    for (k, v) in table.iter() {
+        let name = if prefix.is_empty() {
+            k.get_ref().to_string()
+        } else {
+            format!("{prefix}.{}", k.get_ref())
+        };
+        if v.span().contains(&offset) || k.span().contains(&offset) {
+            return key_in_value(v.get_ref(), offset, &name).or(Some(name));
+        }
+    }
+    None
 }

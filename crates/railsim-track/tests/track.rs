@@ -1,0 +1,609 @@
+//! Integration tests of railsim-track: every shipped track file, geometry (circle closure,
+//! clothoid vs Fresnel, continuity, cant ramps, gradients), irregularities (PSD, determinism,
+//! CSV) and bad input.
+
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+use railsim_track::irregularity::{self, Channel, Spectrum, SyntheticParams};
+use railsim_track::math::fresnel;
+use railsim_track::{TrackError, TrackErrors, TrackModel, TrackSpec};
+
+fn tracks_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tracks")
+}
+
+const HEAD: &str = r#"gauge_mm = 1435
+rail_inclination = "1:40"
+rail_profile = { left = "uic60", right = "uic60" }
+"#;
+
+fn compile(text: &str) -> Result<TrackModel, TrackErrors> {
+    let spec = TrackSpec::from_toml_str(text, "mem.toml")?;
+    TrackModel::compile(&spec, "mem.toml")
+}
+
+fn track(body: &str) -> TrackModel {
+    compile(&format!("{HEAD}{body}")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn errors(text: &str) -> Vec<String> {
+    match compile(text) {
+        Ok(_) => panic!("expected errors for:\n{text}"),
+        Err(e) => e.errors.iter().map(|e| e.to_string()).collect(),
+    }
+}
+
+#[test]
+fn every_track_file_compiles() {
+    let mut n = 0;
+    for entry in std::fs::read_dir(tracks_dir()).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let t = TrackModel::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
+            assert!(t.length() > 0.0);
+            assert!((t.gauge() - 1.435).abs() < 1e-12);
+            assert!((t.rail_inclination() - (1.0f64 / 40.0).atan()).abs() < 1e-15);
+            n += 1;
+        }
+    }
+    assert!(n >= 4, "found only {n} track files");
+}
+
+#[test]
+fn shipped_curves_have_their_radius_and_cant() {
+    let t = TrackModel::from_file(tracks_dir().join("curve_r1200.toml")).unwrap();
+    let f = t.frame_at(200.0 + 120.0 + 400.0);
+    assert!((f.curvature - 1.0 / 1200.0).abs() < 1e-15);
+    assert!(
+        (f.cant + 0.120).abs() < 1e-15,
+        "left curve: right rail higher"
+    );
+    let t = TrackModel::from_file(tracks_dir().join("curve_r300.toml")).unwrap();
+    let f = t.frame_at(150.0 + 150.0 + 200.0);
+    assert!((f.curvature + 1.0 / 300.0).abs() < 1e-15);
+    assert!(
+        (f.cant - 0.150).abs() < 1e-15,
+        "right curve: left rail higher"
+    );
+    assert!((f.roll - (0.150f64 / 1.5).asin()).abs() < 1e-15);
+    // Ideal tracks evaluate no irregularities.
+    assert!(t.irregularities().is_none());
+    assert_eq!(t.irregularity_at(500.0), Default::default());
+}
+
+#[test]
+fn full_circle_closes() {
+    for r in [50.0, 300.0, 1200.0, 5000.0] {
+        // One curve, and the same circle cut into 7 segments.
+        let l = 2.0 * PI * r;
+        let one = track(&format!(
+            "[[segment]]\ntype = \"curve\"\nradius_m = {r}\ndirection = \"left\"\nlength_m = {l}\n"
+        ));
+        let mut body = String::new();
+        for _ in 0..7 {
+            body += &format!(
+                "[[segment]]\ntype = \"curve\"\nradius_m = {r}\ndirection = \"left\"\nlength_m = {}\n",
+                l / 7.0
+            );
+        }
+        let seven = track(&body);
+        for t in [&one, &seven] {
+            let f = t.frame_at(l);
+            let gap = f.position_g[0].hypot(f.position_g[1]);
+            assert!(gap < 1e-9 * r, "R = {r}: gap {gap}");
+            assert!((f.heading - 2.0 * PI).abs() < 1e-12);
+            // Quarter circle at (R, R).
+            let q = t.frame_at(l / 4.0);
+            assert!((q.position_g[0] - r).abs() < 1e-9 * r);
+            assert!((q.position_g[1] - r).abs() < 1e-9 * r);
+        }
+    }
+}
+
+#[test]
+fn clothoid_end_heading_and_position_match_fresnel() {
+    // Tangent 50 m, clothoid L into a right curve R: end heading -L/(2R); the spiral's
+    // local coordinates are a√π (C(t), -S(t)), a² = R L, t = L / (a√π).
+    for (l, r) in [(120.0, 1200.0), (150.0, 300.0), (80.0, 50.0)] {
+        let t = track(&format!(
+            "[[segment]]\ntype = \"tangent\"\nlength_m = 50\n\
+             [[segment]]\ntype = \"clothoid\"\nlength_m = {l}\n\
+             [[segment]]\ntype = \"curve\"\nradius_m = {r}\ndirection = \"right\"\nlength_m = 10\n"
+        ));
+        let f = t.frame_at(50.0 + l);
+        assert!((f.heading + l / (2.0 * r)).abs() < 1e-14, "{}", f.heading);
+        let scale = (r * l).sqrt() * PI.sqrt();
+        let (c, s) = fresnel(l / scale).unwrap();
+        let dx = f.position_g[0] - (50.0 + scale * c);
+        let dy = f.position_g[1] + scale * s;
+        assert!(
+            dx.abs() < 1e-10 && dy.abs() < 1e-10,
+            "L={l} R={r}: {dx:e} {dy:e}"
+        );
+        // Mid-clothoid: curvature half way, dκ/ds = -1/(R L).
+        let m = t.frame_at(50.0 + l / 2.0);
+        assert!((m.curvature + 0.5 / r).abs() < 1e-15);
+        assert!((m.dcurvature_ds + 1.0 / (r * l)).abs() < 1e-18);
+    }
+}
+
+#[test]
+fn joins_are_continuous() {
+    let t = TrackModel::from_file(tracks_dir().join("curve_r300.toml")).unwrap();
+    let t2 = track(
+        "vertical_curve_radius_m = 5000\n\
+         [[segment]]\ntype = \"tangent\"\nlength_m = 100\ngradient_permille = 5\n\
+         [[segment]]\ntype = \"clothoid\"\nlength_m = 90\ngradient_permille = -3\n\
+         [[segment]]\ntype = \"curve\"\nradius_m = 500\ncant_mm = 110\ndirection = \"left\"\nlength_m = 200\n\
+         [[segment]]\ntype = \"clothoid\"\nlength_m = 60\n\
+         [[segment]]\ntype = \"curve\"\nradius_m = 700\ncant_mm = 80\ndirection = \"right\"\nlength_m = 200\n",
+    );
+    for t in [&t, &t2] {
+        for seg in t.segments().iter().skip(1) {
+            let s = seg.s_start;
+            let (a, b) = (t.frame_at(s - 1e-9), t.frame_at(s + 1e-9));
+            for k in 0..3 {
+                assert!((a.position_g[k] - b.position_g[k]).abs() < 1e-8, "s={s}");
+            }
+            assert!((a.heading - b.heading).abs() < 1e-10, "s={s}");
+            assert!((a.curvature - b.curvature).abs() < 1e-10, "s={s}");
+            assert!((a.cant - b.cant).abs() < 1e-10, "s={s}");
+            assert!((a.roll - b.roll).abs() < 1e-10, "s={s}");
+            assert!((a.gradient - b.gradient).abs() < 1e-10, "s={s}");
+        }
+    }
+}
+
+#[test]
+fn derivatives_match_finite_differences() {
+    let t = track(
+        "vertical_curve_radius_m = 4000\n\
+         [[segment]]\ntype = \"tangent\"\nlength_m = 60\n\
+         [[segment]]\ntype = \"clothoid\"\nlength_m = 90\ngradient_permille = 8\n\
+         [[segment]]\ntype = \"curve\"\nradius_m = 400\ncant_mm = 130\ndirection = \"left\"\nlength_m = 100\n",
+    );
+    let h = 1e-4;
+    for s in [10.0, 70.3, 101.0, 148.0, 170.0, 230.0] {
+        let (a, f, b) = (t.frame_at(s - h), t.frame_at(s), t.frame_at(s + h));
+        let d = |x: f64, y: f64| (y - x) / (2.0 * h);
+        assert!((d(a.position_g[0], b.position_g[0]) - f.heading.cos()).abs() < 1e-7);
+        assert!((d(a.position_g[1], b.position_g[1]) - f.heading.sin()).abs() < 1e-7);
+        assert!((d(a.position_g[2], b.position_g[2]) - f.gradient).abs() < 1e-7);
+        assert!((d(a.heading, b.heading) - f.curvature).abs() < 1e-9);
+        assert!((d(a.curvature, b.curvature) - f.dcurvature_ds).abs() < 1e-9);
+        assert!((d(a.cant, b.cant) - f.dcant_ds).abs() < 1e-9);
+        assert!((d(a.roll, b.roll) - f.droll_ds).abs() < 1e-9);
+        assert!(
+            (d(a.gradient, b.gradient) - f.vertical_curvature).abs() < 1e-7,
+            "s={s}"
+        );
+    }
+}
+
+#[test]
+fn cant_ramps_linearly_on_transitions() {
+    let t = TrackModel::from_file(tracks_dir().join("curve_r1200.toml")).unwrap();
+    // Entry clothoid 200..320 m: cant 0 → -0.120 m (left curve), linear; exit mirrored.
+    for i in 0..=12 {
+        let u = 10.0 * i as f64;
+        let f = t.frame_at(200.0 + u);
+        assert!((f.cant + 0.120 * u / 120.0).abs() < 1e-15, "u={u}");
+        if i < 12 {
+            assert!((f.dcant_ds + 0.001).abs() < 1e-15, "{}", f.dcant_ds);
+        }
+        assert!((f.curvature - u / 120.0 / 1200.0).abs() < 1e-15);
+        let g = t.frame_at(1120.0 + u);
+        assert!((g.cant + 0.120 * (1.0 - u / 120.0)).abs() < 1e-15, "u={u}");
+    }
+}
+
+#[test]
+fn gradients_integrate_to_the_right_height() {
+    let body = "[[segment]]\ntype = \"tangent\"\nlength_m = 300\ngradient_permille = 12.5\n\
+                [[segment]]\ntype = \"curve\"\nradius_m = 800\ndirection = \"right\"\nlength_m = 250\ngradient_permille = -4\n\
+                [[segment]]\ntype = \"tangent\"\nlength_m = 200\n";
+    let expected = 300.0 * 0.0125 - 250.0 * 0.004;
+    let sharp = track(body);
+    let round = track(&format!("vertical_curve_radius_m = 6000\n{body}"));
+    for t in [&sharp, &round] {
+        assert!((t.frame_at(750.0).position_g[2] - expected).abs() < 1e-12);
+    }
+    // Rounding: gradient change 16.5 ‰ over 6000 m radius = 99 m, centred on s = 300.
+    let f = round.frame_at(300.0);
+    assert!((f.vertical_curvature + 1.0 / 6000.0).abs() < 1e-15);
+    assert!((f.gradient - 0.5 * (0.0125 - 0.004)).abs() < 1e-15);
+    assert_eq!(round.frame_at(240.0).vertical_curvature, 0.0);
+    assert!(
+        (round.frame_at(250.0).position_g[2] - sharp.frame_at(250.0).position_g[2]).abs() < 1e-15
+    );
+}
+
+/// Welch periodogram (Hann window, 50 % overlap) of `x` at angular wavenumbers `omegas`,
+/// one-sided in m²/(rad/m).
+fn welch(x: &[f64], step: f64, seg: usize, omegas: &[f64]) -> Vec<f64> {
+    let w: Vec<f64> = (0..seg)
+        .map(|n| 0.5 - 0.5 * (2.0 * PI * n as f64 / seg as f64).cos())
+        .collect();
+    let w2: f64 = w.iter().map(|v| v * v).sum();
+    let mut out = vec![0.0; omegas.len()];
+    let mut count = 0;
+    let mut start = 0;
+    while start + seg <= x.len() {
+        let chunk = &x[start..start + seg];
+        let mean = chunk.iter().sum::<f64>() / seg as f64;
+        for (o, &om) in out.iter_mut().zip(omegas) {
+            let (mut re, mut im) = (0.0, 0.0);
+            for n in 0..seg {
+                let (s, c) = (om * n as f64 * step).sin_cos();
+                let v = w[n] * (chunk[n] - mean);
+                re += v * c;
+                im -= v * s;
+            }
+            *o += 2.0 * step * (re * re + im * im) / (2.0 * PI * w2);
+        }
+        count += 1;
+        start += seg / 2;
+    }
+    out.iter().map(|v| v / count as f64).collect()
+}
+
+#[test]
+fn synthetic_psd_matches_erri_b176() {
+    let p = SyntheticParams {
+        spectrum: Spectrum::ErriB176Low,
+        seed: 7,
+        wavelength_min: 3.0,
+        wavelength_max: 70.0,
+        step: 0.375,
+        components: irregularity::default_components(3.0, 70.0, 8000.0),
+        taper: 0.0,
+        start: 0.0,
+        length: 8000.0,
+    };
+    let series = irregularity::synthesize(&p);
+    let seg_len = 400.0;
+    let seg = (seg_len / p.step) as usize;
+    let d_om = 2.0 * PI / seg_len;
+    // Bins from 0.13 rad/m (3 Hann bins above the band edge 0.0898) to 2.0 rad/m
+    // (below the band edge 2.094), grouped into 5 logarithmic bands.
+    let edges = [0.13, 0.22, 0.38, 0.65, 1.1, 2.0];
+    let omegas: Vec<f64> = (1..)
+        .map(|k| k as f64 * d_om)
+        .skip_while(|&o| o < edges[0])
+        .take_while(|&o| o < edges[5])
+        .collect();
+    for ch in Channel::ALL {
+        let x = series.channel(ch);
+        let est = welch(x, p.step, seg, &omegas);
+        for b in 0..5 {
+            let (mut e, mut t, mut n) = (0.0, 0.0, 0);
+            for (i, &o) in omegas.iter().enumerate() {
+                if o >= edges[b] && o < edges[b + 1] {
+                    e += est[i];
+                    t += p.spectrum.psd(ch, o);
+                    n += 1;
+                }
+            }
+            let ratio = e / t;
+            println!("{ch:?} band {b} ({} bins): estimate/target = {ratio:.3}", n);
+            assert!((ratio - 1.0).abs() < 0.25, "{ch:?} band {b}: ratio {ratio}");
+        }
+        // Variance vs the integral of the target over the band (midpoint rule, fine grid).
+        let (w0, w1) = (2.0 * PI / 70.0, 2.0 * PI / 3.0);
+        let m = 20000;
+        let target: f64 = (0..m)
+            .map(|i| {
+                p.spectrum
+                    .psd(ch, w0 + (i as f64 + 0.5) * (w1 - w0) / m as f64)
+            })
+            .sum::<f64>()
+            * (w1 - w0)
+            / m as f64;
+        let mean = x.iter().sum::<f64>() / x.len() as f64;
+        let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / x.len() as f64;
+        println!(
+            "{ch:?}: std {:.3} mm, target {:.3} mm",
+            var.sqrt() * 1e3,
+            target.sqrt() * 1e3
+        );
+        assert!(
+            (var / target - 1.0).abs() < 0.10,
+            "{ch:?}: {var} vs {target}"
+        );
+    }
+}
+
+#[test]
+fn synthetic_is_deterministic() {
+    let make = |seed: u64| {
+        track(&format!(
+            "[[segment]]\ntype = \"tangent\"\nlength_m = 600\n\
+             [irregularities]\ntype = \"synthetic\"\nspectrum = \"erri_b176_high\"\nseed = {seed}\n\
+             wavelength_min_m = 3\nwavelength_max_m = 70\ntaper_m = 20\n"
+        ))
+    };
+    let (a, b, c) = (make(1), make(1), make(2));
+    let (sa, sb, sc) = (
+        a.irregularities().unwrap(),
+        b.irregularities().unwrap(),
+        c.irregularities().unwrap(),
+    );
+    for ch in Channel::ALL {
+        assert_eq!(sa.channel(ch), sb.channel(ch), "same seed, same series");
+        let diff = sa
+            .channel(ch)
+            .iter()
+            .zip(sc.channel(ch))
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        let size = sa.channel(ch).iter().map(|v| v.abs()).fold(0.0, f64::max);
+        assert!(
+            diff > 0.3 * size,
+            "{ch:?}: different seed, different series"
+        );
+    }
+    // The channels differ from each other, the taper starts from zero, lookups agree.
+    assert_ne!(sa.channel(Channel::Lateral), sa.channel(Channel::Vertical));
+    assert_eq!(a.irregularity_at(0.0).lateral, 0.0);
+    assert_eq!(a.irregularity_at(300.0), b.irregularity_at(300.0));
+}
+
+#[test]
+fn irregularity_interpolation_and_derivative() {
+    let t = TrackModel::from_file(tracks_dir().join("straight_irregular.toml")).unwrap();
+    let series = t.irregularities().unwrap();
+    let s = series.positions();
+    // Interpolation reproduces the samples.
+    for i in [300, 1001, 7777] {
+        let v = t.irregularity_at(s[i]);
+        assert!((v.vertical - series.channel(Channel::Vertical)[i]).abs() < 1e-15);
+    }
+    // d/ds matches a finite difference of the interpolant.
+    let h = 1e-5;
+    for x in [123.4567, 2500.01, 4000.3] {
+        let (a, f, b) = (
+            t.irregularity_at(x - h),
+            t.irregularity_at(x),
+            t.irregularity_at(x + h),
+        );
+        assert!(((b.lateral - a.lateral) / (2.0 * h) - f.dlateral_ds).abs() < 1e-7);
+        assert!(((b.gauge - a.gauge) / (2.0 * h) - f.dgauge_ds).abs() < 1e-7);
+    }
+    // Plausible size for good track: a few mm.
+    let max = series
+        .channel(Channel::Vertical)
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(max > 0.5e-3 && max < 20e-3, "max vertical {max}");
+}
+
+#[test]
+fn measured_csv_is_read_and_errors_are_located() {
+    let dir = std::env::temp_dir().join(format!("railsim-track-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = "# measured\ndistance_m,lateral_mm,vertical_mm,cross_level_mm,gauge_mm\n\
+                0,0,0,0,0\n1,1.0,-2.0,0.5,0.2\n2,2.0,-4.0,1.0,0.4\n3,3.0,-6.0,1.5,0.6\n";
+    std::fs::write(dir.join("good.csv"), good).unwrap();
+    let toml_path = dir.join("m.toml");
+    std::fs::write(
+        &toml_path,
+        format!(
+            "{HEAD}[[segment]]\ntype = \"tangent\"\nlength_m = 10\n[irregularities]\ntype = \"measured\"\nfile = \"good.csv\"\n"
+        ),
+    )
+    .unwrap();
+    let t = TrackModel::from_file(&toml_path).unwrap_or_else(|e| panic!("{e}"));
+    let v = t.irregularity_at(1.5);
+    assert!((v.lateral - 1.5e-3).abs() < 1e-15);
+    assert!((v.vertical + 3.0e-3).abs() < 1e-15);
+    assert!((v.dcross_level_ds - 0.5e-3).abs() < 1e-15);
+    assert_eq!(t.irregularity_at(3.5), Default::default());
+
+    let bad = "distance_m,lateral_mm,vertical_mm,cross_level_mm,gauge_mm\n\
+               0,0,0,0,0\n1, x1,0,0,0\n-0.5,0,0,0,0\n2,0,0\n";
+    let e = irregularity::parse_csv(bad, "bad.csv").unwrap_err();
+    let msgs: Vec<String> = e.errors.iter().map(|e| e.to_string()).collect();
+    assert_eq!(msgs.len(), 3, "{msgs:#?}");
+    assert!(
+        msgs[0].starts_with("bad.csv:3:4: lateral_mm: expected a finite number"),
+        "{}",
+        msgs[0]
+    );
+    assert!(
+        msgs[1].starts_with("bad.csv:4:1: distance_m = -0.5 must be greater"),
+        "{}",
+        msgs[1]
+    );
+    assert!(
+        msgs[2].starts_with("bad.csv:5:1: expected 5 fields"),
+        "{}",
+        msgs[2]
+    );
+    let e = irregularity::parse_csv("s,y\n", "h.csv").unwrap_err();
+    assert!(
+        e.errors[0]
+            .to_string()
+            .starts_with("h.csv:1:1: expected the header")
+    );
+
+    // A bad CSV referenced from a track: the CSV's location is reported.
+    std::fs::write(dir.join("bad.csv"), bad).unwrap();
+    std::fs::write(
+        &toml_path,
+        format!(
+            "{HEAD}[[segment]]\ntype = \"tangent\"\nlength_m = 10\n[irregularities]\ntype = \"measured\"\nfile = \"bad.csv\"\n"
+        ),
+    )
+    .unwrap();
+    let e = TrackModel::from_file(&toml_path).unwrap_err();
+    assert_eq!(e.errors.len(), 3);
+    assert!(e.errors[0].to_string().contains("bad.csv:3:4:"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Assert a message with location `loc` naming `key` exists.
+fn has(msgs: &[String], loc: &str, key: &str) {
+    assert!(
+        msgs.iter().any(|m| m.starts_with(loc) && m.contains(key)),
+        "no message at {loc} naming {key}:\n{}",
+        msgs.join("\n")
+    );
+}
+
+#[test]
+fn bad_values_are_all_reported_with_location_and_key() {
+    let text = format!(
+        "{HEAD}[[segment]]\n\
+type = \"curve\"\n\
+radius_m = -300\n\
+cant_mm = 250\n\
+direction = \"left\"\n\
+length_m = 100\n\
+[[segment]]\n\
+type = \"tangent\"\n\
+[[segment]]\n\
+type = \"curve\"\n\
+radius_m = 30\n\
+direction = \"up\"\n\
+length_m = 0\n"
+    );
+    let msgs = errors(&text);
+    has(
+        &msgs,
+        "mem.toml:6:12:",
+        "segment 1 (curve): radius_m = -300 must be positive",
+    );
+    has(
+        &msgs,
+        "mem.toml:7:11:",
+        "segment 1 (curve): cant_mm = 250 must be between -200 and 200",
+    );
+    has(
+        &msgs,
+        "mem.toml:10:",
+        "segment 2 (tangent): missing key length_m",
+    );
+    has(
+        &msgs,
+        "mem.toml:14:12:",
+        "radius_m = 30 is tighter than the minimum radius 50 m",
+    );
+    has(
+        &msgs,
+        "mem.toml:15:13:",
+        "direction = \"up\" must be \"left\" or \"right\"",
+    );
+    has(&msgs, "mem.toml:16:12:", "length_m = 0 must be positive");
+    assert_eq!(msgs.len(), 6, "{msgs:#?}");
+}
+
+#[test]
+fn structural_errors_in_several_tables_are_all_reported() {
+    let text = "gauge_mm = \"wide\"\n\
+rail_inclination = \"1:40\"\n\
+rail_profile = { left = \"uic60\", right = \"uic60\" }\n\
+[[segment]]\n\
+type = \"tangent\"\n\
+length = 100\n\
+[[segment]]\n\
+type = \"tangent\"\n\
+length_m = \"100\"\n\
+[irregularities]\n\
+type = \"synthetic\"\n\
+sead = 3\n";
+    let msgs = errors(text);
+    has(&msgs, "mem.toml:1:12:", "gauge_mm");
+    has(&msgs, "mem.toml:6:1:", "segment 1: unknown field `length`");
+    has(&msgs, "mem.toml:9:12:", "segment 2: length_m");
+    has(
+        &msgs,
+        "mem.toml:12:1:",
+        "irregularities: unknown field `sead`",
+    );
+    assert_eq!(msgs.len(), 4, "{msgs:#?}");
+}
+
+#[test]
+fn missing_root_key_and_other_errors() {
+    let msgs = errors(
+        "rail_inclination = \"1:40\"\nrail_profile = { left = \"uic60\", right = \"uic60\" }\n",
+    );
+    has(&msgs, "mem.toml:1:1:", "missing field `gauge_mm`");
+
+    let msgs = errors(
+        "gauge_mm = 3000\nrail_inclination = \"40\"\nrail_profile = { left = \"uic61\", right = \"none.prr\" }\n\
+         [[segment]]\ntype = \"spiral\"\nlength_m = 5\n\
+         [[segment]]\ntype = \"tangent\"\nlength_m = 5\nradius_m = 100\n",
+    );
+    has(&msgs, "mem.toml:1:12:", "gauge_mm = 3000");
+    has(&msgs, "mem.toml:2:20:", "rail_inclination");
+    has(
+        &msgs,
+        "mem.toml:3:",
+        "rail_profile.left = \"uic61\" is not a built-in profile",
+    );
+    has(
+        &msgs,
+        "mem.toml:3:",
+        "rail_profile.right = \"none.prr\": file",
+    );
+    has(&msgs, "mem.toml:5:8:", "segment 1: type = \"spiral\"");
+    has(
+        &msgs,
+        "mem.toml:10:12:",
+        "segment 2 (tangent): key radius_m is not allowed",
+    );
+
+    // Two clothoids in a row, a vertical curve that does not fit, an empty synthetic table.
+    let msgs = errors(&format!(
+        "{HEAD}vertical_curve_radius_m = 20000\n\
+         [[segment]]\ntype = \"clothoid\"\nlength_m = 50\n\
+         [[segment]]\ntype = \"clothoid\"\nlength_m = 50\ngradient_permille = 10\n\
+         [irregularities]\ntype = \"synthetic\"\nwavelength_min_m = 3\nwavelength_max_m = 2\n"
+    ));
+    has(
+        &msgs,
+        "mem.toml:9:8:",
+        "segment 2 (clothoid): follows another clothoid",
+    );
+    has(
+        &msgs,
+        "mem.toml:11:21:",
+        "segment 2: gradient_permille = 10: the vertical curve",
+    );
+    has(&msgs, "mem.toml:12:", "missing key spectrum");
+    has(&msgs, "mem.toml:12:", "missing key seed");
+    has(
+        &msgs,
+        "mem.toml:15:20:",
+        "wavelength_max_m = 2 must be greater",
+    );
+
+    // A TOML syntax error has a location too.
+    let msgs = errors("gauge_mm = = 3\n");
+    assert!(msgs[0].starts_with("mem.toml:1:"), "{msgs:?}");
+}
+
+#[test]
+fn min_radius_from_file_and_options() {
+    let body =
+        "[[segment]]\ntype = \"curve\"\nradius_m = 250\ndirection = \"left\"\nlength_m = 10\n";
+    assert!(compile(&format!("{HEAD}{body}")).is_ok());
+    let msgs = errors(&format!("{HEAD}min_radius_m = 300\n{body}"));
+    has(
+        &msgs,
+        "mem.toml:7:12:",
+        "radius_m = 250 is tighter than the minimum radius 300 m",
+    );
+    let spec = TrackSpec::from_toml_str(&format!("{HEAD}{body}"), "mem.toml").unwrap();
+    let e = TrackModel::compile_with(
+        &spec,
+        "mem.toml",
+        &railsim_track::CompileOptions { min_radius: 400.0 },
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&e.errors[0], TrackError::Invalid { key, line: 6, col: 12, .. } if key == "radius_m")
+    );
+}
