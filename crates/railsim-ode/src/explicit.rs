@@ -1,0 +1,217 @@
+//! One generic explicit Runge–Kutta stepper driven by a [`ButcherTableau`].
+
+use crate::integrator::{
+    Integrator, Work, check_finite, clip_step, eval_rhs, initial_step, step_too_small, wrms,
+};
+use crate::tableau::ButcherTableau;
+use crate::{OdeSystem, StopReason};
+
+/// PI step-size control constants of Hairer's DOPRI5 (*Solving ODEs I*, §II.4 and IV.2).
+const SAFE: f64 = 0.9;
+/// Smallest step-size ratio h_new / h.
+const FAC_MIN: f64 = 0.2;
+/// Largest step-size ratio h_new / h.
+const FAC_MAX: f64 = 10.0;
+/// Integral-part exponent of the PI controller (Gustafsson; Hairer uses 0.04 for DOPRI5).
+const BETA: f64 = 0.04;
+
+pub(crate) struct ErkWork {
+    tab: &'static ButcherTableau,
+    dense_d: Option<&'static [f64; 7]>,
+    /// Stage derivatives k_0 … k_{s−1}.
+    k: Vec<Vec<f64>>,
+    xs: Vec<f64>,
+    x_new: Vec<f64>,
+    err: Vec<f64>,
+    /// h Σ d_i k_i of the last accepted step (Dormand–Prince dense output).
+    dense5: Vec<f64>,
+    /// Controller memory: error norm of the last accepted step.
+    facold: f64,
+    reject: bool,
+}
+
+impl ErkWork {
+    pub(crate) fn new(
+        tab: &'static ButcherTableau,
+        dense_d: Option<&'static [f64; 7]>,
+        n: usize,
+    ) -> Self {
+        Self {
+            tab,
+            dense_d,
+            k: (0..tab.stages()).map(|_| vec![0.0; n]).collect(),
+            xs: vec![0.0; n],
+            x_new: vec![0.0; n],
+            err: vec![0.0; n],
+            dense5: vec![0.0; if dense_d.is_some() { n } else { 0 }],
+            facold: 1e-4,
+            reject: false,
+        }
+    }
+
+    pub(crate) fn reset(&mut self) {
+        self.facold = 1e-4;
+        self.reject = false;
+    }
+
+    pub(crate) fn dense(
+        &self,
+        theta: f64,
+        h: f64,
+        x0: &[f64],
+        x1: &[f64],
+        f0: &[f64],
+        f1: &[f64],
+        out: &mut [f64],
+    ) {
+        let th1 = 1.0 - theta;
+        if self.dense_d.is_some() {
+            for i in 0..out.len() {
+                let d = x1[i] - x0[i];
+                let b = h * f0[i] - d;
+                let r4 = d - h * f1[i] - b;
+                out[i] = x0[i] + theta * (d + th1 * (b + theta * (r4 + th1 * self.dense5[i])));
+            }
+        } else {
+            // cubic Hermite interpolation
+            for i in 0..out.len() {
+                let d = x1[i] - x0[i];
+                out[i] = x0[i]
+                    + theta * d
+                    + theta
+                        * (theta - 1.0)
+                        * ((1.0 - 2.0 * theta) * d + (theta - 1.0) * h * f0[i] + theta * h * f1[i]);
+            }
+        }
+    }
+}
+
+impl Integrator {
+    pub(crate) fn erk_step<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+    ) -> Result<(), StopReason> {
+        let Work::Erk(w) = &mut self.work else {
+            unreachable!("erk_step on a non-explicit method")
+        };
+        let tab = w.tab;
+        let s = tab.stages();
+        let n = self.n;
+        if !self.f_valid {
+            eval_rhs(sys, &mut self.stats, self.t, &self.x, &mut self.f, self.t)?;
+            self.f_valid = true;
+        }
+        if self.h.is_nan() {
+            let order = tab.embedded_order.max(1) + 1;
+            self.h = initial_step(
+                sys,
+                &mut self.stats,
+                self.t,
+                &self.x,
+                &self.f,
+                &mut w.xs,
+                &mut w.x_new,
+                &self.atol_v,
+                self.rtol,
+                order,
+                self.h_max,
+                self.t_end - self.t,
+            )?;
+        }
+        let t = self.t;
+        loop {
+            let (h, last) = clip_step(t, self.t_end, self.h_max, self.h);
+            if step_too_small(t, h) {
+                return Err(StopReason::StepTooSmall { t, h });
+            }
+            w.k[0].copy_from_slice(&self.f);
+            for i in 1..s {
+                let (done, rest) = w.k.split_at_mut(i);
+                let a = tab.a[i];
+                for m in 0..n {
+                    let mut acc = 0.0;
+                    for (j, aij) in a.iter().enumerate() {
+                        acc += aij * done[j][m];
+                    }
+                    w.xs[m] = self.x[m] + h * acc;
+                }
+                eval_rhs(
+                    sys,
+                    &mut self.stats,
+                    t + tab.c[i] * h,
+                    &w.xs,
+                    &mut rest[0],
+                    t,
+                )?;
+            }
+            for m in 0..n {
+                let mut acc = 0.0;
+                for (j, bj) in tab.b.iter().enumerate() {
+                    acc += bj * w.k[j][m];
+                }
+                w.x_new[m] = self.x[m] + h * acc;
+            }
+            check_finite(&w.x_new, t)?;
+            let mut h_next = self.h;
+            if let Some(e) = tab.e {
+                for m in 0..n {
+                    let mut acc = 0.0;
+                    for (j, ej) in e.iter().enumerate() {
+                        acc += ej * w.k[j][m];
+                    }
+                    w.err[m] = h * acc;
+                }
+                let err = wrms(&w.err, &self.x, &w.x_new, &self.atol_v, self.rtol);
+                let expo = 1.0 / (tab.embedded_order as f64 + 1.0) - 0.75 * BETA;
+                let fac11 = err.powf(expo);
+                if err <= 1.0 {
+                    let fac =
+                        (fac11 / w.facold.powf(BETA) / SAFE).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
+                    h_next = h / fac;
+                    if w.reject {
+                        h_next = h_next.min(h);
+                    }
+                    w.facold = err.max(1e-4);
+                    w.reject = false;
+                } else {
+                    self.stats.rejected += 1;
+                    w.reject = true;
+                    self.h = h / (fac11 / SAFE).min(1.0 / FAC_MIN);
+                    continue;
+                }
+            }
+            // accept
+            if let Some(d) = w.dense_d {
+                for m in 0..n {
+                    let mut acc = 0.0;
+                    for (j, dj) in d.iter().enumerate() {
+                        acc += dj * w.k[j][m];
+                    }
+                    w.dense5[m] = h * acc;
+                }
+            }
+            self.t_prev = t;
+            self.x_prev.copy_from_slice(&self.x);
+            self.f_prev.copy_from_slice(&self.f);
+            self.x.copy_from_slice(&w.x_new);
+            self.t = if last { self.t_end } else { t + h };
+            self.stats.steps += 1;
+            self.has_step = true;
+            if !last {
+                self.h = h_next;
+            }
+            self.finished = last;
+            if tab.fsal {
+                self.f.copy_from_slice(&w.k[s - 1]);
+            } else {
+                // f at the new point: next step's first stage and the Hermite end slope.
+                let r = eval_rhs(sys, &mut self.stats, self.t, &self.x, &mut self.f, t);
+                if r.is_err() {
+                    self.f_valid = false;
+                    return r;
+                }
+            }
+            return Ok(());
+        }
+    }
+}
