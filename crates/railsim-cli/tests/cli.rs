@@ -1,0 +1,83 @@
+//! The `railsim` command line: the README's main job, batch mode and exit codes.
+
+use std::process::Command;
+
+fn railsim(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_railsim"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn default_contact_job_runs() {
+    let (code, out, err) = railsim(&["contact"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("1 patch(es)") && out.contains("Fz = 10000.0 N"),
+        "{out}"
+    );
+}
+
+#[test]
+fn batch_mode_writes_contact_columns() {
+    let dir = std::env::temp_dir().join(format!("railsim-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = dir.join("cases.csv");
+    std::fs::write(
+        &cases,
+        "case,side,y_ws_mm,yaw_ws_rad,roll_ws_rad,vpitch_rad_s,fz_target_N\n\
+         a,left,0,0,0,-4.3481181,10000\nb,right,6.5,0.0156,-0.004376,-4.3293718,10000\n",
+    )
+    .unwrap();
+    let out = dir.join("out.csv");
+    let (code, _, err) = railsim(&[
+        "contact",
+        "--cases",
+        cases.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    assert!(
+        lines
+            .next()
+            .unwrap()
+            .starts_with("case,side,icp,z_ws_mm,ycp_r_mm,delttr_rad,pen_mm,fn_N,fx_N,fs_N")
+    );
+    assert_eq!(lines.count(), 2);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_input_exits_2_with_a_message() {
+    let (code, _, err) = railsim(&["contact", "--wheel", "/nonexistent/wheel.prw"]);
+    assert_eq!(code, 2);
+    assert!(err.starts_with("railsim: /nonexistent/wheel.prw:"), "{err}");
+    let (code, _, err) = railsim(&["contact", "--z-mm", "-7"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("absurd penetration"), "{err}");
+    let (code, _, err) = railsim(&["contact", "--model", "exact"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("exact"), "{err}");
+}
+
+#[test]
+fn conicity_reports_the_check_value() {
+    let (code, out, err) = railsim(&["conicity", "--amplitudes-mm", "3"]);
+    assert_eq!(code, 0, "{err}");
+    // The amplitude table comes after the Δr table, which also has a 3.00 row.
+    let line = out
+        .lines()
+        .rfind(|l| l.trim_start().starts_with("3.00"))
+        .unwrap();
+    let lambda: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert!((lambda - 0.185).abs() < 0.01, "{line}");
+}
