@@ -513,6 +513,7 @@ length_m = \"100\"\n\
 type = \"synthetic\"\n\
 sead = 3\n";
     let msgs = errors(text);
+    println!("{}", msgs.join("\n"));
     has(&msgs, "mem.toml:1:12:", "gauge_mm");
     has(&msgs, "mem.toml:6:1:", "segment 1: unknown field `length`");
     has(&msgs, "mem.toml:9:12:", "segment 2: length_m");
