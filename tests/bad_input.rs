@@ -182,3 +182,50 @@ fn bad_options_are_rejected() {
     let e = railsim_contact::WheelRailContact::new(crate::common::mbench_pair(), opts).unwrap_err();
     assert!(e.to_string().contains("step"), "{e}");
 }
+
+#[test]
+fn extremes_of_load_and_step_stay_finite_and_monotone() {
+    // Loads from 10 N to 300 kN and steps from 0.02 to 2 mm: every result finite, penetration
+    // growing with the load, and the vertical force reached.
+    for (model, step) in [
+        (ContactModelKind::Stripes, 0.02e-3),
+        (ContactModelKind::Stripes, 2.0e-3),
+        (ContactModelKind::Fastsim, 2.0e-3),
+        (ContactModelKind::Polach, 0.5e-3),
+    ] {
+        let c = mbench_contact(model, step);
+        let mut ws = ContactWorkspace::new();
+        for (y, yaw) in [(0.0, 0.0), (-3e-3, -0.007), (-7e-3, -0.017)] {
+            let pose = WheelsetPose {
+                y,
+                yaw,
+                ..Default::default()
+            };
+            let mut last_pen = 0.0;
+            for load in [10.0, 1e3, 1e5, 3e5] {
+                let s = c
+                    .evaluate_with_load(Side::Left, &pose, &rolling(), load, 1e-6, &mut ws)
+                    .unwrap_or_else(|e| panic!("{model:?} step {step} y {y} load {load}: {e}"));
+                assert!(
+                    (s.force_track[2] - load).abs() <= 1e-3 * load + s.load_residual.abs(),
+                    "{model:?} load {load}: {}",
+                    s.force_track[2]
+                );
+                let pen = ws.patches.iter().map(|p| p.penetration).fold(0.0, f64::max);
+                assert!(
+                    pen.is_finite() && pen > last_pen,
+                    "{model:?} step {step} y {y}: pen {pen} after {last_pen}"
+                );
+                last_pen = pen;
+                for p in &ws.patches {
+                    let f = &p.forces;
+                    assert!(
+                        [f.fn_, f.fx, f.fs, f.mz, f.p_max, f.width, f.length]
+                            .iter()
+                            .all(|v| v.is_finite())
+                    );
+                }
+            }
+        }
+    }
+}

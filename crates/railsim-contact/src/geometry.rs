@@ -86,6 +86,9 @@ impl TravelOptions {
 /// step; pairs near or inside contact are always exact to `angle_tol`).
 pub const FAR_GAP: f64 = 0.3e-3;
 
+/// \[m\] shortest step outside interpenetrated zones.
+pub const MIN_STEP: f64 = 0.05e-3;
+
 /// One isosceles pair found by the travelling, in the side frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct IsoPair {
@@ -487,7 +490,9 @@ pub fn travel(
                 let cd = chord / (2.0 * cos_c);
                 cand = cand.min(0.8 * cd);
             }
-            h = cand.clamp(opts.step, opts.max_step);
+            // The base step is not a floor here: near a zone the safe step may be shorter, so
+            // that no zone narrower than the base step is skipped (a small floor keeps progress).
+            h = cand.clamp(opts.step.min(MIN_STEP), opts.max_step);
         }
         prev_gap = Some((g, h));
         match advance(

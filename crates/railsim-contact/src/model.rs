@@ -371,7 +371,16 @@ impl WheelRailContact {
             if forces.fn_ <= 0.0 {
                 continue;
             }
-            let r = self.result(side, pose, &frame, creep, forces, penetration, &ws.pairs, &zone);
+            let r = self.result(
+                side,
+                pose,
+                &frame,
+                creep,
+                forces,
+                penetration,
+                &ws.pairs,
+                &zone,
+            );
             for k in 0..3 {
                 total[k] += r.force_track[k];
             }
@@ -415,7 +424,7 @@ impl WheelRailContact {
         // interpenetrates any more, then the wheel is lowered onto the rail.
         let mut z_touch = pose.z;
         let mut found = false;
-        for _ in 0..12 {
+        for _ in 0..20 {
             let mut q = *pose;
             q.z = z_touch;
             travel(
@@ -433,8 +442,10 @@ impl WheelRailContact {
             if !dz.is_finite() {
                 break;
             }
+            // Far from contact the pairs are coarse and overestimate the distance, so the
+            // estimate is repeated until it no longer moves the wheel.
             z_touch -= dz;
-            if dz >= -1e-9 {
+            if dz.abs() < 1e-9 {
                 found = true;
                 break;
             }
