@@ -18,6 +18,8 @@ const BETA: f64 = 0.04;
 pub(crate) struct ErkWork {
     tab: &'static ButcherTableau,
     dense_d: Option<&'static [f64; 7]>,
+    /// Error control on (adaptive) or off (fixed step).
+    adaptive: bool,
     /// Stage derivatives k_0 … k_{s−1}.
     k: Vec<Vec<f64>>,
     xs: Vec<f64>,
@@ -31,14 +33,12 @@ pub(crate) struct ErkWork {
 }
 
 impl ErkWork {
-    pub(crate) fn new(
-        tab: &'static ButcherTableau,
-        dense_d: Option<&'static [f64; 7]>,
-        n: usize,
-    ) -> Self {
+    pub(crate) fn new(tab: &'static ButcherTableau, adaptive: bool, n: usize) -> Self {
+        let dense_d = if tab.fsal { tab.dense } else { None };
         Self {
             tab,
             dense_d,
+            adaptive: adaptive && tab.e.is_some(),
             k: (0..tab.stages()).map(|_| vec![0.0; n]).collect(),
             xs: vec![0.0; n],
             x_new: vec![0.0; n],
@@ -47,6 +47,20 @@ impl ErkWork {
             facold: 1e-4,
             reject: false,
         }
+    }
+
+    /// (address, capacity) of each buffer, for the no-reallocation test.
+    #[cfg(test)]
+    pub(crate) fn buffers(&self) -> Vec<(usize, usize)> {
+        let mut v: Vec<(usize, usize)> = self
+            .k
+            .iter()
+            .map(|b| (b.as_ptr() as usize, b.capacity()))
+            .collect();
+        for b in [&self.xs, &self.x_new, &self.err, &self.dense5] {
+            v.push((b.as_ptr() as usize, b.capacity()));
+        }
+        v
     }
 
     pub(crate) fn reset(&mut self) {
@@ -153,7 +167,7 @@ impl Integrator {
             }
             check_finite(&w.x_new, t)?;
             let mut h_next = self.h;
-            if let Some(e) = tab.e {
+            if let (true, Some(e)) = (w.adaptive, tab.e) {
                 for m in 0..n {
                     let mut acc = 0.0;
                     for (j, ej) in e.iter().enumerate() {

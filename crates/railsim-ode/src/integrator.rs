@@ -101,9 +101,13 @@ impl Integrator {
             Method::Rk4 { h } => {
                 check_pos("h", h)?;
                 (
-                    Work::Erk(ErkWork::new(&tableau::RK4, None, dim)),
+                    Work::Erk(ErkWork::new(&tableau::RK4, false, dim)),
                     f64::INFINITY,
                 )
+            }
+            Method::ExplicitFixed { tableau, h } => {
+                check_pos("h", h)?;
+                (Work::Erk(ErkWork::new(tableau, false, dim)), f64::INFINITY)
             }
             Method::DormandPrince {
                 rtol,
@@ -124,10 +128,7 @@ impl Integrator {
                 }
                 check_h_max(h_max)?;
                 let tab: &'static ButcherTableau = &tableau::DOPRI5;
-                (
-                    Work::Erk(ErkWork::new(tab, Some(&tableau::DOPRI5_DENSE), dim)),
-                    h_max,
-                )
+                (Work::Erk(ErkWork::new(tab, true, dim)), h_max)
             }
             Method::Radau5 {
                 rtol,
@@ -156,8 +157,23 @@ impl Integrator {
                     });
                 }
                 (
-                    Work::Radau(Box::new(RadauWork::new(dim, jacobian_reuse))),
+                    Work::Radau(Box::new(RadauWork::new(dim, jacobian_reuse, false))),
                     h_max,
+                )
+            }
+            Method::Radau5Fixed { h, rtol, atol } => {
+                check_pos("h", h)?;
+                if !(rtol.is_finite() && rtol >= RADAU_MIN_RTOL) {
+                    return Err(OdeError::InvalidParameter {
+                        name: "rtol",
+                        value: rtol,
+                        expected: "a finite number >= 1e-12",
+                    });
+                }
+                check_pos("atol", atol)?;
+                (
+                    Work::Radau(Box::new(RadauWork::new(dim, 0.1, true))),
+                    f64::INFINITY,
                 )
             }
         };
@@ -262,12 +278,16 @@ impl Integrator {
             });
         }
         let (rtol, atol, h0) = match self.method {
-            Method::Rk4 { h } => (0.0, 1.0, Some(h)),
+            Method::Rk4 { h } | Method::ExplicitFixed { h, .. } => (0.0, 1.0, Some(h)),
             Method::DormandPrince { rtol, atol, h0, .. } => (rtol, atol, h0),
             Method::Radau5 { rtol, atol, h0, .. } => {
                 // Hairer & Wanner's RADAU5 tolerance mapping.
                 let r = 0.1 * rtol.powf(2.0 / 3.0);
                 (r, atol * r / rtol, h0)
+            }
+            Method::Radau5Fixed { h, rtol, atol } => {
+                let r = 0.1 * rtol.powf(2.0 / 3.0);
+                (r, atol * r / rtol, Some(h))
             }
         };
         for i in 0..self.n {
@@ -430,7 +450,8 @@ impl Integrator {
             });
         }
         let slack = 8.0 * f64::EPSILON * self.t.abs().max(self.t_prev.abs());
-        if !self.has_step || !(t >= self.t_prev - slack && t <= self.t + slack) {
+        let inside = (self.t_prev - slack..=self.t + slack).contains(&t);
+        if !self.has_step || !inside {
             return Err(OdeError::DenseOutOfRange {
                 t,
                 t_prev: self.t_prev,
@@ -464,7 +485,8 @@ pub(crate) fn clip_step(t: f64, t_end: f64, h_max: f64, h: f64) -> (f64, bool) {
 
 /// True when `h` cannot advance the floating-point time `t` meaningfully.
 pub(crate) fn step_too_small(t: f64, h: f64) -> bool {
-    !(h > 10.0 * f64::EPSILON * t.abs()) || h < 1e-300
+    // also true for NaN
+    h.is_nan() || h <= 10.0 * f64::EPSILON * t.abs() || h < 1e-300
 }
 
 /// Evaluates the right-hand side, counting it and checking the output.
@@ -551,4 +573,66 @@ pub(crate) fn initial_step<S: OdeSystem + ?Sized>(
         (0.01 / der12).powf(1.0 / order as f64)
     };
     Ok((100.0 * h).min(h1).min(h_max).min(span))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::RhsError;
+
+    struct Rober;
+    impl OdeSystem for Rober {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn rhs(&mut self, _t: f64, y: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+            let (r1, r2, r3) = (0.04 * y[0], 1e4 * y[1] * y[2], 3e7 * y[1] * y[1]);
+            d[0] = -r1 + r2;
+            d[1] = r1 - r2 - r3;
+            d[2] = r3;
+            Ok(())
+        }
+    }
+
+    /// (address, capacity) of every buffer the integrator owns.
+    fn fingerprint(i: &Integrator) -> Vec<(usize, usize)> {
+        let v = |b: &Vec<f64>| (b.as_ptr() as usize, b.capacity());
+        let mut f = vec![
+            v(&i.x),
+            v(&i.f),
+            v(&i.x_prev),
+            v(&i.f_prev),
+            v(&i.atol_v),
+            v(&i.out),
+        ];
+        match &i.work {
+            Work::Erk(w) => f.extend(w.buffers()),
+            Work::Radau(w) => f.extend(w.buffers()),
+        }
+        f
+    }
+
+    /// All buffers are allocated in `new`: runs neither move nor grow any of them.
+    #[test]
+    fn runs_do_not_reallocate_buffers() {
+        for m in [
+            Method::Rk4 { h: 0.5 },
+            Method::dormand_prince(1e-6, 1e-8),
+            Method::radau5(1e-6, 1e-10),
+        ] {
+            let mut integ = Integrator::new(m, 3).unwrap();
+            let before = fingerprint(&integ);
+            let mut x = [1.0, 0.0, 0.0];
+            let times = [1.0, 10.0, 100.0];
+            let mut go = |_: f64, _: &[f64]| ControlFlow::Continue(());
+            let (r, s) = integ
+                .integrate_at(&mut Rober, 0.0, &mut x, &times, &mut go)
+                .unwrap();
+            assert!(s.steps > 0, "{m:?}: {r:?}");
+            integ
+                .integrate(&mut Rober, 0.0, &mut x, 1.0, &mut go)
+                .unwrap();
+            assert_eq!(before, fingerprint(&integ), "{m:?}");
+        }
+    }
 }

@@ -114,6 +114,15 @@ pub enum Method {
         /// \[s\] step size; finite and positive.
         h: f64,
     },
+    /// Any explicit Runge–Kutta tableau with a fixed step (e.g. [`tableau::DOPRI5`] to
+    /// measure its order); the embedded error estimate, if any, is not used. Dense output
+    /// uses the tableau's continuous extension if it has one, else cubic Hermite.
+    ExplicitFixed {
+        /// The method.
+        tableau: &'static tableau::ButcherTableau,
+        /// \[s\] step size; finite and positive.
+        h: f64,
+    },
     /// Adaptive Dormand–Prince 5(4) ([`tableau::DOPRI5`]) with PI step-size control and a
     /// fourth-order continuous extension ([`tableau::DOPRI5_DENSE`]).
     DormandPrince {
@@ -148,6 +157,18 @@ pub enum Method {
         /// values reuse more (0.1 suits costly right-hand sides, 0.001 small cheap
         /// ones); a negative value recomputes it after every accepted step.
         jacobian_reuse: f64,
+    },
+    /// Radau IIA of order 5 with a fixed step `h` (the last step is shortened to land on
+    /// `t_end`) and no error control; Newton is converged to the tolerances. If Newton
+    /// fails even with a fresh Jacobian the run stops with [`StopReason::NewtonFailed`].
+    /// Meant for real-time-like runs and for measuring the order.
+    Radau5Fixed {
+        /// \[s\] step size; finite and positive.
+        h: f64,
+        /// \[-\] relative tolerance of the Newton iteration (mapped as for `Radau5`).
+        rtol: f64,
+        /// \[units of x\] absolute tolerance of the Newton iteration.
+        atol: f64,
     },
 }
 
@@ -225,6 +246,13 @@ pub enum StopReason {
         t: f64,
         /// State component with the first non-finite value.
         index: usize,
+    },
+    /// Newton did not converge in a fixed-step run ([`Method::Radau5Fixed`]).
+    NewtonFailed {
+        /// \[s\] time of the last accepted step.
+        t: f64,
+        /// \[s\] the step size tried.
+        h: f64,
     },
     /// The iteration matrix stayed singular after repeated step reductions (Radau5).
     SingularMatrix {

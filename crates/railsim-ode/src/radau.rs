@@ -27,6 +27,8 @@ pub(crate) const DD: [f64; 3] = [
     (-13.0 + 7.0 * SQ6) / 3.0,
     -1.0 / 3.0,
 ];
+// RADAU5's published digits are kept as printed.
+#[allow(clippy::excessive_precision)]
 /// Eigenvector matrix T of A⁻¹ (T⁻¹ A⁻¹ T = [[γ,0,0],[0,α,−β],[0,β,α]]), RADAU5's values.
 pub(crate) const T: [[f64; 3]; 3] = [
     [
@@ -41,6 +43,7 @@ pub(crate) const T: [[f64; 3]; 3] = [
     ],
     [0.966_048_182_615_092_936_19, 1.0, 0.0],
 ];
+#[allow(clippy::excessive_precision)]
 /// T⁻¹, RADAU5's values.
 pub(crate) const TI: [[f64; 3]; 3] = [
     [
@@ -90,6 +93,8 @@ pub(crate) struct RadauWork {
     beta: f64,
     /// Jacobian reuse threshold on the Newton contraction rate.
     thet: f64,
+    /// Fixed step, no error test.
+    fixed: bool,
     jac: Mat<f64>,
     e1: DenseLu<f64>,
     e2: DenseLu<c64>,
@@ -141,7 +146,7 @@ fn lagrange(theta: f64) -> [f64; 3] {
 }
 
 impl RadauWork {
-    pub(crate) fn new(n: usize, thet: f64) -> Self {
+    pub(crate) fn new(n: usize, thet: f64, fixed: bool) -> Self {
         let (gamma, alpha, beta) = eigenvalues();
         let v = || [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
         Self {
@@ -149,6 +154,7 @@ impl RadauWork {
             alpha,
             beta,
             thet,
+            fixed,
             jac: Mat::zeros(n, n),
             e1: DenseLu::new(n),
             e2: DenseLu::new(n),
@@ -176,6 +182,24 @@ impl RadauWork {
             nsing: 0,
             fnewt: 0.03,
         }
+    }
+
+    /// (address, capacity) of each buffer, for the no-reallocation test.
+    #[cfg(test)]
+    pub(crate) fn buffers(&self) -> Vec<(usize, usize)> {
+        let p = |b: &Vec<f64>| (b.as_ptr() as usize, b.capacity());
+        let mut v: Vec<(usize, usize)> = vec![];
+        for arr in [&self.z, &self.w, &self.g, &self.cont] {
+            v.extend(arr.iter().map(p));
+        }
+        for b in [&self.dw1, &self.xs, &self.scal, &self.err, &self.err_f] {
+            v.push(p(b));
+        }
+        v.push((self.dw23.as_ptr() as usize, self.dw23.capacity()));
+        v.push((self.jac.as_ptr() as usize, self.jac.nrows()));
+        v.push((self.e1.a.as_ptr() as usize, self.e1.a.nrows()));
+        v.push((self.e2.a.as_ptr() as usize, self.e2.a.nrows()));
+        v
     }
 
     /// Resets the run state; `rtol` is the transformed relative tolerance.
@@ -384,7 +408,7 @@ impl Integrator {
                         w.faccon = w.theta / (1.0 - w.theta);
                         let dyth =
                             w.faccon * dyno * w.theta.powi((NIT - 1 - newt) as i32) / w.fnewt;
-                        if dyth >= 1.0 {
+                        if dyth >= 1.0 && !w.fixed {
                             let qnewt = dyth.clamp(1e-4, 20.0);
                             let hhfac = 0.8 * qnewt.powf(-1.0 / (4.0 + (NIT - 1 - newt) as f64));
                             break Newton::Slow(hhfac);
@@ -417,6 +441,13 @@ impl Integrator {
                 }
                 Newton::Diverged => {
                     self.stats.newton_failures += 1;
+                    if w.fixed {
+                        if w.jac_fresh {
+                            return Err(StopReason::NewtonFailed { t, h });
+                        }
+                        w.need_jac = true;
+                        continue;
+                    }
                     w.reject = true;
                     self.h *= 0.5;
                     if !w.jac_fresh {
@@ -427,40 +458,46 @@ impl Integrator {
             };
 
             // Error estimate (Hairer & Wanner §IV.8, eq. (8.19)–(8.20)).
-            let hee = [DD[0] / h, DD[1] / h, DD[2] / h];
-            for i in 0..n {
-                w.err_f[i] = hee[0] * w.z[0][i] + hee[1] * w.z[1][i] + hee[2] * w.z[2][i];
-                w.err[i] = self.f[i] + w.err_f[i];
-                // error scale: atol + rtol max(|x|, |x_new|)
-                w.xs[i] = self.x[i] + w.z[2][i];
-            }
-            w.e1.solve(&mut w.err);
-            let mut err = crate::integrator::wrms(&w.err, &self.x, &w.xs, &self.atol_v, rtol);
-            if err >= 1.0 && (w.first || w.reject) {
-                // Filtered estimate for stiff components (one more f and solve).
+            let (err, mut hnew, mut quot) = if w.fixed {
+                (0.0, h, 1.0)
+            } else {
+                let hee = [DD[0] / h, DD[1] / h, DD[2] / h];
                 for i in 0..n {
-                    w.xs[i] = self.x[i] + w.err[i];
-                }
-                eval_rhs(sys, &mut self.stats, t, &w.xs, &mut w.g[0], t)?;
-                for i in 0..n {
-                    w.err[i] = w.g[0][i] + w.err_f[i];
+                    w.err_f[i] = hee[0] * w.z[0][i] + hee[1] * w.z[1][i] + hee[2] * w.z[2][i];
+                    w.err[i] = self.f[i] + w.err_f[i];
+                    // error scale: atol + rtol max(|x|, |x_new|)
                     w.xs[i] = self.x[i] + w.z[2][i];
                 }
                 w.e1.solve(&mut w.err);
-                err = crate::integrator::wrms(&w.err, &self.x, &w.xs, &self.atol_v, rtol);
-            }
-            if !err.is_finite() {
-                return Err(check_finite(&w.err, t)
-                    .err()
-                    .unwrap_or(StopReason::NonFinite { t, index: 0 }));
-            }
-            let err = err.max(1e-10);
-            let fac = SAFE.min(SAFE * (1.0 + 2.0 * NIT as f64) / (newt as f64 + 2.0 * NIT as f64));
-            let mut quot = (err.powf(0.25) / fac).clamp(FACR, FACL);
-            let mut hnew = h / quot;
+                let mut err = crate::integrator::wrms(&w.err, &self.x, &w.xs, &self.atol_v, rtol);
+                if err >= 1.0 && (w.first || w.reject) {
+                    // Filtered estimate for stiff components (one more f and solve).
+                    for i in 0..n {
+                        w.xs[i] = self.x[i] + w.err[i];
+                    }
+                    eval_rhs(sys, &mut self.stats, t, &w.xs, &mut w.g[0], t)?;
+                    for i in 0..n {
+                        w.err[i] = w.g[0][i] + w.err_f[i];
+                        w.xs[i] = self.x[i] + w.z[2][i];
+                    }
+                    w.e1.solve(&mut w.err);
+                    err = crate::integrator::wrms(&w.err, &self.x, &w.xs, &self.atol_v, rtol);
+                }
+                if !err.is_finite() {
+                    return Err(check_finite(&w.err, t)
+                        .err()
+                        .unwrap_or(StopReason::NonFinite { t, index: 0 }));
+                }
+                let err = err.max(1e-10);
+                let fac =
+                    SAFE.min(SAFE * (1.0 + 2.0 * NIT as f64) / (newt as f64 + 2.0 * NIT as f64));
+                let quot = (err.powf(0.25) / fac).clamp(FACR, FACL);
+                let hnew = h / quot;
+                (err, hnew, quot)
+            };
             if err < 1.0 {
                 // Accepted. Gustafsson's predictive controller.
-                if !w.first && w.hacc.is_finite() {
+                if !w.fixed && !w.first && w.hacc.is_finite() {
                     let facgus =
                         ((w.hacc / h) * (err * err / w.erracc).powf(0.25) / SAFE).clamp(FACR, FACL);
                     quot = quot.max(facgus);
@@ -493,7 +530,9 @@ impl Integrator {
                 }
                 w.reject = false;
                 let qt = hnew / h;
-                if !(w.theta <= w.thet && (QUOT1..=QUOT2).contains(&qt)) {
+                if w.fixed {
+                    // keep h and J; J is refreshed only when Newton fails
+                } else if !(w.theta <= w.thet && (QUOT1..=QUOT2).contains(&qt)) {
                     self.h = hnew;
                     if w.theta > w.thet {
                         w.need_jac = true;

@@ -25,6 +25,9 @@ pub struct ButcherTableau {
     pub b: &'static [f64],
     /// \[-\] error weights e = b − b̂, or `None` for a fixed-step method.
     pub e: Option<&'static [f64]>,
+    /// \[-\] coefficients d_i of a fourth-order continuous extension in the form of
+    /// [`DOPRI5_DENSE`] (needs `fsal`), or `None`.
+    pub dense: Option<&'static [f64; 7]>,
     /// "First same as last": the last stage is evaluated at (t + h, x_new), so it is
     /// f at the start of the next step.
     pub fsal: bool,
@@ -50,6 +53,7 @@ pub const RK4: ButcherTableau = ButcherTableau {
     a: &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]],
     b: &[1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
     e: None,
+    dense: None,
     fsal: false,
 };
 
@@ -108,6 +112,7 @@ pub const DOPRI5: ButcherTableau = ButcherTableau {
         22.0 / 525.0,
         -1.0 / 40.0,
     ]),
+    dense: Some(&DOPRI5_DENSE),
     fsal: true,
 };
 

@@ -1,0 +1,774 @@
+//! Integration tests of railsim-ode on problems with known solutions: harmonic
+//! oscillator, observed orders of convergence, stiff Van der Pol, Robertson kinetics,
+//! failure reporting and bad input. The numbers quoted in docs/models/ode.md are
+//! printed by these tests (`cargo test -p railsim-ode -- --nocapture`).
+
+use std::f64::consts::PI;
+use std::ops::ControlFlow;
+
+use railsim_ode::tableau::{DOPRI5, RK4};
+use railsim_ode::{
+    Integrator, Method, OdeError, OdeSystem, RhsError, Stats, StepOutcome, StopReason,
+};
+
+fn go(_: f64, _: &[f64]) -> ControlFlow<()> {
+    ControlFlow::Continue(())
+}
+
+/// x'' = −ω² x, x(0) = 1, x'(0) = 0: x = cos ωt.
+struct Oscillator {
+    w: f64,
+}
+
+impl OdeSystem for Oscillator {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&mut self, _t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), RhsError> {
+        dxdt[0] = x[1];
+        dxdt[1] = -self.w * self.w * x[0];
+        Ok(())
+    }
+}
+
+impl Oscillator {
+    fn exact(&self, t: f64) -> [f64; 2] {
+        [(self.w * t).cos(), -self.w * (self.w * t).sin()]
+    }
+    fn energy(&self, x: &[f64]) -> f64 {
+        0.5 * x[1] * x[1] + 0.5 * self.w * self.w * x[0] * x[0]
+    }
+}
+
+/// Van der Pol in its classical form x'' − μ (1 − x²) x' + x = 0:
+/// y1' = y2, y2' = μ (1 − y1²) y2 − y1. Relaxation oscillation of period
+/// ≈ (3 − 2 ln 2) μ for large μ.
+struct VanDerPol {
+    mu: f64,
+}
+
+impl OdeSystem for VanDerPol {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&mut self, _t: f64, y: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+        d[0] = y[1];
+        d[1] = self.mu * (1.0 - y[0] * y[0]) * y[1] - y[0];
+        Ok(())
+    }
+}
+
+/// Robertson's chemical kinetics (Hairer & Wanner II, §IV.1, eq. (1.4)).
+struct Robertson;
+
+impl OdeSystem for Robertson {
+    fn dim(&self) -> usize {
+        3
+    }
+    fn rhs(&mut self, _t: f64, y: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+        let r1 = 0.04 * y[0];
+        let r2 = 1e4 * y[1] * y[2];
+        let r3 = 3e7 * y[1] * y[1];
+        d[0] = -r1 + r2;
+        d[1] = r1 - r2 - r3;
+        d[2] = r3;
+        Ok(())
+    }
+    /// y2 stays below 4e-5: its absolute tolerance is 1e-4 of the others.
+    fn abs_tol_scale(&self, i: usize) -> f64 {
+        if i == 1 { 1e-4 } else { 1.0 }
+    }
+}
+
+/// A list of numbers in scientific notation.
+fn fmt_e(v: &[f64]) -> String {
+    let s: Vec<String> = v.iter().map(|x| format!("{x:.3e}")).collect();
+    format!("[{}]", s.join(", "))
+}
+
+/// Least-squares slope of log(err) against log(h).
+fn slope(h: &[f64], e: &[f64]) -> f64 {
+    let n = h.len() as f64;
+    let lx: Vec<f64> = h.iter().map(|v| v.ln()).collect();
+    let ly: Vec<f64> = e.iter().map(|v| v.ln()).collect();
+    let mx = lx.iter().sum::<f64>() / n;
+    let my = ly.iter().sum::<f64>() / n;
+    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = lx.iter().map(|x| (x - mx).powi(2)).sum();
+    sxy / sxx
+}
+
+fn run(
+    method: Method,
+    sys: &mut impl OdeSystem,
+    t0: f64,
+    x0: &[f64],
+    t_end: f64,
+) -> (Vec<f64>, StopReason, Stats) {
+    let mut integ = Integrator::new(method, sys.dim()).unwrap();
+    let mut x = x0.to_vec();
+    let (r, s) = integ.integrate(sys, t0, &mut x, t_end, &mut go).unwrap();
+    (x, r, s)
+}
+
+fn osc_error(method: Method, t_end: f64) -> (f64, Stats) {
+    let mut sys = Oscillator { w: 2.0 };
+    let (x, r, s) = run(method, &mut sys, 0.0, &[1.0, 0.0], t_end);
+    assert_eq!(r, StopReason::Reached);
+    let ex = sys.exact(t_end);
+    ((x[0] - ex[0]).abs().max((x[1] - ex[1]).abs() / sys.w), s)
+}
+
+// ---------------------------------------------------------------- oscillator
+
+#[test]
+fn oscillator_rk4_error_energy_and_counters() {
+    let sys = Oscillator { w: 2.0 };
+    let t_end = 10.0 * PI; // ten periods
+    let (err, stats) = osc_error(Method::Rk4 { h: 0.01 }, t_end);
+    eprintln!("RK4 h=0.01 over 10 periods: error {err:.3e}, {stats:?}");
+    assert!(err < 1e-6, "error {err}");
+    assert_eq!(stats.steps, (t_end / 0.01).round() as usize);
+    assert_eq!(stats.rhs_evals, 4 * stats.steps + 1);
+    assert_eq!(stats.rejected, 0);
+    // energy drift: RK4 is dissipative, drift ~ (ωh)^4 t ω/ 72 per unit energy
+    let mut integ = Integrator::new(Method::Rk4 { h: 0.01 }, 2).unwrap();
+    let mut x = [1.0, 0.0];
+    let e0 = sys.energy(&x);
+    let mut max_drift: f64 = 0.0;
+    let mut s2 = Oscillator { w: 2.0 };
+    integ
+        .integrate(&mut s2, 0.0, &mut x, t_end, &mut |_, x| {
+            max_drift = max_drift.max((sys.energy(x) - e0).abs() / e0);
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    eprintln!("RK4 h=0.01 relative energy drift over 10 periods: {max_drift:.3e}");
+    assert!(max_drift < 1e-6 && max_drift > 0.0);
+}
+
+#[test]
+fn oscillator_dopri_error_and_energy() {
+    let t_end = 10.0 * PI;
+    for (rtol, bound) in [(1e-6, 1e-4), (1e-9, 1e-7), (1e-12, 1e-10)] {
+        let (err, stats) = osc_error(Method::dormand_prince(rtol, rtol), t_end);
+        eprintln!("DOPRI5 rtol=atol={rtol:e}: error {err:.3e}, {stats:?}");
+        assert!(err < bound, "rtol {rtol}: error {err}");
+        // FSAL bookkeeping: 1 (f0) + 1 (initial step) + 6 per attempt
+        assert_eq!(stats.rhs_evals, 2 + 6 * (stats.steps + stats.rejected));
+    }
+    let sys = Oscillator { w: 2.0 };
+    let mut s2 = Oscillator { w: 2.0 };
+    let mut integ = Integrator::new(Method::dormand_prince(1e-10, 1e-10), 2).unwrap();
+    let mut x = [1.0, 0.0];
+    let e0 = sys.energy(&x);
+    let mut max_drift: f64 = 0.0;
+    integ
+        .integrate(&mut s2, 0.0, &mut x, t_end, &mut |_, x| {
+            max_drift = max_drift.max((sys.energy(x) - e0).abs() / e0);
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    eprintln!("DOPRI5 tol 1e-10 relative energy drift over 10 periods: {max_drift:.3e}");
+    assert!(max_drift < 1e-8);
+}
+
+#[test]
+fn dopri_error_tracks_tolerance() {
+    // Global error ∝ tol^k with k ≈ 1 for DOPRI5 (local extrapolation: h ∝ tol^(1/5),
+    // error of the 5th-order solution ∝ h^5).
+    let tols = [1e-5, 1e-6, 1e-7, 1e-8, 1e-9];
+    let errs: Vec<f64> = tols
+        .iter()
+        .map(|&t| osc_error(Method::dormand_prince(t, t), 10.0).0)
+        .collect();
+    let k = slope(&tols, &errs);
+    eprintln!(
+        "DOPRI5 error vs tolerance: {}, exponent {k:.3}",
+        fmt_e(&errs)
+    );
+    assert!((0.8..1.2).contains(&k), "exponent {k}");
+}
+
+// ---------------------------------------------------------------- orders
+
+#[test]
+fn observed_order_rk4() {
+    let hs = [0.1, 0.05, 0.025, 0.0125];
+    let errs: Vec<f64> = hs
+        .iter()
+        .map(|&h| osc_error(Method::Rk4 { h }, 4.0).0)
+        .collect();
+    let p = slope(&hs, &errs);
+    eprintln!("RK4 errors {}, observed order {p:.3}", fmt_e(&errs));
+    assert!((p - 4.0).abs() < 0.2, "order {p}");
+}
+
+#[test]
+fn observed_order_dopri5_fixed_step() {
+    let hs = [0.2, 0.1, 0.05, 0.025];
+    let errs: Vec<f64> = hs
+        .iter()
+        .map(|&h| {
+            osc_error(
+                Method::ExplicitFixed {
+                    tableau: &DOPRI5,
+                    h,
+                },
+                4.0,
+            )
+            .0
+        })
+        .collect();
+    let p = slope(&hs, &errs);
+    eprintln!(
+        "DOPRI5 fixed-step errors {}, observed order {p:.3}",
+        fmt_e(&errs)
+    );
+    assert!((p - 5.0).abs() < 0.2, "order {p}");
+    // the generic fixed-step driver reproduces Method::Rk4 exactly
+    let a = osc_error(
+        Method::ExplicitFixed {
+            tableau: &RK4,
+            h: 0.05,
+        },
+        4.0,
+    )
+    .0;
+    let b = osc_error(Method::Rk4 { h: 0.05 }, 4.0).0;
+    assert_eq!(a, b);
+}
+
+#[test]
+fn observed_order_radau5_fixed_step() {
+    let hs = [0.4, 0.2, 0.1, 0.05];
+    let mut errs = vec![];
+    for &h in &hs {
+        let (e, s) = osc_error(
+            Method::Radau5Fixed {
+                h,
+                rtol: 1e-12,
+                atol: 1e-12,
+            },
+            4.0,
+        );
+        assert!(s.jacobians <= 2, "{s:?}");
+        errs.push(e);
+    }
+    let p = slope(&hs, &errs);
+    eprintln!(
+        "Radau5 fixed-step errors {}, observed order {p:.3}",
+        fmt_e(&errs)
+    );
+    assert!((p - 5.0).abs() < 0.3, "order {p}");
+}
+
+/// Dense-output error at the midpoints of fixed steps, against the exact solution.
+fn dense_error(method: Method, h: f64) -> f64 {
+    let sys = Oscillator { w: 2.0 };
+    let mut s2 = Oscillator { w: 2.0 };
+    let t_end = 4.0;
+    let times: Vec<f64> = (0..(t_end / h).round() as usize)
+        .map(|k| (k as f64 + 0.5) * h)
+        .collect();
+    let mut integ = Integrator::new(method, 2).unwrap();
+    let mut x = [1.0, 0.0];
+    let mut worst: f64 = 0.0;
+    let mut count = 0;
+    let (r, _) = integ
+        .integrate_at(&mut s2, 0.0, &mut x, &times, &mut |t, x| {
+            worst = worst.max((x[0] - sys.exact(t)[0]).abs());
+            count += 1;
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert_eq!(r, StopReason::Reached);
+    assert_eq!(count, times.len());
+    worst
+}
+
+#[test]
+fn observed_order_dopri5_dense_output() {
+    // DOPRI5 with h0 = h_max = h and a huge tolerance takes fixed steps; its dense
+    // output at mid-step then has local error O(h^5) and global error O(h^5) from
+    // the steps: the continuous extension is of order 4 locally (error O(h^5)).
+    let hs = [0.2, 0.1, 0.05, 0.025];
+    let errs: Vec<f64> = hs
+        .iter()
+        .map(|&h| {
+            dense_error(
+                Method::DormandPrince {
+                    rtol: 1e3,
+                    atol: 1e3,
+                    h0: Some(h),
+                    h_max: h,
+                },
+                h,
+            )
+        })
+        .collect();
+    let p = slope(&hs, &errs);
+    eprintln!(
+        "DOPRI5 dense output at mid-step: errors {}, observed order {p:.3}",
+        fmt_e(&errs)
+    );
+    assert!(
+        (p - 5.0).abs() < 0.3,
+        "dense output order {p} (local error exponent)"
+    );
+    // RK4's cubic Hermite output: local error O(h^4)
+    let errs: Vec<f64> = hs
+        .iter()
+        .map(|&h| dense_error(Method::Rk4 { h }, h))
+        .collect();
+    let p = slope(&hs, &errs);
+    eprintln!(
+        "RK4 Hermite dense output: errors {}, observed order {p:.3}",
+        fmt_e(&errs)
+    );
+    assert!((p - 4.0).abs() < 0.3, "Hermite order {p}");
+}
+
+#[test]
+fn dense_output_is_exact_at_the_step_ends_and_refuses_outside() {
+    let mut sys = Oscillator { w: 2.0 };
+    let mut integ = Integrator::new(Method::dormand_prince(1e-8, 1e-8), 2).unwrap();
+    integ.start(&sys, 0.0, &[1.0, 0.0], 1.0).unwrap();
+    let StepOutcome::Accepted { t } = integ.step(&mut sys) else {
+        panic!("no step")
+    };
+    let mut out = [0.0; 2];
+    integ.dense(t, &mut out).unwrap();
+    assert_eq!(out, [integ.x()[0], integ.x()[1]]);
+    integ.dense(0.0, &mut out).unwrap();
+    assert_eq!(out, [1.0, 0.0]);
+    assert!(matches!(
+        integ.dense(t * 1.5, &mut out),
+        Err(OdeError::DenseOutOfRange { .. })
+    ));
+    assert!(matches!(
+        integ.dense(-0.1, &mut out),
+        Err(OdeError::DenseOutOfRange { .. })
+    ));
+}
+
+// ---------------------------------------------------------------- stiff problems
+
+/// Times at which y1 crosses zero downwards, by linear interpolation between steps.
+fn vdp_run(method: Method, mu: f64, t_end: f64) -> (Vec<f64>, Vec<f64>, StopReason, Stats) {
+    let mut sys = VanDerPol { mu };
+    let mut integ = Integrator::new(method, 2).unwrap();
+    let mut x = [2.0, 0.0];
+    let mut crossings = vec![];
+    let mut last = (0.0, 2.0);
+    let (r, s) = integ
+        .integrate(&mut sys, 0.0, &mut x, t_end, &mut |t, y| {
+            if last.1 > 0.0 && y[0] <= 0.0 {
+                crossings.push(last.0 + (t - last.0) * last.1 / (last.1 - y[0]));
+            }
+            last = (t, y[0]);
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    (x.to_vec(), crossings, r, s)
+}
+
+#[test]
+fn stiff_van_der_pol_radau5() {
+    let mu = 1000.0;
+    let (x_ref, _, r, s_ref) = vdp_run(Method::radau5(1e-11, 1e-11), mu, 3000.0);
+    assert_eq!(r, StopReason::Reached);
+    let (x, cross, r, s) = vdp_run(Method::radau5(1e-6, 1e-6), mu, 3000.0);
+    assert_eq!(r, StopReason::Reached);
+    let err = (x[0] - x_ref[0]).abs();
+    eprintln!(
+        "VdP mu=1000 y(3000): reference {x_ref:?} ({s_ref:?}); tol 1e-6 {x:?}, |dy1| {err:.2e}, {s:?}"
+    );
+    assert!(
+        err < 1e-4 * x_ref[0].abs().max(1.0),
+        "y1 {} vs {}",
+        x[0],
+        x_ref[0]
+    );
+    assert!(s.steps < 1500, "{s:?}");
+    assert!(s.jacobians < s.steps, "{s:?}");
+    // limit-cycle period from successive downward zero crossings
+    assert!(cross.len() >= 2, "crossings {cross:?}");
+    let period = cross[1] - cross[0];
+    let asymptotic = (3.0 - 2.0 * 2f64.ln()) * mu;
+    eprintln!(
+        "VdP period {period:.2} (asymptotic (3 - 2 ln 2) mu = {asymptotic:.2}; crossings {cross:?})"
+    );
+    assert!(
+        (period - asymptotic).abs() < 0.01 * asymptotic,
+        "period {period}"
+    );
+}
+
+#[test]
+fn stiff_van_der_pol_needs_far_more_explicit_steps() {
+    let mu = 1000.0;
+    let t_end = 300.0;
+    let (xr, _, r, sr) = vdp_run(Method::radau5(1e-6, 1e-6), mu, t_end);
+    assert_eq!(r, StopReason::Reached);
+    let (xd, _, r, sd) = vdp_run(Method::dormand_prince(1e-6, 1e-6), mu, t_end);
+    assert_eq!(r, StopReason::Reached);
+    eprintln!("VdP mu=1000 on [0, 300]: Radau5 {sr:?}; DOPRI5 {sd:?}");
+    assert!((xr[0] - xd[0]).abs() < 1e-3, "{xr:?} vs {xd:?}");
+    assert!(
+        sd.steps > 50 * sr.steps,
+        "DOPRI {} vs Radau {}",
+        sd.steps,
+        sr.steps
+    );
+}
+
+#[test]
+fn robertson_radau5() {
+    let mut sys = Robertson;
+    let mut integ = Integrator::new(Method::radau5(1e-8, 1e-10), 3).unwrap();
+    let mut x = [1.0, 0.0, 0.0];
+    let mut times = vec![40.0];
+    let mut t = 1e2;
+    while t <= 4e10 {
+        times.push(t);
+        t *= 10.0;
+    }
+    let mut at40 = [0.0; 3];
+    let mut worst_mass: f64 = 0.0;
+    let (r, s) = integ
+        .integrate_at(&mut sys, 0.0, &mut x, &times, &mut |t, y| {
+            if t == 40.0 {
+                at40.copy_from_slice(y);
+            }
+            worst_mass = worst_mass.max((y[0] + y[1] + y[2] - 1.0).abs());
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert_eq!(r, StopReason::Reached);
+    eprintln!(
+        "Robertson to 4e10: y(40) = {at40:?}, y(4e10) = {x:?}, mass error {worst_mass:.2e}, {s:?}"
+    );
+    // Hairer & Wanner II, §IV.10 (reference solution at t = 40)
+    let published = [0.715_827_1, 9.185_535e-6, 0.284_163_7];
+    for i in 0..3 {
+        let rel = (at40[i] - published[i]).abs() / published[i];
+        assert!(
+            rel < 1e-4,
+            "y{} = {} vs {}: rel {rel:.2e}",
+            i + 1,
+            at40[i],
+            published[i]
+        );
+    }
+    assert!(worst_mass < 1e-6, "mass error {worst_mass}");
+    // late: y1 → 0, y3 → 1
+    assert!(x[0] < 1e-6 && x[2] > 0.999_99, "{x:?}");
+    // Jacobian and LU reuse
+    assert!(s.jacobians * 3 < s.steps, "{s:?}");
+    assert!(
+        s.lu_factorizations < s.steps + s.rejected + s.newton_failures + 1,
+        "{s:?}"
+    );
+    assert!(s.steps < 400, "{s:?}");
+}
+
+// ---------------------------------------------------------------- failures
+
+struct Failing {
+    fail_after: f64,
+    nan: bool,
+}
+
+impl OdeSystem for Failing {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+        if t > self.fail_after {
+            if self.nan {
+                d[0] = x[1];
+                d[1] = f64::NAN;
+                return Ok(());
+            }
+            return Err(RhsError(format!("derailed at t = {t}")));
+        }
+        d[0] = x[1];
+        d[1] = -x[0];
+        Ok(())
+    }
+}
+
+fn all_methods() -> [Method; 5] {
+    [
+        Method::Rk4 { h: 0.01 },
+        Method::ExplicitFixed {
+            tableau: &DOPRI5,
+            h: 0.01,
+        },
+        Method::dormand_prince(1e-6, 1e-8),
+        Method::radau5(1e-6, 1e-8),
+        Method::Radau5Fixed {
+            h: 0.01,
+            rtol: 1e-6,
+            atol: 1e-8,
+        },
+    ]
+}
+
+#[test]
+fn rhs_error_stops_with_time_and_keeps_last_state() {
+    for m in all_methods() {
+        let mut sys = Failing {
+            fail_after: 1.0,
+            nan: false,
+        };
+        let mut integ = Integrator::new(m, 2).unwrap();
+        let mut x = [1.0, 0.0];
+        let mut last_t = 0.0;
+        let (r, _) = integ
+            .integrate(&mut sys, 0.0, &mut x, 5.0, &mut |t, _| {
+                last_t = t;
+                ControlFlow::Continue(())
+            })
+            .unwrap();
+        match r {
+            StopReason::RhsFailed { t, msg } => {
+                assert!(t > 1.0 && t < 1.5, "{m:?}: t {t}");
+                assert!(msg.starts_with("derailed"), "{msg}");
+            }
+            other => panic!("{m:?}: {other:?}"),
+        }
+        // x is the last accepted state, close to the exact solution there
+        assert!(last_t <= 1.0 + 0.5 && last_t > 0.5, "{m:?}: {last_t}");
+        assert!(
+            (x[0] - last_t.cos()).abs() < 1e-4,
+            "{m:?}: {x:?} at {last_t}"
+        );
+        // repeated stepping repeats the failure
+        assert!(matches!(
+            integ.step(&mut sys),
+            StepOutcome::Stop(StopReason::RhsFailed { .. })
+        ));
+    }
+}
+
+#[test]
+fn nan_in_rhs_is_non_finite_with_index() {
+    for m in all_methods() {
+        let mut sys = Failing {
+            fail_after: 2.0,
+            nan: true,
+        };
+        let (x, r, _) = run(m, &mut sys, 0.0, &[1.0, 0.0], 5.0);
+        match r {
+            StopReason::NonFinite { t, index } => {
+                assert_eq!(index, 1, "{m:?}");
+                assert!((1.0..=2.0).contains(&t), "{m:?}: t {t}");
+            }
+            other => panic!("{m:?}: {other:?}"),
+        }
+        assert!(x.iter().all(|v| v.is_finite()), "{m:?}: {x:?}");
+    }
+}
+
+#[test]
+fn observer_break_interrupts() {
+    let mut sys = Oscillator { w: 1.0 };
+    let mut integ = Integrator::new(Method::Rk4 { h: 0.1 }, 2).unwrap();
+    let mut x = [1.0, 0.0];
+    let (r, s) = integ
+        .integrate(&mut sys, 0.0, &mut x, 10.0, &mut |t, _| {
+            if t >= 0.5 - 1e-12 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        })
+        .unwrap();
+    assert!(
+        matches!(r, StopReason::Interrupted { t } if (t - 0.5).abs() < 1e-12),
+        "{r:?}"
+    );
+    assert_eq!(s.steps, 5);
+    assert!((x[0] - 0.5f64.cos()).abs() < 1e-6);
+}
+
+#[test]
+fn max_steps_and_step_too_small() {
+    let mut sys = VanDerPol { mu: 1000.0 };
+    let mut integ = Integrator::new(Method::dormand_prince(1e-6, 1e-6), 2).unwrap();
+    integ.set_max_steps(100);
+    let mut x = [2.0, 0.0];
+    let (r, s) = integ
+        .integrate(&mut sys, 0.0, &mut x, 3000.0, &mut go)
+        .unwrap();
+    assert!(matches!(r, StopReason::MaxSteps { .. }), "{r:?}");
+    assert_eq!(s.steps, 100);
+
+    // a finite-time blow-up x' = x², x(0) = 1 (singular at t = 1)
+    struct Blowup;
+    impl OdeSystem for Blowup {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+            d[0] = x[0] * x[0];
+            Ok(())
+        }
+    }
+    let (x, r, _) = run(
+        Method::dormand_prince(1e-8, 1e-8),
+        &mut Blowup,
+        0.0,
+        &[1.0],
+        2.0,
+    );
+    assert!(
+        matches!(r, StopReason::StepTooSmall { t, .. } | StopReason::NonFinite { t, .. } if t < 1.001 && t > 0.99),
+        "{r:?}"
+    );
+    assert!(x[0].is_finite());
+}
+
+// ---------------------------------------------------------------- bad input
+
+#[test]
+fn bad_settings_are_construction_errors() {
+    let bad = [
+        Method::Rk4 { h: 0.0 },
+        Method::Rk4 { h: f64::NAN },
+        Method::Rk4 { h: -1.0 },
+        Method::ExplicitFixed {
+            tableau: &RK4,
+            h: f64::INFINITY,
+        },
+        Method::dormand_prince(-1e-6, 1e-6),
+        Method::dormand_prince(1e-6, 0.0),
+        Method::dormand_prince(f64::NAN, 1e-6),
+        Method::DormandPrince {
+            rtol: 1e-6,
+            atol: 1e-6,
+            h0: Some(0.0),
+            h_max: 1.0,
+        },
+        Method::DormandPrince {
+            rtol: 1e-6,
+            atol: 1e-6,
+            h0: None,
+            h_max: 0.0,
+        },
+        Method::DormandPrince {
+            rtol: 1e-6,
+            atol: 1e-6,
+            h0: None,
+            h_max: f64::NAN,
+        },
+        Method::radau5(0.0, 1e-6),
+        Method::radau5(1e-15, 1e-6),
+        Method::radau5(1e-6, -1.0),
+        Method::Radau5 {
+            rtol: 1e-6,
+            atol: 1e-6,
+            h0: None,
+            h_max: 1.0,
+            jacobian_reuse: f64::NAN,
+        },
+        Method::Radau5Fixed {
+            h: 0.0,
+            rtol: 1e-6,
+            atol: 1e-6,
+        },
+    ];
+    for m in bad {
+        let e = Integrator::new(m, 2).err();
+        assert!(
+            matches!(e, Some(OdeError::InvalidParameter { .. })),
+            "{m:?}: {e:?}"
+        );
+        // messages name the parameter
+        assert!(e.unwrap().to_string().starts_with("invalid "));
+    }
+    assert_eq!(
+        Integrator::new(Method::Rk4 { h: 0.1 }, 0).err(),
+        Some(OdeError::ZeroDimension)
+    );
+}
+
+#[test]
+fn bad_run_input_is_rejected_before_integrating() {
+    let mut integ = Integrator::new(Method::dormand_prince(1e-6, 1e-6), 2).unwrap();
+    let mut sys = Oscillator { w: 1.0 };
+    let e = integ
+        .integrate(&mut sys, 0.0, &mut [1.0, 0.0, 0.0], 1.0, &mut go)
+        .err();
+    assert!(
+        matches!(e, Some(OdeError::DimensionMismatch { .. })),
+        "{e:?}"
+    );
+    let e = integ
+        .integrate(&mut sys, 1.0, &mut [1.0, 0.0], 0.0, &mut go)
+        .err();
+    assert!(matches!(e, Some(OdeError::InvalidTimeSpan { .. })), "{e:?}");
+    let e = integ
+        .integrate(&mut sys, 0.0, &mut [1.0, f64::NAN], 1.0, &mut go)
+        .err();
+    assert!(matches!(
+        e,
+        Some(OdeError::NonFiniteInitialState { index: 1, .. })
+    ));
+    let e = integ
+        .integrate_at(&mut sys, 0.0, &mut [1.0, 0.0], &[0.5, 0.2], &mut go)
+        .err();
+    assert!(
+        matches!(e, Some(OdeError::InvalidOutputTime { .. })),
+        "{e:?}"
+    );
+    struct BadScale;
+    impl OdeSystem for BadScale {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, _x: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+            d.fill(0.0);
+            Ok(())
+        }
+        fn abs_tol_scale(&self, i: usize) -> f64 {
+            if i == 1 { 0.0 } else { 1.0 }
+        }
+    }
+    let e = integ
+        .integrate(&mut BadScale, 0.0, &mut [1.0, 0.0], 1.0, &mut go)
+        .err();
+    assert_eq!(
+        e,
+        Some(OdeError::InvalidScale {
+            index: 1,
+            value: 0.0
+        })
+    );
+    // t_end == t0 is fine and does nothing
+    let (r, s) = integ
+        .integrate(&mut sys, 1.0, &mut [1.0, 0.0], 1.0, &mut go)
+        .unwrap();
+    assert_eq!(r, StopReason::Reached);
+    assert_eq!(s, Stats::default());
+}
+
+#[test]
+fn step_interface_matches_integrate() {
+    let mut sys = Robertson;
+    let m = Method::radau5(1e-6, 1e-8);
+    let (x_a, _, s_a) = run(m, &mut Robertson, 0.0, &[1.0, 0.0, 0.0], 100.0);
+    let mut integ = Integrator::new(m, 3).unwrap();
+    integ.start(&sys, 0.0, &[1.0, 0.0, 0.0], 100.0).unwrap();
+    let mut n = 0;
+    while let StepOutcome::Accepted { .. } = integ.step(&mut sys) {
+        n += 1;
+    }
+    assert!(integ.is_finished());
+    assert_eq!(integ.t(), 100.0);
+    assert_eq!(integ.x(), &x_a[..]);
+    assert_eq!(n, s_a.steps);
+    assert_eq!(integ.stats(), s_a);
+}
