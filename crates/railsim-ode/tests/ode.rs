@@ -289,9 +289,8 @@ fn dense_error(method: Method, h: f64) -> f64 {
 
 #[test]
 fn observed_order_dopri5_dense_output() {
-    // DOPRI5 with h0 = h_max = h and a huge tolerance takes fixed steps; its dense
-    // output at mid-step then has local error O(h^5) and global error O(h^5) from
-    // the steps: the continuous extension is of order 4 locally (error O(h^5)).
+    // DOPRI5 with h0 = h_max = h and a huge tolerance takes fixed steps; at mid-step
+    // the interpolant's own error O(h^5) adds to the global error O(h^5) of the steps.
     let hs = [0.2, 0.1, 0.05, 0.025];
     let errs: Vec<f64> = hs
         .iter()
@@ -316,6 +315,44 @@ fn observed_order_dopri5_dense_output() {
         (p - 5.0).abs() < 0.3,
         "dense output order {p} (local error exponent)"
     );
+    // One step of the nonlinear x' = 1 + x², x = tan t, isolates the interpolant: its
+    // local error is O(h^5) (continuous extension of order 4), against O(h^6) at the
+    // step end. (On the linear oscillator the interpolant happens to be O(h^6).)
+    struct Tan;
+    impl OdeSystem for Tan {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+            d[0] = 1.0 + x[0] * x[0];
+            Ok(())
+        }
+    }
+    let hs1 = [0.4, 0.2, 0.1, 0.05];
+    let (mut mid, mut end) = (vec![], vec![]);
+    for &h in &hs1 {
+        let m = Method::DormandPrince {
+            rtol: 1e3,
+            atol: 1e3,
+            h0: Some(h),
+            h_max: h,
+        };
+        let mut integ = Integrator::new(m, 1).unwrap();
+        integ.start(&Tan, 0.0, &[0.0], h).unwrap();
+        assert!(matches!(integ.step(&mut Tan), StepOutcome::Accepted { .. }));
+        let mut out = [0.0];
+        integ.dense(0.5 * h, &mut out).unwrap();
+        mid.push((out[0] - (0.5 * h).tan()).abs());
+        end.push((integ.x()[0] - h.tan()).abs());
+    }
+    let (pm, pe) = (slope(&hs1, &mid), slope(&hs1, &end));
+    eprintln!(
+        "DOPRI5 one step of x' = 1 + x^2: dense error at h/2 {}, exponent {pm:.3}; step-end error {}, exponent {pe:.3}",
+        fmt_e(&mid),
+        fmt_e(&end)
+    );
+    assert!((pm - 5.0).abs() < 0.3, "dense local exponent {pm}");
+    assert!(pe > 5.7, "step local exponent {pe}");
     // RK4's cubic Hermite output: local error O(h^4)
     let errs: Vec<f64> = hs
         .iter()
