@@ -1,0 +1,571 @@
+//! Reading logs back: finished ones through their summary and index, truncated ones (a killed
+//! run) by a linear scan that stops cleanly after the last complete chunk.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::fs::File;
+use std::io::{Read, Seek, SeekFrom};
+use std::path::{Path, PathBuf};
+
+use mcap::records::Record;
+use mcap::sans_io::{
+    IndexedReadEvent, IndexedReader, IndexedReaderOptions, LinearReadEvent, LinearReader,
+    LinearReaderOptions, SummaryReadEvent, SummaryReader,
+};
+
+use crate::error::{LogError, Result};
+use crate::messages::LogMessage;
+use crate::writer::{SCENE_ATTACHMENT, SCENE_METADATA};
+
+/// One channel of a log, with what the data section holds for it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ChannelInfo {
+    /// MCAP channel id.
+    pub id: u16,
+    /// Topic, e.g. `/bodies/wheelset_1`.
+    pub topic: String,
+    /// Schema name, e.g. `railsim.BodyState`.
+    pub schema_name: String,
+    /// Schema encoding (`jsonschema` for railsim logs).
+    pub schema_encoding: String,
+    /// The schema itself (JSON text for `jsonschema`).
+    pub schema: Vec<u8>,
+    /// Message encoding (`json` for railsim logs).
+    pub message_encoding: String,
+    /// Number of messages readable on this channel.
+    pub message_count: u64,
+    /// \[ns\] log time of the earliest message, if any
+    pub first_ns: Option<u64>,
+    /// \[ns\] log time of the latest message, if any
+    pub last_ns: Option<u64>,
+}
+
+/// Which messages to visit: topics and an inclusive log-time range.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Query {
+    /// Topics to include; `None` = all.
+    pub topics: Option<Vec<String>>,
+    /// \[ns\] earliest log time included
+    pub start_ns: Option<u64>,
+    /// \[ns\] latest log time included
+    pub end_ns: Option<u64>,
+}
+
+impl Query {
+    /// All messages.
+    pub fn all() -> Self {
+        Self::default()
+    }
+
+    /// Only the given topics.
+    pub fn topics<S: Into<String>>(topics: impl IntoIterator<Item = S>) -> Self {
+        Query {
+            topics: Some(topics.into_iter().map(Into::into).collect()),
+            ..Self::default()
+        }
+    }
+
+    /// Restricts to log times in `[start_ns, end_ns]` (inclusive).
+    pub fn between(mut self, start_ns: u64, end_ns: u64) -> Self {
+        self.start_ns = Some(start_ns);
+        self.end_ns = Some(end_ns);
+        self
+    }
+
+    fn accepts_time(&self, t_ns: u64) -> bool {
+        self.start_ns.is_none_or(|s| t_ns >= s) && self.end_ns.is_none_or(|e| t_ns <= e)
+    }
+}
+
+/// One message as stored, borrowed for the duration of a callback.
+#[derive(Debug, Clone, Copy)]
+pub struct LogMessageRef<'a> {
+    /// The channel the message was written on.
+    pub channel: &'a ChannelInfo,
+    /// Per-channel sequence number, from 0.
+    pub sequence: u32,
+    /// \[ns\] log time (= simulation time)
+    pub log_time_ns: u64,
+    /// \[ns\] publish time (= log time in railsim logs)
+    pub publish_time_ns: u64,
+    /// The encoded message (JSON text).
+    pub data: &'a [u8],
+}
+
+/// A railsim log opened for reading.
+///
+/// [`LogReader::open`] reads the summary if the file has one and then scans the data section
+/// once (streaming: memory bounded by one chunk) to count messages and find each channel's time
+/// range; for a finished file the counts are checked against the summary's statistics. A file
+/// without a summary (the writer was killed) is read up to its last complete chunk; what
+/// follows is ignored and described by [`LogReader::truncation`].
+#[derive(Debug)]
+pub struct LogReader {
+    path: PathBuf,
+    summary: Option<mcap::Summary>,
+    channels: Vec<ChannelInfo>,
+    by_id: HashMap<u16, usize>,
+    metadata: BTreeMap<String, BTreeMap<String, String>>,
+    attachments: Vec<(String, String, Vec<u8>)>,
+    truncation: Option<String>,
+}
+
+/// Where a linear scan ended.
+struct ScanEnd {
+    /// Why the scan stopped before a footer, if it did.
+    truncation: Option<String>,
+}
+
+fn corrupt(path: &Path, what: impl Into<String>, expected: impl Into<String>) -> LogError {
+    LogError::Corrupt {
+        path: path.to_path_buf(),
+        what: what.into(),
+        expected: expected.into(),
+    }
+}
+
+fn io_err<'p>(path: &'p Path, action: &'static str) -> impl FnOnce(std::io::Error) -> LogError + 'p {
+    move |source| LogError::Io {
+        path: path.to_path_buf(),
+        action,
+        source,
+    }
+}
+
+/// Reads the summary section, or `None` when the file has no valid footer.
+fn read_summary(path: &Path, file: &mut File) -> Result<Option<mcap::Summary>> {
+    let mut reader = SummaryReader::new();
+    while let Some(event) = reader.next_event() {
+        match event {
+            Ok(SummaryReadEvent::ReadRequest(need)) => {
+                let n = file
+                    .read(reader.insert(need))
+                    .map_err(io_err(path, "reading the summary"))?;
+                reader.notify_read(n);
+            }
+            Ok(SummaryReadEvent::SeekRequest(to)) => {
+                let pos = file.seek(to).map_err(io_err(path, "seeking the summary"))?;
+                reader.notify_seeked(pos);
+            }
+            // No footer, or a damaged one: treat the file as unfinished and scan it.
+            Err(_) => return Ok(None),
+        }
+    }
+    Ok(reader.finish())
+}
+
+/// Scans the file from the start, decompressing chunks one at a time, and hands every record to
+/// `on_record`. With `finished`, any error is corruption; without it, running out of data stops
+/// the scan cleanly (the end of a killed run) and is reported in [`ScanEnd::truncation`].
+fn scan(
+    path: &Path,
+    finished: bool,
+    mut on_record: impl FnMut(Record<'_>) -> Result<()>,
+) -> Result<ScanEnd> {
+    let mut file = File::open(path).map_err(io_err(path, "opening the log"))?;
+    let options = LinearReaderOptions::default()
+        .with_skip_end_magic(!finished)
+        // A chunk's messages are only handed out once the whole chunk is present and its CRC
+        // checks: a chunk cut off by a crash contributes nothing rather than a partial tail.
+        .with_prevalidate_chunk_crcs(true);
+    let mut reader = LinearReader::new_with_options(options);
+    let mut consumed: u64 = 0;
+    while let Some(event) = reader.next_event() {
+        match event {
+            Ok(LinearReadEvent::ReadRequest(need)) => {
+                let n = file
+                    .read(reader.insert(need))
+                    .map_err(io_err(path, "reading the log"))?;
+                consumed += n as u64;
+                reader.notify_read(n);
+            }
+            Ok(LinearReadEvent::Record { data, opcode }) => {
+                let record = mcap::parse_record(opcode, data).map_err(|e| {
+                    corrupt(
+                        path,
+                        format!("record with opcode 0x{opcode:02x} does not parse ({e})"),
+                        "a well-formed MCAP record",
+                    )
+                })?;
+                on_record(record)?;
+            }
+            Err(e) => {
+                let eof = matches!(
+                    e,
+                    mcap::McapError::UnexpectedEof | mcap::McapError::UnexpectedEoc
+                );
+                if !finished && eof {
+                    return Ok(ScanEnd {
+                        truncation: Some(format!(
+                            "the log ends inside a record after {consumed} bytes (the writer \
+                             stopped before finishing); read up to the last complete chunk"
+                        )),
+                    });
+                }
+                return Err(corrupt(
+                    path,
+                    format!("reading records near byte {consumed}: {e}"),
+                    "a complete MCAP data section",
+                ));
+            }
+        }
+    }
+    Ok(ScanEnd {
+        truncation: (!finished).then(|| {
+            "the log has no summary (the writer stopped before finishing); \
+             every complete chunk was read"
+                .to_owned()
+        }),
+    })
+}
+
+impl LogReader {
+    /// Opens the log at `path`: a finished one, or one whose writer was killed.
+    pub fn open(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref().to_path_buf();
+        let mut file = File::open(&path).map_err(io_err(&path, "opening the log"))?;
+        let mut magic = [0u8; 8];
+        let mut got = 0;
+        while got < magic.len() {
+            let n = file
+                .read(&mut magic[got..])
+                .map_err(io_err(&path, "reading the log"))?;
+            if n == 0 {
+                break;
+            }
+            got += n;
+        }
+        if magic[..got] != mcap::MAGIC[..] {
+            return Err(corrupt(
+                &path,
+                format!("the file starts with {:02x?}", &magic[..got]),
+                format!("the MCAP magic bytes {:02x?}", mcap::MAGIC),
+            ));
+        }
+        file.seek(SeekFrom::Start(0))
+            .map_err(io_err(&path, "seeking the log"))?;
+        let summary = read_summary(&path, &mut file)?;
+        drop(file);
+
+        let mut schemas: HashMap<u16, (String, String, Vec<u8>)> = HashMap::new();
+        let mut channels: Vec<ChannelInfo> = Vec::new();
+        let mut by_id: HashMap<u16, usize> = HashMap::new();
+        let mut metadata = BTreeMap::new();
+        let mut attachments = Vec::new();
+        let mut total: u64 = 0;
+        let end = scan(&path, summary.is_some(), |record| {
+            match record {
+                Record::Schema { header, data } => {
+                    schemas
+                        .entry(header.id)
+                        .or_insert_with(|| (header.name, header.encoding, data.into_owned()));
+                }
+                Record::Channel(c) => {
+                    if by_id.contains_key(&c.id) {
+                        return Ok(());
+                    }
+                    let (schema_name, schema_encoding, schema) =
+                        schemas.get(&c.schema_id).cloned().ok_or_else(|| {
+                            corrupt(
+                                &path,
+                                format!("channel '{}' refers to unknown schema {}", c.topic, c.schema_id),
+                                "its schema record before the channel",
+                            )
+                        })?;
+                    by_id.insert(c.id, channels.len());
+                    channels.push(ChannelInfo {
+                        id: c.id,
+                        topic: c.topic,
+                        schema_name,
+                        schema_encoding,
+                        schema,
+                        message_encoding: c.message_encoding,
+                        message_count: 0,
+                        first_ns: None,
+                        last_ns: None,
+                    });
+                }
+                Record::Message { header, .. } => {
+                    let Some(&index) = by_id.get(&header.channel_id) else {
+                        return Err(corrupt(
+                            &path,
+                            format!("message on unknown channel {}", header.channel_id),
+                            "its channel record before the message",
+                        ));
+                    };
+                    let c = &mut channels[index];
+                    c.message_count += 1;
+                    let t = header.log_time;
+                    c.first_ns = Some(c.first_ns.map_or(t, |f| f.min(t)));
+                    c.last_ns = Some(c.last_ns.map_or(t, |l| l.max(t)));
+                    total += 1;
+                }
+                Record::Metadata(m) => {
+                    metadata.insert(m.name, m.metadata);
+                }
+                Record::Attachment { header, data, .. } => {
+                    attachments.push((header.name, header.media_type, data.into_owned()));
+                }
+                _ => {}
+            }
+            Ok(())
+        })?;
+
+        if let Some(stats) = summary.as_ref().and_then(|s| s.stats.as_ref())
+            && stats.message_count != total
+        {
+            return Err(corrupt(
+                &path,
+                format!("the data section holds {total} messages"),
+                format!("{} messages, as the summary's statistics say", stats.message_count),
+            ));
+        }
+        channels.sort_by(|a, b| a.topic.cmp(&b.topic));
+        let by_id = channels.iter().enumerate().map(|(i, c)| (c.id, i)).collect();
+        Ok(LogReader {
+            path,
+            summary,
+            channels,
+            by_id,
+            metadata,
+            attachments,
+            truncation: end.truncation,
+        })
+    }
+
+    /// The log file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Whether the log was finished (has a summary and footer).
+    pub fn is_complete(&self) -> bool {
+        self.summary.is_some()
+    }
+
+    /// For an unfinished log, how the readable part ends.
+    pub fn truncation(&self) -> Option<&str> {
+        self.truncation.as_deref()
+    }
+
+    /// The channels, sorted by topic.
+    pub fn channels(&self) -> &[ChannelInfo] {
+        &self.channels
+    }
+
+    /// The channel on `topic`, if any.
+    pub fn channel(&self, topic: &str) -> Option<&ChannelInfo> {
+        self.channels.iter().find(|c| c.topic == topic)
+    }
+
+    /// Total number of readable messages.
+    pub fn message_count(&self) -> u64 {
+        self.channels.iter().map(|c| c.message_count).sum()
+    }
+
+    /// \[ns\] The earliest and latest log times over all channels, if there are messages.
+    pub fn time_range(&self) -> Option<(u64, u64)> {
+        let first = self.channels.iter().filter_map(|c| c.first_ns).min()?;
+        let last = self.channels.iter().filter_map(|c| c.last_ns).max()?;
+        Some((first, last))
+    }
+
+    /// The scene's key/value pairs (Metadata record `scene`).
+    pub fn scene(&self) -> Option<&BTreeMap<String, String>> {
+        self.metadata.get(SCENE_METADATA)
+    }
+
+    /// All Metadata records by name.
+    pub fn metadata(&self) -> &BTreeMap<String, BTreeMap<String, String>> {
+        &self.metadata
+    }
+
+    /// The attachment `name` as `(media type, bytes)`.
+    pub fn attachment(&self, name: &str) -> Option<(&str, &[u8])> {
+        self.attachments
+            .iter()
+            .find(|(n, _, _)| n == name)
+            .map(|(_, media, data)| (media.as_str(), data.as_slice()))
+    }
+
+    /// The scene TOML attached to the log, if any.
+    pub fn scene_toml(&self) -> Result<Option<&str>> {
+        match self.attachment(SCENE_ATTACHMENT) {
+            None => Ok(None),
+            Some((_, bytes)) => std::str::from_utf8(bytes).map(Some).map_err(|e| {
+                corrupt(
+                    &self.path,
+                    format!("attachment '{SCENE_ATTACHMENT}' is not UTF-8 ({e})"),
+                    "TOML text",
+                )
+            }),
+        }
+    }
+
+    /// Calls `visit` for every message selected by `query`, in file order (which is log-time
+    /// order for logs written by [`crate::LogWriter`]). A finished log is read through its chunk
+    /// index, so only chunks overlapping the query are decompressed; an unfinished one is scanned.
+    /// Memory is bounded by one chunk.
+    pub fn for_each(
+        &self,
+        query: &Query,
+        mut visit: impl FnMut(LogMessageRef<'_>) -> Result<()>,
+    ) -> Result<()> {
+        if let Some(topics) = &query.topics {
+            for topic in topics {
+                if self.channel(topic).is_none() {
+                    return Err(LogError::Topic {
+                        path: self.path.clone(),
+                        message: format!("the log has no topic '{topic}'"),
+                    });
+                }
+            }
+        }
+        let wanted: Option<BTreeSet<u16>> = query.topics.as_ref().map(|topics| {
+            self.channels
+                .iter()
+                .filter(|c| topics.contains(&c.topic))
+                .map(|c| c.id)
+                .collect()
+        });
+        let accepts = |channel_id: u16, t: u64| {
+            wanted.as_ref().is_none_or(|w| w.contains(&channel_id)) && query.accepts_time(t)
+        };
+        match &self.summary {
+            Some(summary) => self.for_each_indexed(summary, query, accepts, &mut visit),
+            None => {
+                scan(&self.path, false, |record| {
+                    if let Record::Message { header, data } = record
+                        && accepts(header.channel_id, header.log_time)
+                    {
+                        visit(self.message_ref(&header, &data)?)?;
+                    }
+                    Ok(())
+                })?;
+                Ok(())
+            }
+        }
+    }
+
+    fn message_ref<'a>(
+        &'a self,
+        header: &mcap::records::MessageHeader,
+        data: &'a [u8],
+    ) -> Result<LogMessageRef<'a>> {
+        let index = *self.by_id.get(&header.channel_id).ok_or_else(|| {
+            corrupt(
+                &self.path,
+                format!("message on unknown channel {}", header.channel_id),
+                "its channel record before the message",
+            )
+        })?;
+        Ok(LogMessageRef {
+            channel: &self.channels[index],
+            sequence: header.sequence,
+            log_time_ns: header.log_time,
+            publish_time_ns: header.publish_time,
+            data,
+        })
+    }
+
+    fn for_each_indexed(
+        &self,
+        summary: &mcap::Summary,
+        query: &Query,
+        accepts: impl Fn(u16, u64) -> bool,
+        visit: &mut impl FnMut(LogMessageRef<'_>) -> Result<()>,
+    ) -> Result<()> {
+        let mut options = IndexedReaderOptions::new().with_order(mcap::sans_io::indexed_reader::ReadOrder::File);
+        if let Some(topics) = &query.topics {
+            options = options.include_topics(topics.iter().cloned());
+        }
+        if let Some(start) = query.start_ns {
+            options = options.starting_at(start);
+        }
+        if let Some(end) = query.end_ns {
+            options = options.ending_at(end);
+        }
+        let index_err = |e: mcap::McapError| {
+            corrupt(
+                &self.path,
+                format!("reading the indexed data: {e}"),
+                "chunks matching the summary's chunk index",
+            )
+        };
+        let mut reader = IndexedReader::new_with_options(summary, options).map_err(index_err)?;
+        let mut file = File::open(&self.path).map_err(io_err(&self.path, "opening the log"))?;
+        let mut buffer = Vec::new();
+        while let Some(event) = reader.next_event() {
+            match event.map_err(index_err)? {
+                IndexedReadEvent::ReadChunkRequest { offset, length } => {
+                    file.seek(SeekFrom::Start(offset))
+                        .map_err(io_err(&self.path, "seeking a chunk"))?;
+                    buffer.resize(length, 0);
+                    file.read_exact(&mut buffer)
+                        .map_err(io_err(&self.path, "reading a chunk"))?;
+                    reader
+                        .insert_chunk_record_data(offset, &buffer)
+                        .map_err(index_err)?;
+                }
+                IndexedReadEvent::Message { header, data } => {
+                    if accepts(header.channel_id, header.log_time) {
+                        visit(self.message_ref(&header, data)?)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Calls `visit(log_time_ns, message)` for every message on `topic` (within the inclusive
+    /// range `range_ns`, if given), decoded as `M`. The topic must exist and carry `M`'s schema.
+    pub fn for_each_typed<M: LogMessage>(
+        &self,
+        topic: &str,
+        range_ns: Option<(u64, u64)>,
+        mut visit: impl FnMut(u64, M) -> Result<()>,
+    ) -> Result<()> {
+        let channel = self.channel(topic).ok_or_else(|| LogError::Topic {
+            path: self.path.clone(),
+            message: format!("the log has no topic '{topic}'"),
+        })?;
+        if channel.schema_name != M::SCHEMA_NAME {
+            return Err(LogError::Topic {
+                path: self.path.clone(),
+                message: format!(
+                    "topic '{topic}' carries {}, not {}",
+                    channel.schema_name,
+                    M::SCHEMA_NAME
+                ),
+            });
+        }
+        let mut query = Query::topics([topic]);
+        if let Some((start, end)) = range_ns {
+            query = query.between(start, end);
+        }
+        self.for_each(&query, |m| {
+            let message: M = serde_json::from_slice(m.data).map_err(|source| LogError::Decode {
+                path: self.path.clone(),
+                topic: m.channel.topic.clone(),
+                t_ns: m.log_time_ns,
+                schema: M::SCHEMA_NAME,
+                source,
+            })?;
+            visit(m.log_time_ns, message)
+        })
+    }
+
+    /// All messages on `topic` (within `range_ns`, inclusive) as `(log_time_ns, message)`.
+    /// This holds them all in memory; use [`LogReader::for_each_typed`] for long logs.
+    pub fn read_topic<M: LogMessage>(
+        &self,
+        topic: &str,
+        range_ns: Option<(u64, u64)>,
+    ) -> Result<Vec<(u64, M)>> {
+        let mut out = Vec::new();
+        self.for_each_typed(topic, range_ns, |t, m| {
+            out.push((t, m));
+            Ok(())
+        })?;
+        Ok(out)
+    }
+}
