@@ -46,7 +46,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 t_s,
                 name: (*name).to_owned(),
                 position: [55.0 * t_s + 2.5 * k as f64, y, 0.46 + 0.5 * k as f64],
-                orientation: Quaternion { x: 0.0, y: 0.0, z: half_yaw.sin(), w: half_yaw.cos() },
+                orientation: Quaternion {
+                    x: 0.0,
+                    y: 0.0,
+                    z: half_yaw.sin(),
+                    w: half_yaw.cos(),
+                },
                 velocity: [55.0, 2e-3 * PI * 2.0 * (2.0 * PI * 2.0 * t_s).cos(), 0.0],
                 angular_velocity: [0.0, 55.0 / 0.46 * (k == 0) as u8 as f64, 0.0],
             };
@@ -55,7 +60,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         for (channel, side, patches) in [(&left, Side::Left, 2u32), (&right, Side::Right, 1)] {
             for patch in 0..patches {
-                let creepages = Creepages { xi: 1e-4 * (patch + 1) as f64, eta: -2e-4, phi_per_m: 0.01 };
+                let creepages = Creepages {
+                    xi: 1e-4 * (patch + 1) as f64,
+                    eta: -2e-4,
+                    phi_per_m: 0.01,
+                };
                 let (fx_n, fy_n) = (-2000.0 * (patch + 1) as f64, 4000.0 + y * 1e6);
                 let message = PatchMessage {
                     t_s,

@@ -268,7 +268,10 @@ pub fn export_csv(
     reader.for_each(&query, |m| {
         let fields = flatten_json(m.data).map_err(|e| LogError::Export {
             path: reader.path().to_path_buf(),
-            message: format!("message on '{topic}' at t = {} ns is not JSON: {e}", m.log_time_ns),
+            message: format!(
+                "message on '{topic}' at t = {} ns is not JSON: {e}",
+                m.log_time_ns
+            ),
         })?;
         let expected = paths.get_or_insert_with(|| {
             columns.push("log_time_ns".to_owned());
@@ -278,13 +281,19 @@ pub fn export_csv(
         if rows == 0 {
             writeln!(out, "{}", columns.join(",")).map_err(write_err)?;
         }
-        if fields.len() != expected.len() || fields.iter().zip(expected.iter()).any(|((p, _), e)| p != e) {
+        if fields.len() != expected.len()
+            || fields.iter().zip(expected.iter()).any(|((p, _), e)| p != e)
+        {
             return Err(LogError::Export {
                 path: reader.path().to_path_buf(),
                 message: format!(
                     "message on '{topic}' at t = {} ns has fields [{}], the first had [{}]",
                     m.log_time_ns,
-                    fields.iter().map(|(p, _)| p.as_str()).collect::<Vec<_>>().join(", "),
+                    fields
+                        .iter()
+                        .map(|(p, _)| p.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", "),
                     expected.join(", ")
                 ),
             });
@@ -310,7 +319,13 @@ pub fn csv_file_name(topic: &str) -> String {
     let stem: String = topic
         .trim_start_matches('/')
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
     format!("{}.csv", if stem.is_empty() { "root" } else { &stem })
 }
@@ -378,15 +393,21 @@ pub struct TopicStats {
     pub fields: Vec<FieldStats>,
 }
 
+type TopicAccumulator = (usize, HashMap<String, usize>, HashMap<String, String>);
+
 /// Per-topic, per-numeric-field minimum, maximum and mean over the messages of `query`, in
 /// one streaming pass. Topics are in the reader's (sorted) order; topics without selected
 /// messages are listed with no fields.
 pub fn summarize(reader: &LogReader, query: &Query) -> Result<Vec<TopicStats>> {
     let mut stats: Vec<TopicStats> = Vec::new();
-    let mut index_of: HashMap<u16, (usize, HashMap<String, usize>, HashMap<String, String>)> =
-        HashMap::new();
+    // Per channel id: index into `stats`, field path -> index into its fields, units.
+    let mut index_of: HashMap<u16, TopicAccumulator> = HashMap::new();
     for channel in reader.channels() {
-        if query.topics.as_ref().is_some_and(|t| !t.contains(&channel.topic)) {
+        if query
+            .topics
+            .as_ref()
+            .is_some_and(|t| !t.contains(&channel.topic))
+        {
             continue;
         }
         index_of.insert(channel.id, (stats.len(), HashMap::new(), units_of(channel)));

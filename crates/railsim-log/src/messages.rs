@@ -23,8 +23,22 @@ pub trait LogMessage: Serialize + DeserializeOwned {
 }
 
 fn generated_schema<T: JsonSchema>() -> Vec<u8> {
-    // Serialising a `schemars::Schema` (a JSON value) cannot fail: it has string keys only.
-    serde_json::to_vec_pretty(&schemars::schema_for!(T)).unwrap_or_default()
+    let mut schema: serde_json::Value = schemars::schema_for!(T).into();
+    unescape_units(&mut schema);
+    // Serialising a JSON value cannot fail: it has string keys only.
+    serde_json::to_vec_pretty(&schema).unwrap_or_default()
+}
+
+/// The doc comments escape unit brackets for rustdoc (`\[m\]`); schema readers should see `[m]`.
+fn unescape_units(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::String(s) if s.contains('\\') => {
+            *s = s.replace("\\[", "[").replace("\\]", "]");
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(unescape_units),
+        serde_json::Value::Object(map) => map.values_mut().for_each(unescape_units),
+        _ => {}
+    }
 }
 
 /// A rotation as a unit quaternion (Hamilton convention, scalar last as Foxglove writes it).
@@ -79,7 +93,9 @@ impl LogMessage for BodyState {
 }
 
 /// Which wheel of a wheelset.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, JsonSchema)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Side {
     /// The left wheel (track y > 0).

@@ -123,7 +123,10 @@ fn corrupt(path: &Path, what: impl Into<String>, expected: impl Into<String>) ->
     }
 }
 
-fn io_err<'p>(path: &'p Path, action: &'static str) -> impl FnOnce(std::io::Error) -> LogError + 'p {
+fn io_err<'p>(
+    path: &'p Path,
+    action: &'static str,
+) -> impl FnOnce(std::io::Error) -> LogError + 'p {
     move |source| LogError::Io {
         path: path.to_path_buf(),
         action,
@@ -267,7 +270,10 @@ impl LogReader {
                         schemas.get(&c.schema_id).cloned().ok_or_else(|| {
                             corrupt(
                                 &path,
-                                format!("channel '{}' refers to unknown schema {}", c.topic, c.schema_id),
+                                format!(
+                                    "channel '{}' refers to unknown schema {}",
+                                    c.topic, c.schema_id
+                                ),
                                 "its schema record before the channel",
                             )
                         })?;
@@ -316,11 +322,18 @@ impl LogReader {
             return Err(corrupt(
                 &path,
                 format!("the data section holds {total} messages"),
-                format!("{} messages, as the summary's statistics say", stats.message_count),
+                format!(
+                    "{} messages, as the summary's statistics say",
+                    stats.message_count
+                ),
             ));
         }
         channels.sort_by(|a, b| a.topic.cmp(&b.topic));
-        let by_id = channels.iter().enumerate().map(|(i, c)| (c.id, i)).collect();
+        let by_id = channels
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (c.id, i))
+            .collect();
         Ok(LogReader {
             path,
             summary,
@@ -474,7 +487,8 @@ impl LogReader {
         accepts: impl Fn(u16, u64) -> bool,
         visit: &mut impl FnMut(LogMessageRef<'_>) -> Result<()>,
     ) -> Result<()> {
-        let mut options = IndexedReaderOptions::new().with_order(mcap::sans_io::indexed_reader::ReadOrder::File);
+        let mut options =
+            IndexedReaderOptions::new().with_order(mcap::sans_io::indexed_reader::ReadOrder::File);
         if let Some(topics) = &query.topics {
             options = options.include_topics(topics.iter().cloned());
         }

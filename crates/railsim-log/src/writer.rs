@@ -176,7 +176,11 @@ impl LogWriter {
     /// Creates (or truncates) the log at `path` and writes the header: the MCAP header, the
     /// `railsim_log` and `scene` Metadata records, further metadata, and the scene TOML
     /// attachment, all before any chunk.
-    pub fn create(path: impl AsRef<Path>, header: &LogHeader, options: WriterOptions) -> Result<Self> {
+    pub fn create(
+        path: impl AsRef<Path>,
+        header: &LogHeader,
+        options: WriterOptions,
+    ) -> Result<Self> {
         let path = path.as_ref().to_path_buf();
         for name in header.extra_metadata.keys() {
             if name == SCENE_METADATA || name == FORMAT_METADATA {
@@ -210,8 +214,14 @@ impl LogWriter {
 
         let format: BTreeMap<String, String> = [
             ("format_version".to_owned(), FORMAT_VERSION.to_owned()),
-            ("writer".to_owned(), format!("railsim-log {}", env!("CARGO_PKG_VERSION"))),
-            ("time".to_owned(), "log_time = publish_time = simulation time in ns".to_owned()),
+            (
+                "writer".to_owned(),
+                format!("railsim-log {}", env!("CARGO_PKG_VERSION")),
+            ),
+            (
+                "time".to_owned(),
+                "log_time = publish_time = simulation time in ns".to_owned(),
+            ),
         ]
         .into();
         mcap.write_metadata(&mcap::records::Metadata {
@@ -338,8 +348,17 @@ impl LogWriter {
 
     /// Writes `message` on the channel `channel` at simulation time `t_ns` (log time = publish
     /// time = `t_ns`). Derive `t_ns` from an integer step counter ([`crate::step_time_ns`]).
-    pub fn write<M: LogMessage>(&mut self, channel: &Channel<M>, t_ns: u64, message: &M) -> Result<()> {
-        let Some(state) = self.channels.get(channel.index).filter(|s| s.id == channel.id) else {
+    pub fn write<M: LogMessage>(
+        &mut self,
+        channel: &Channel<M>,
+        t_ns: u64,
+        message: &M,
+    ) -> Result<()> {
+        let Some(state) = self
+            .channels
+            .get(channel.index)
+            .filter(|s| s.id == channel.id)
+        else {
             return Err(LogError::Topic {
                 path: self.path.clone(),
                 message: format!("channel handle {} does not belong to this log", channel.id),
@@ -387,7 +406,12 @@ impl LogWriter {
 
     /// Writes `message` on `topic`, registering the topic on first use. Looks the topic up by
     /// name on every call; prefer [`LogWriter::channel`] + [`LogWriter::write`] in a loop.
-    pub fn write_topic<M: LogMessage>(&mut self, topic: &str, t_ns: u64, message: &M) -> Result<()> {
+    pub fn write_topic<M: LogMessage>(
+        &mut self,
+        topic: &str,
+        t_ns: u64,
+        message: &M,
+    ) -> Result<()> {
         let channel = self.channel::<M>(topic)?;
         self.write(&channel, t_ns, message)
     }
