@@ -67,5 +67,6 @@ pub use messages::{
 pub use reader::{ChannelInfo, LogMessageRef, LogReader, Query};
 pub use time::{NS_PER_S, ns_to_s, s_to_ns, step_time_ns};
 pub use writer::{
-    Channel, LogHeader, LogStats, LogWriter, SCENE_ATTACHMENT, SCENE_METADATA, WriterOptions,
+    Channel, FORMAT_METADATA, FORMAT_VERSION, LogHeader, LogStats, LogWriter, SCENE_ATTACHMENT,
+    SCENE_METADATA, WriterOptions,
 };
