@@ -8,11 +8,8 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use railsim_contact::contact_format::{manchester_benchmark_spec, parse_cases_csv, solve_case};
-use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact, WheelRailPair,
-};
-use railsim_profile::{ProfileKind, read_simpack};
+use railsim_contact::contact_format::{manchester_benchmark_pair, parse_cases_csv, solve_case};
+use railsim_contact::{ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact};
 
 struct Counting;
 
@@ -59,17 +56,7 @@ fn evaluations_allocate_nothing_after_warm_up() {
         "the counting allocator saw nothing"
     );
 
-    let wheel = read_simpack(
-        &repo("vehicles/profiles/MBench_S1002_v3.prw"),
-        ProfileKind::Wheel,
-    )
-    .unwrap();
-    let rail = read_simpack(
-        &repo("tracks/profiles/MBench_UIC60_v3.prr"),
-        ProfileKind::Rail,
-    )
-    .unwrap();
-    let pair = WheelRailPair::new(&manchester_benchmark_spec(wheel, rail)).unwrap();
+    let pair = manchester_benchmark_pair(&repo("")).unwrap();
     let text = std::fs::read_to_string(repo("tests/reference/mbench_a22/reference.csv")).unwrap();
     let cases = parse_cases_csv(&text, "reference.csv").unwrap();
     for model in [

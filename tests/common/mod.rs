@@ -4,9 +4,8 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-use railsim_contact::contact_format::manchester_benchmark_spec;
+use railsim_contact::contact_format::manchester_benchmark_pair;
 use railsim_contact::{ContactModelKind, ContactOptions, WheelRailContact, WheelRailPair};
-use railsim_profile::{ProfileKind, read_simpack};
 
 /// Path of a file in the repository.
 pub fn repo(rel: &str) -> PathBuf {
@@ -36,17 +35,7 @@ pub fn tolerances(case: &str, section: &str) -> HashMap<String, f64> {
 /// 1435 at 14 mm, no extra inclination, flange back 1360 at -70 mm, r0 = 460 mm, G = 82 GPa,
 /// nu = 0.28, mu = 0.3.
 pub fn mbench_pair() -> WheelRailPair {
-    let wheel = read_simpack(
-        &repo("vehicles/profiles/MBench_S1002_v3.prw"),
-        ProfileKind::Wheel,
-    )
-    .unwrap();
-    let rail = read_simpack(
-        &repo("tracks/profiles/MBench_UIC60_v3.prr"),
-        ProfileKind::Rail,
-    )
-    .unwrap();
-    WheelRailPair::new(&manchester_benchmark_spec(wheel, rail)).unwrap()
+    manchester_benchmark_pair(&repo("")).unwrap()
 }
 
 /// The benchmark contact with a model and step (narrow-zone refinement as by default).

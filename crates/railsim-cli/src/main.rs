@@ -211,7 +211,8 @@ fn positive(name: &str, v: f64) -> Result<f64> {
     Ok(v)
 }
 
-fn build_pair(a: &PairArgs) -> Result<WheelRailPair> {
+/// The wheel and rail profiles of the arguments, built-in S1002 and UIC60 by default.
+fn profiles(a: &PairArgs) -> Result<(Profile, Profile)> {
     let wheel = match &a.wheel {
         Some(p) => load_profile(p, ProfileKind::Wheel)?,
         None => analytic::s1002(),
@@ -220,6 +221,11 @@ fn build_pair(a: &PairArgs) -> Result<WheelRailPair> {
         Some(p) => load_profile(p, ProfileKind::Rail)?,
         None => analytic::uic60(),
     };
+    Ok((wheel, rail))
+}
+
+fn build_pair(a: &PairArgs) -> Result<WheelRailPair> {
+    let (wheel, rail) = profiles(a)?;
     let material = Material::new(
         positive("--shear-modulus-gpa", a.shear_modulus_gpa)? * 1e9,
         a.poisson,
@@ -547,14 +553,7 @@ fn run_batch(
 }
 
 fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
-    let wheel = match &a.pair.wheel {
-        Some(p) => load_profile(p, ProfileKind::Wheel)?,
-        None => analytic::s1002(),
-    };
-    let rail = match &a.pair.rail {
-        Some(p) => load_profile(p, ProfileKind::Rail)?,
-        None => analytic::uic60(),
-    };
+    let (wheel, rail) = profiles(&a.pair)?;
     let setup = WheelsetTrackSetup {
         gauge: positive("--gauge-mm", a.pair.gauge_mm)? * 1e-3,
         gauge_depth: 0.014,

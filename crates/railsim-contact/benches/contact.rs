@@ -15,30 +15,19 @@ use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use railsim_contact::contact_format::{
-    ContactCase, manchester_benchmark_spec, parse_cases_csv, solve_case,
+    ContactCase, manchester_benchmark_pair, parse_cases_csv, solve_case,
 };
 use railsim_contact::{
     ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact, WheelRailPair,
     WheelsetPose, WheelsetVelocity,
 };
-use railsim_profile::{ProfileKind, read_simpack};
 
 fn repo(rel: &str) -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(rel)
 }
 
 fn pair() -> WheelRailPair {
-    let wheel = read_simpack(
-        &repo("vehicles/profiles/MBench_S1002_v3.prw"),
-        ProfileKind::Wheel,
-    )
-    .unwrap();
-    let rail = read_simpack(
-        &repo("tracks/profiles/MBench_UIC60_v3.prr"),
-        ProfileKind::Rail,
-    )
-    .unwrap();
-    WheelRailPair::new(&manchester_benchmark_spec(wheel, rail)).unwrap()
+    manchester_benchmark_pair(&repo("")).unwrap()
 }
 
 struct Reference {

@@ -2,11 +2,8 @@
 //! `cargo run --release -p railsim-contact --example profile_eval -- [model] [step_mm] [n]`.
 use std::path::PathBuf;
 
-use railsim_contact::contact_format::{manchester_benchmark_spec, parse_cases_csv, solve_case};
-use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact, WheelRailPair,
-};
-use railsim_profile::{ProfileKind, read_simpack};
+use railsim_contact::contact_format::{manchester_benchmark_pair, parse_cases_csv, solve_case};
+use railsim_contact::{ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -15,17 +12,7 @@ fn main() {
     let step: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0.2);
     let n: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(20000);
     let repo = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-    let wheel = read_simpack(
-        &repo.join("vehicles/profiles/MBench_S1002_v3.prw"),
-        ProfileKind::Wheel,
-    )
-    .unwrap();
-    let rail = read_simpack(
-        &repo.join("tracks/profiles/MBench_UIC60_v3.prr"),
-        ProfileKind::Rail,
-    )
-    .unwrap();
-    let pair = WheelRailPair::new(&manchester_benchmark_spec(wheel, rail)).unwrap();
+    let pair = manchester_benchmark_pair(&repo).unwrap();
     let mut opts = ContactOptions {
         model,
         ..Default::default()

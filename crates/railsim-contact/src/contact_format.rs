@@ -296,3 +296,21 @@ pub fn manchester_benchmark_spec(
         smoothing: 0.0,
     }
 }
+
+/// The Manchester benchmark pair built from the profile files shipped in the repository
+/// (`vehicles/profiles/MBench_S1002_v3.prw`, `tracks/profiles/MBench_UIC60_v3.prr`) below
+/// `repo_root`, with [`manchester_benchmark_spec`].
+pub fn manchester_benchmark_pair(
+    repo_root: &std::path::Path,
+) -> Result<crate::pair::WheelRailPair, crate::error::ContactError> {
+    use railsim_profile::{ProfileKind, read_simpack};
+    let wheel = read_simpack(
+        &repo_root.join("vehicles/profiles/MBench_S1002_v3.prw"),
+        ProfileKind::Wheel,
+    )?;
+    let rail = read_simpack(
+        &repo_root.join("tracks/profiles/MBench_UIC60_v3.prr"),
+        ProfileKind::Rail,
+    )?;
+    crate::pair::WheelRailPair::new(&manchester_benchmark_spec(wheel, rail))
+}

@@ -22,7 +22,7 @@ use crate::geometry::{
 };
 use crate::pair::WheelRailPair;
 use crate::patch::{
-    PatchFrame, WheelKinematics, longitudinal_curvature, mid, patch_frame, reference_point,
+    PatchFrame, WheelKinematics, longitudinal_curvature, patch_frame, reference_point,
 };
 use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
 use crate::stripes::{self, Local, Strip, StripesVariant, Tangential};
@@ -139,6 +139,16 @@ pub struct PatchInput<'a> {
     /// Creepages at the reference point.
     pub creep: Creepages,
     pub(crate) yawed: bool,
+}
+
+impl PatchInput<'_> {
+    /// The pairs of the zone plus one on each side (for the edge interpolation).
+    pub fn pair_range(&self) -> (usize, usize) {
+        (
+            self.zone.first.saturating_sub(1),
+            (self.zone.last + 1).min(self.pairs.len() - 1),
+        )
+    }
 }
 
 /// Forces of one patch on the wheel, in the patch axes (x along the track, s lateral in the
@@ -654,15 +664,21 @@ fn solve_halfspace(
 ) -> Result<PatchForces, ContactError> {
     let fr = &input.frame;
     let pairs = input.pairs;
-    let m0 = [
-        0.5 * (fr.rail_point[0] + fr.wheel_point[1]),
-        0.5 * (fr.rail_point[1] + fr.wheel_point[2]),
-    ];
-    let lo = input.zone.first.saturating_sub(1);
-    let hi = (input.zone.last + 1).min(pairs.len() - 1);
-    let l_of = |i: usize| {
-        let m = mid(&pairs[i]);
-        (m[0] - m0[0]) * fr.t[0] + (m[1] - m0[1]) * fr.t[1]
+    let (lo, hi) = input.pair_range();
+    let l_of = |i: usize| fr.lateral(&pairs[i]);
+    // Walk a cursor over the pairs to the one before lateral coordinate l; returns the pair index
+    // and the interpolation fraction toward the next pair.
+    let bracket = |j: &mut usize, l: f64| -> (usize, f64) {
+        while *j + 1 < hi && l_of(*j + 1) < l {
+            *j += 1;
+        }
+        let (la, lb) = (l_of(*j), l_of((*j + 1).min(hi)));
+        let f = if (lb - la).abs() > 1e-15 {
+            ((l - la) / (lb - la)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (*j, f)
     };
     let d_of = |i: usize| {
         let p = &pairs[i];
@@ -717,18 +733,9 @@ fn solve_halfspace(
     let sc = scratch.as_mut().expect("scratch was just set");
     // Gap of each cell: the strip's gap below the deepest point plus the longitudinal parabola,
     // interpolated linearly between the pairs in the lateral coordinate.
-    let mut j = lo;
+    let mut cursor = lo;
     for iy in 0..ny {
-        let l = grid.y0 + iy as f64 * dy;
-        while j + 1 < hi && l_of(j + 1) < l {
-            j += 1;
-        }
-        let (la, lb) = (l_of(j), l_of((j + 1).min(hi)));
-        let f = if (lb - la).abs() > 1e-15 {
-            ((l - la) / (lb - la)).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
+        let (j, f) = bracket(&mut cursor, grid.y0 + iy as f64 * dy);
         let pa = &pairs[j];
         let pb = &pairs[(j + 1).min(hi)];
         let d = d_of(j) + f * (d_of((j + 1).min(hi)) - d_of(j));
@@ -786,7 +793,7 @@ fn solve_halfspace(
             &input.pair.material,
         )?
     };
-    let mut j = lo;
+    let mut cursor = lo;
     let mut n_adh = 0;
     let mut n_cells = 0;
     for iy in 0..ny {
@@ -802,15 +809,7 @@ fn solve_halfspace(
         let hl = 0.5 * (x_b - x_a);
         let xc = 0.5 * (x_a + x_b);
         let l = grid.y0 + iy as f64 * dy;
-        while j + 1 < hi && l_of(j + 1) < l {
-            j += 1;
-        }
-        let (la, lb) = (l_of(j), l_of((j + 1).min(hi)));
-        let fr_ = if (lb - la).abs() > 1e-15 {
-            ((l - la) / (lb - la)).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
+        let (j, fr_) = bracket(&mut cursor, l);
         let p = crate::patch::lerp_pair(&pairs[j], &pairs[(j + 1).min(hi)], fr_);
         let creep = input.kin.creepages([p.x, p.a[0], p.a[1]], fr.t, p.n);
         let p0 = stripes::peak_for_line_load(q, hl, opts.bound);

@@ -38,6 +38,22 @@ pub struct PatchFrame {
     pub deepest: usize,
 }
 
+impl PatchFrame {
+    /// Midpoint (y, z) between the rail and wheel points of the rigid pair.
+    pub fn midpoint(&self) -> [f64; 2] {
+        [
+            0.5 * (self.rail_point[0] + self.wheel_point[1]),
+            0.5 * (self.rail_point[1] + self.wheel_point[2]),
+        ]
+    }
+
+    /// \[m\] lateral coordinate in the patch plane of a pair's midpoint, from the rigid pair.
+    pub fn lateral(&self, p: &IsoPair) -> f64 {
+        let (m, m0) = (mid(p), self.midpoint());
+        (m[0] - m0[0]) * self.t[0] + (m[1] - m0[1]) * self.t[1]
+    }
+}
+
 /// Longitudinal relative curvature of a wheel point (Meusnier: the normal section along the
 /// rolling direction of a surface of revolution has curvature cos(beta)/rho, beta the angle
 /// between surface normal and radius; the straight rail adds nothing). Half the sum, Hertz's A.

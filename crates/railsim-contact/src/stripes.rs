@@ -32,7 +32,7 @@ use railsim_elastic::{
 
 use crate::error::ContactError;
 use crate::model::{PatchForces, PatchInput};
-use crate::patch::{B_MIN, longitudinal_curvature, mid};
+use crate::patch::{B_MIN, longitudinal_curvature};
 
 /// The tangential solution per strip.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -129,12 +129,7 @@ pub fn solve(
     let hc0 = hertz_coeffs_fast(fr.a_curv, fr.b_curv);
     let eps0 = stripes_epsilon(&hc0, fr.a_curv, fr.b_curv);
     let delta0 = fr.delta0;
-    let m0 = [
-        0.5 * (fr.rail_point[0] + fr.wheel_point[1]),
-        0.5 * (fr.rail_point[1] + fr.wheel_point[2]),
-    ];
-    let lo = input.zone.first.saturating_sub(1);
-    let hi = (input.zone.last + 1).min(pairs.len() - 1);
+    let (lo, hi) = input.pair_range();
     // Per pair: local curvatures and Hertz coefficients, the interpenetration along the patch
     // normal, the lateral coordinate, and u = virtual interpenetration (positive inside).
     local.clear();
@@ -150,10 +145,9 @@ pub fn solve(
             StripesVariant::Seed => eps0,
             StripesVariant::LocalEpsilon => eps_i,
         };
-        let m = mid(p);
         local.push(Local {
             u: d - (1.0 - eps) * delta0,
-            l: (m[0] - m0[0]) * fr.t[0] + (m[1] - m0[1]) * fr.t[1],
+            l: fr.lateral(p),
             b: b_i,
             hc,
             k: e_star / (hc.n * hc.r * eps_i),
