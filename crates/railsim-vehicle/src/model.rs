@@ -1,0 +1,1556 @@
+//! `VehicleModel`: the compiled, immutable vehicle (SI, names resolved to typed ids, checked).
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use toml::Spanned;
+
+use crate::error::{Sink, VehicleError, did_you_mean};
+use crate::linalg::{Mat3, cholesky, rotation_rpy, sym3_eigenvalues};
+use crate::spec::{BodySpec, ForceSpec, NumberOrTriple, VehicleSpec, WheelsetSpec};
+
+/// \[m/s²\] gravitational acceleration used when the file gives none.
+pub const DEFAULT_GRAVITY: f64 = 9.81;
+/// \[m\] farthest an attachment point may lie from the centre of gravity of a body it attaches.
+pub const MAX_REACH_BODY: f64 = 15.0;
+/// \[m\] farthest an attachment point may lie from the axle centre of a wheelset it attaches.
+pub const MAX_REACH_WHEELSET: f64 = 2.0;
+/// \[m\] largest |y| of an attachment point or centre of gravity (half a loading gauge).
+pub const MAX_HALF_WIDTH: f64 = 2.5;
+/// \[m\] range of z of an attachment point or centre of gravity (track level to roof).
+pub const Z_RANGE: (f64, f64) = (-0.5, 6.0);
+/// Built-in wheel profile names.
+pub const BUILTIN_WHEEL_PROFILES: [&str; 1] = ["s1002"];
+/// The reserved name of the track-following frame, usable as a force element's end.
+pub const TRACK: &str = "track";
+
+macro_rules! id_type {
+    ($(#[$doc:meta])* $name:ident) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub struct $name(usize);
+        impl $name {
+            /// The index into the model's list.
+            pub fn index(self) -> usize {
+                self.0
+            }
+        }
+    };
+}
+id_type!(
+    /// Index of a rigid body (not a wheelset) in [`VehicleModel::bodies`].
+    BodyId
+);
+id_type!(
+    /// Index of a wheelset in [`VehicleModel::wheelsets`].
+    WheelsetId
+);
+id_type!(
+    /// Index of a force element in [`VehicleModel::forces`].
+    ForceElementId
+);
+
+/// A body that has degrees of freedom: a rigid body or a wheelset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Member {
+    /// A rigid body.
+    Body(BodyId),
+    /// A wheelset.
+    Wheelset(WheelsetId),
+}
+
+/// One end of a force element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Endpoint {
+    /// The frame that follows the track at the vehicle's speed.
+    Track,
+    /// A rigid body or wheelset.
+    Member(Member),
+}
+
+/// A degree of freedom of a body, in the vehicle frame: translations along and rotations about
+/// x, y, z. For a wheelset the rotation about y is the spin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DofKind {
+    /// Longitudinal translation.
+    X,
+    /// Lateral translation.
+    Y,
+    /// Vertical translation.
+    Z,
+    /// Rotation about x.
+    Roll,
+    /// Rotation about y (a wheelset's spin).
+    Pitch,
+    /// Rotation about z.
+    Yaw,
+}
+
+impl DofKind {
+    /// All six, in state order.
+    pub const ALL: [DofKind; 6] = [
+        DofKind::X,
+        DofKind::Y,
+        DofKind::Z,
+        DofKind::Roll,
+        DofKind::Pitch,
+        DofKind::Yaw,
+    ];
+    /// Index 0..6 in [`DofKind::ALL`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+    /// Name as written in `frozen` for a rigid body.
+    pub fn body_name(self) -> &'static str {
+        ["x", "y", "z", "roll", "pitch", "yaw"][self.index()]
+    }
+    /// Name as written in `frozen` for a wheelset (`spin` for the rotation about y).
+    pub fn wheelset_name(self) -> &'static str {
+        ["x", "y", "z", "roll", "spin", "yaw"][self.index()]
+    }
+}
+
+/// One degree of freedom that the simulation integrates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Dof {
+    /// Whose.
+    pub member: Member,
+    /// Which.
+    pub kind: DofKind,
+}
+
+/// A rigid body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// Unique name.
+    pub name: String,
+    /// \[kg\] mass.
+    pub mass: f64,
+    /// \[kg·m²\] inertia tensor about the centre of gravity, vehicle axes (symmetric, positive
+    /// definite).
+    pub inertia: Mat3,
+    /// \[m\] centre of gravity in the vehicle frame, nominal configuration.
+    pub position: [f64; 3],
+    /// Frozen degrees of freedom, indexed by [`DofKind::index`].
+    pub frozen: [bool; 6],
+}
+
+/// A wheel profile reference, resolved.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum WheelProfile {
+    /// The built-in S1002 profile of `railsim-profile`.
+    S1002,
+    /// A profile file (path resolved relative to the vehicle file; it exists).
+    File(PathBuf),
+}
+
+/// A wheelset: a rigid body with a spin degree of freedom and two wheels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Wheelset {
+    /// Unique name.
+    pub name: String,
+    /// \[kg\] mass.
+    pub mass: f64,
+    /// \[kg·m²\] inertia tensor about the centre of gravity (Iyy is the spin inertia).
+    pub inertia: Mat3,
+    /// \[m\] axle centre in the vehicle frame, nominal configuration (z = nominal radius).
+    pub position: [f64; 3],
+    /// \[m\] nominal rolling radius r0.
+    pub nominal_radius: f64,
+    /// \[m\] flange-back (back-to-back) distance.
+    pub back_to_back: f64,
+    /// \[m\] distance from a wheel's back face to its running circle.
+    pub running_circle_from_back: f64,
+    /// Wheel profiles `[left, right]`.
+    pub profiles: [WheelProfile; 2],
+    /// \[N·m\] constant traction (> 0) or brake (< 0) torque about the axle.
+    pub torque: f64,
+    /// Frozen degrees of freedom, indexed by [`DofKind::index`] (`Pitch` is the spin).
+    pub frozen: [bool; 6],
+}
+
+impl Wheelset {
+    /// \[m\] half the distance between the running circles, b (e0):
+    /// back-to-back / 2 + running circle from back.
+    pub fn contact_half_distance(&self) -> f64 {
+        0.5 * self.back_to_back + self.running_circle_from_back
+    }
+}
+
+/// A local axis of a force element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    /// Local x.
+    X,
+    /// Local y.
+    Y,
+    /// Local z.
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// A piecewise-linear force–deflection law.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceTable {
+    /// \[m\] deflections, strictly increasing.
+    pub deflection: Vec<f64>,
+    /// \[N\] restoring force magnitude at each deflection.
+    pub force: Vec<f64>,
+    /// The table is given for d ≥ 0 and mirrored: F(−d) = −F(d).
+    pub symmetric: bool,
+}
+
+impl ForceTable {
+    /// \[N\] force magnitude at deflection `d` \[m\]: linear interpolation, and linear
+    /// extrapolation with the slope of the end intervals. The force on body 2 is minus this.
+    pub fn force(&self, d: f64) -> f64 {
+        if self.symmetric && d < 0.0 {
+            return -self.force(-d);
+        }
+        let x = &self.deflection;
+        let f = &self.force;
+        let n = x.len();
+        let i = match x.partition_point(|&xi| xi <= d) {
+            0 => 0,
+            k if k >= n => n - 2,
+            k => k - 1,
+        };
+        f[i] + (f[i + 1] - f[i]) * (d - x[i]) / (x[i + 1] - x[i])
+    }
+
+    /// \[N/m\] slope dF/dd at `d` \[m\] (central difference over 1 µm).
+    pub fn slope(&self, d: f64) -> f64 {
+        let h = 1e-6;
+        (self.force(d + h) - self.force(d - h)) / (2.0 * h)
+    }
+}
+
+/// The law of a force element. Deflections are the motion of body 2's attachment point
+/// relative to body 1's, in the element's local axes; forces are on body 2 (body 1 receives the
+/// opposite).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ForceLaw {
+    /// 6-DOF linear bushing: F = −K·Δ − C·Δ̇ per local direction.
+    Bushing {
+        /// \[N/m, N/m, N/m, N·m/rad, N·m/rad, N·m/rad\] stiffness along x, y, z and about
+        /// x, y, z.
+        stiffness: [f64; 6],
+        /// \[N·s/m ×3, N·m·s/rad ×3\] viscous damping, same order.
+        damping: [f64; 6],
+    },
+    /// Nonlinear force table along one local axis: F = −table(Δ).
+    Table {
+        /// The local axis.
+        axis: Axis,
+        /// The law.
+        table: ForceTable,
+    },
+    /// Spring k in series with damper c along one local axis. Internal state: the damper's
+    /// elongation s \[m\]; F = −k·(Δ − s), ṡ = (k/c)·(Δ − s).
+    SeriesSpringDamper {
+        /// The local axis.
+        axis: Axis,
+        /// \[N/m\] series spring stiffness.
+        stiffness: f64,
+        /// \[N·s/m\] damper coefficient.
+        damping: f64,
+    },
+    /// Anti-roll bar: torsional spring about the local x-axis between the two bodies' roll
+    /// angles: M = −k·(φ2 − φ1) on body 2.
+    AntiRollBar {
+        /// \[N·m/rad\] torsional stiffness.
+        stiffness: f64,
+    },
+}
+
+impl ForceLaw {
+    /// Number of internal states the element carries (1 for a series spring-damper, else 0).
+    pub fn internal_states(&self) -> usize {
+        usize::from(matches!(self, ForceLaw::SeriesSpringDamper { .. }))
+    }
+}
+
+/// Series spring-damper: \[N\] force on body 2 along its axis, for deflection `delta` \[m\] and
+/// damper elongation `s` \[m\].
+pub fn series_force(stiffness: f64, delta: f64, s: f64) -> f64 {
+    -stiffness * (delta - s)
+}
+
+/// Series spring-damper: \[m/s\] rate of the damper elongation, ṡ = (k/c)·(Δ − s): the damper
+/// force c·ṡ equals the spring force k·(Δ − s).
+pub fn series_state_rate(stiffness: f64, damping: f64, delta: f64, s: f64) -> f64 {
+    stiffness / damping * (delta - s)
+}
+
+/// A force element.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceElement {
+    /// Unique name.
+    pub name: String,
+    /// First end.
+    pub body1: Endpoint,
+    /// Second end.
+    pub body2: Endpoint,
+    /// \[m\] attachment point on body 1, vehicle frame, nominal configuration.
+    pub point1: [f64; 3],
+    /// \[m\] attachment point on body 2, vehicle frame, nominal configuration.
+    pub point2: [f64; 3],
+    /// \[-\] rotation from local to vehicle axes (columns: local axes in the vehicle frame).
+    pub axes: Mat3,
+    /// The law.
+    pub law: ForceLaw,
+}
+
+/// An internal state variable of a force element, integrated with the vehicle's states.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct InternalState {
+    /// The element carrying it.
+    pub element: ForceElementId,
+    /// What it is.
+    pub kind: InternalStateKind,
+}
+
+/// Kinds of internal states.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InternalStateKind {
+    /// \[m\] the elongation s of the damper of a series spring-damper, from its nominal length.
+    DamperElongation,
+}
+
+/// The compiled vehicle: immutable, SI, names resolved, shareable between threads.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VehicleModel {
+    pub(crate) name: String,
+    pub(crate) source: String,
+    pub(crate) gravity: f64,
+    pub(crate) bodies: Vec<Body>,
+    pub(crate) wheelsets: Vec<Wheelset>,
+    pub(crate) forces: Vec<ForceElement>,
+}
+
+impl fmt::Display for Dof {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.member {
+            Member::Body(b) => write!(f, "body#{}.{}", b.0, self.kind.body_name()),
+            Member::Wheelset(w) => write!(f, "wheelset#{}.{}", w.0, self.kind.wheelset_name()),
+        }
+    }
+}
+
+impl VehicleModel {
+    /// Read and compile a vehicle file, reporting structural and range problems together.
+    /// Relative profile paths are resolved from the file's directory.
+    pub fn from_file(path: impl AsRef<Path>) -> Result<VehicleModel, VehicleError> {
+        let path = path.as_ref();
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| VehicleError::Io {
+            file: name.clone(),
+            message: e.to_string(),
+        })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        VehicleModel::from_toml_str(&text, &name, base)
+    }
+
+    /// Read and compile vehicle TOML text. Every problem (syntax, unknown keys, wrong types,
+    /// missing keys, ranges, references) is reported in one [`VehicleError::Invalid`], sorted by
+    /// position.
+    pub fn from_toml_str(
+        text: &str,
+        source_name: &str,
+        base_dir: &Path,
+    ) -> Result<VehicleModel, VehicleError> {
+        let (spec, mut problems) = VehicleSpec::parse_lenient(text, source_name);
+        let syntax = problems
+            .iter()
+            .any(|p| p.message.starts_with("TOML syntax"));
+        if syntax {
+            return Err(VehicleError::Invalid { problems });
+        }
+        match VehicleModel::compile(&spec, source_name, base_dir) {
+            Ok(model) if problems.is_empty() => Ok(model),
+            Ok(_) => Err(VehicleError::Invalid { problems }),
+            Err(VehicleError::Invalid { problems: more }) => {
+                problems.extend(more);
+                problems.sort_by_key(|p| (p.line, p.col));
+                Err(VehicleError::Invalid { problems })
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Compile a spec: resolve names to ids, convert to SI, check ranges and references.
+    /// `source_name` prefixes every message; `base_dir` resolves relative profile paths.
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// use railsim_vehicle::{VehicleModel, VehicleSpec};
+    /// let text = r#"
+    /// name = "one wheelset"
+    /// [[wheelset]]
+    /// name = "ws"
+    /// mass_kg = 1813
+    /// inertia_kgm2 = [1120, 112, 1120]
+    /// position_m = [0, 0, 0.46]
+    /// nominal_radius_m = 0.46
+    /// back_to_back_mm = 1360
+    /// wheel_profile = { left = "s1002", right = "s1002" }
+    /// "#;
+    /// let spec = VehicleSpec::from_toml_str(text, "doc.toml").unwrap();
+    /// let v = VehicleModel::compile(&spec, "doc.toml", Path::new(".")).unwrap();
+    /// assert_eq!(v.total_mass(), 1813.0);
+    /// assert_eq!(v.dofs().len(), 6);
+    /// let eq = v.static_equilibrium().unwrap();
+    /// assert!((eq.wheel_loads[0][0] - 1813.0 * 9.81 / 2.0).abs() < 1e-6);
+    /// ```
+    pub fn compile(
+        spec: &VehicleSpec,
+        source_name: &str,
+        base_dir: &Path,
+    ) -> Result<VehicleModel, VehicleError> {
+        let mut c = Compiler {
+            sink: Sink::new(source_name, &spec.source),
+            dropped: &spec.dropped_keys,
+        };
+        let model = c.compile(spec, base_dir);
+        if c.sink.problems.is_empty() {
+            Ok(model)
+        } else {
+            let mut problems = c.sink.problems;
+            problems.sort_by_key(|p| (p.line, p.col));
+            Err(VehicleError::Invalid { problems })
+        }
+    }
+
+    /// Name of the vehicle (the file's `name`, else the source name).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// The source name given to compile (usually the file path).
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+    /// \[m/s²\] gravitational acceleration.
+    pub fn gravity(&self) -> f64 {
+        self.gravity
+    }
+    /// The rigid bodies, indexed by [`BodyId`].
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+    /// The wheelsets, indexed by [`WheelsetId`].
+    pub fn wheelsets(&self) -> &[Wheelset] {
+        &self.wheelsets
+    }
+    /// The force elements, indexed by [`ForceElementId`].
+    pub fn forces(&self) -> &[ForceElement] {
+        &self.forces
+    }
+    /// A body by id.
+    pub fn body(&self, id: BodyId) -> &Body {
+        &self.bodies[id.0]
+    }
+    /// A wheelset by id.
+    pub fn wheelset(&self, id: WheelsetId) -> &Wheelset {
+        &self.wheelsets[id.0]
+    }
+    /// A force element by id.
+    pub fn force(&self, id: ForceElementId) -> &ForceElement {
+        &self.forces[id.0]
+    }
+    /// The id of the body called `name`.
+    pub fn body_id(&self, name: &str) -> Option<BodyId> {
+        self.bodies.iter().position(|b| b.name == name).map(BodyId)
+    }
+    /// The id of the wheelset called `name`.
+    pub fn wheelset_id(&self, name: &str) -> Option<WheelsetId> {
+        self.wheelsets
+            .iter()
+            .position(|w| w.name == name)
+            .map(WheelsetId)
+    }
+    /// The id of the force element called `name`.
+    pub fn force_id(&self, name: &str) -> Option<ForceElementId> {
+        self.forces
+            .iter()
+            .position(|f| f.name == name)
+            .map(ForceElementId)
+    }
+    /// Name of a member.
+    pub fn member_name(&self, m: Member) -> &str {
+        match m {
+            Member::Body(b) => &self.bodies[b.0].name,
+            Member::Wheelset(w) => &self.wheelsets[w.0].name,
+        }
+    }
+    /// Name of a degree of freedom, e.g. `carbody.roll` or `ws1.spin`.
+    pub fn dof_name(&self, d: Dof) -> String {
+        match d.member {
+            Member::Body(b) => format!("{}.{}", self.bodies[b.0].name, d.kind.body_name()),
+            Member::Wheelset(w) => {
+                format!("{}.{}", self.wheelsets[w.0].name, d.kind.wheelset_name())
+            }
+        }
+    }
+
+    /// \[kg\] total mass of bodies and wheelsets.
+    pub fn total_mass(&self) -> f64 {
+        self.bodies.iter().map(|b| b.mass).sum::<f64>()
+            + self.wheelsets.iter().map(|w| w.mass).sum::<f64>()
+    }
+
+    /// The degrees of freedom the simulation needs: six per body and wheelset (bodies first,
+    /// in file order; x, y, z, roll, pitch/spin, yaw), frozen ones excluded.
+    pub fn dofs(&self) -> Vec<Dof> {
+        let mut out = Vec::new();
+        for (i, b) in self.bodies.iter().enumerate() {
+            for k in DofKind::ALL {
+                if !b.frozen[k.index()] {
+                    out.push(Dof {
+                        member: Member::Body(BodyId(i)),
+                        kind: k,
+                    });
+                }
+            }
+        }
+        for (i, w) in self.wheelsets.iter().enumerate() {
+            for k in DofKind::ALL {
+                if !w.frozen[k.index()] {
+                    out.push(Dof {
+                        member: Member::Wheelset(WheelsetId(i)),
+                        kind: k,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The internal states of the force elements (one per series spring-damper), in element
+    /// order.
+    pub fn internal_states(&self) -> Vec<InternalState> {
+        self.forces
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| f.law.internal_states() > 0)
+            .map(|(i, _)| InternalState {
+                element: ForceElementId(i),
+                kind: InternalStateKind::DamperElongation,
+            })
+            .collect()
+    }
+}
+
+/// Centre of gravity \[m\] and largest distance \[m\] of an attachment point from it.
+type Reach = ([f64; 3], f64);
+
+/// The compile pass: one sink, every problem recorded.
+struct Compiler<'a> {
+    sink: Sink<'a>,
+    dropped: &'a [(usize, String)],
+}
+
+fn is_dropped(dropped: &[(usize, String)], table: &Range<usize>, key: &str) -> bool {
+    dropped.iter().any(|(s, k)| *s == table.start && k == key)
+}
+
+impl Compiler<'_> {
+    fn err(&mut self, span: &Range<usize>, key: &str, message: String) {
+        self.sink.at(Some(span), key, message);
+    }
+
+    /// A required key: report it missing (unless dropped for a wrong type).
+    fn req<'s, T>(
+        &mut self,
+        v: &'s Option<Spanned<T>>,
+        table: &Range<usize>,
+        label: &str,
+        key: &str,
+        expected: &str,
+    ) -> Option<&'s Spanned<T>> {
+        if v.is_none() && !is_dropped(self.dropped, table, key) {
+            self.err(
+                table,
+                key,
+                format!("{label}: missing key '{key}' (expected {expected})"),
+            );
+        }
+        v.as_ref()
+    }
+
+    fn finite3(&mut self, v: &Spanned<[f64; 3]>, label: &str, key: &str) -> Option<[f64; 3]> {
+        let a = *v.get_ref();
+        if a.iter().all(|x| x.is_finite()) {
+            Some(a)
+        } else {
+            self.err(
+                &v.span(),
+                key,
+                format!("{label}: {key} must be finite numbers, found {a:?}"),
+            );
+            None
+        }
+    }
+
+    fn positive(&mut self, v: &Spanned<f64>, label: &str, key: &str, unit: &str) -> Option<f64> {
+        let x = *v.get_ref();
+        if x.is_finite() && x > 0.0 {
+            Some(x)
+        } else {
+            self.err(
+                &v.span(),
+                key,
+                format!("{label}: {key} must be a positive number of {unit}, found {x}"),
+            );
+            None
+        }
+    }
+
+    fn compile(&mut self, spec: &VehicleSpec, base_dir: &Path) -> VehicleModel {
+        let name = spec
+            .name
+            .as_ref()
+            .map_or_else(|| self.sink.file.to_owned(), |n| n.get_ref().clone());
+        let gravity = match &spec.gravity_m_per_s2 {
+            None => DEFAULT_GRAVITY,
+            Some(g) => {
+                let x = *g.get_ref();
+                if x.is_finite() && x > 0.0 && x <= 30.0 {
+                    x
+                } else {
+                    self.err(
+                        &g.span(),
+                        "gravity_m_per_s2",
+                        format!("gravity_m_per_s2 must lie in (0, 30] m/s², found {x}"),
+                    );
+                    DEFAULT_GRAVITY
+                }
+            }
+        };
+
+        // Names of bodies and wheelsets share one namespace (force elements refer to both).
+        let mut names: Vec<(String, Range<usize>)> = Vec::new();
+        let mut bodies = Vec::new();
+        for b in &spec.body {
+            if let Some(body) = self.body(b.get_ref(), &b.span(), &mut names) {
+                bodies.push(body);
+            }
+        }
+        let mut wheelsets = Vec::new();
+        for w in &spec.wheelset {
+            if let Some(ws) = self.wheelset(w.get_ref(), &w.span(), &mut names, base_dir) {
+                wheelsets.push(ws);
+            }
+        }
+        if spec.wheelset.is_empty() {
+            self.err(
+                &(0..0),
+                "wheelset",
+                "a vehicle needs at least one [[wheelset]]".to_owned(),
+            );
+        }
+        // Bodies that were declared but failed their own checks are not reported again as
+        // unknown when a force element refers to them.
+        let mut known_bad: Vec<String> = spec.unreadable_names.clone();
+        known_bad.extend(names.iter().map(|(n, _)| n.clone()));
+        let mut force_names: Vec<(String, Range<usize>)> = Vec::new();
+        let mut forces = Vec::new();
+        for f in &spec.force {
+            if let Some(fe) = self.force(
+                f.get_ref(),
+                &f.span(),
+                &mut force_names,
+                &bodies,
+                &wheelsets,
+                &known_bad,
+            ) {
+                forces.push(fe);
+            }
+        }
+        VehicleModel {
+            name,
+            source: self.sink.file.to_owned(),
+            gravity,
+            bodies,
+            wheelsets,
+            forces,
+        }
+    }
+
+    fn name(
+        &mut self,
+        v: &Option<Spanned<String>>,
+        table: &Range<usize>,
+        what: &str,
+        names: &mut Vec<(String, Range<usize>)>,
+    ) -> Option<String> {
+        let n = self.req(v, table, what, "name", "a unique name")?;
+        let s = n.get_ref().trim().to_owned();
+        if s.is_empty() {
+            self.err(&n.span(), "name", format!("{what}: name must not be empty"));
+            return None;
+        }
+        if s == TRACK {
+            self.err(
+                &n.span(),
+                "name",
+                format!("{what}: name '{TRACK}' is reserved for the track-following frame"),
+            );
+            return None;
+        }
+        if let Some((_, first)) = names.iter().find(|(m, _)| *m == s) {
+            let (l, c) = self.sink.map.line_col(first.start);
+            self.err(
+                &n.span(),
+                "name",
+                format!("{what}: duplicate name '{s}' (first defined at line {l}, column {c})"),
+            );
+            return None;
+        }
+        names.push((s.clone(), n.span()));
+        Some(s)
+    }
+
+    /// Mass, inertia tensor, position and frozen list, common to bodies and wheelsets.
+    #[allow(clippy::type_complexity)]
+    fn rigid(
+        &mut self,
+        label: &str,
+        table: &Range<usize>,
+        mass: &Option<Spanned<f64>>,
+        inertia: &Option<Spanned<[f64; 3]>>,
+        products: &Option<Spanned<[f64; 3]>>,
+        position: &Option<Spanned<[f64; 3]>>,
+        frozen: &Option<Spanned<Vec<Spanned<String>>>>,
+        dof_names: &[&str; 6],
+    ) -> (Option<f64>, Option<Mat3>, Option<[f64; 3]>, [bool; 6]) {
+        let m = self
+            .req(mass, table, label, "mass_kg", "a positive mass in kg")
+            .and_then(|v| self.positive(v, label, "mass_kg", "kg"));
+        let inertia = self
+            .req(
+                inertia,
+                table,
+                label,
+                "inertia_kgm2",
+                "[Ixx, Iyy, Izz] in kg·m²",
+            )
+            .and_then(|v| self.inertia(v, products.as_ref(), label));
+        let pos = self
+            .req(position, table, label, "position_m", "[x, y, z] in m")
+            .and_then(|v| self.finite3(v, label, "position_m"));
+        if let (Some(p), Some(v)) = (pos, position)
+            && (p[1].abs() > MAX_HALF_WIDTH || p[2] < Z_RANGE.0 || p[2] > Z_RANGE.1)
+        {
+            self.err(
+                &v.span(),
+                "position_m",
+                format!(
+                    "{label}: position_m {p:?} is implausible (expected |y| <= {MAX_HALF_WIDTH} m and z in [{}, {}] m)",
+                    Z_RANGE.0, Z_RANGE.1
+                ),
+            );
+        }
+        let mut fz = [false; 6];
+        if let Some(list) = frozen {
+            for item in list.get_ref() {
+                let s = item.get_ref().as_str();
+                match dof_names.iter().position(|d| *d == s) {
+                    Some(i) if fz[i] => self.err(
+                        &item.span(),
+                        "frozen",
+                        format!("{label}: frozen lists '{s}' twice"),
+                    ),
+                    Some(i) => fz[i] = true,
+                    None => self.err(
+                        &item.span(),
+                        "frozen",
+                        format!(
+                            "{label}: frozen: unknown degree of freedom '{s}'{}; expected one of: {}",
+                            did_you_mean(s, dof_names.iter().copied()),
+                            dof_names.join(", ")
+                        ),
+                    ),
+                }
+            }
+        }
+        (m, inertia, pos, fz)
+    }
+
+    fn inertia(
+        &mut self,
+        v: &Spanned<[f64; 3]>,
+        products: Option<&Spanned<[f64; 3]>>,
+        label: &str,
+    ) -> Option<Mat3> {
+        let d = self.finite3(v, label, "inertia_kgm2")?;
+        let p = match products {
+            Some(p) => self.finite3(p, label, "products_kgm2")?,
+            None => [0.0; 3],
+        };
+        let t = [[d[0], p[0], p[1]], [p[0], d[1], p[2]], [p[1], p[2], d[2]]];
+        let span = products.map_or_else(|| v.span(), |p| p.span());
+        let key = if products.is_some() {
+            "products_kgm2"
+        } else {
+            "inertia_kgm2"
+        };
+        if d.iter().any(|x| *x <= 0.0) {
+            self.err(
+                &v.span(),
+                "inertia_kgm2",
+                format!(
+                    "{label}: inertia_kgm2 {d:?} is not positive definite (every moment must be > 0 kg·m²)"
+                ),
+            );
+            return None;
+        }
+        let mut a: Vec<f64> = t.iter().flatten().copied().collect();
+        if cholesky(&mut a, 3).is_err() {
+            self.err(
+                &span,
+                key,
+                format!(
+                    "{label}: inertia tensor (inertia_kgm2 {d:?}, products_kgm2 {p:?}) is not positive definite"
+                ),
+            );
+            return None;
+        }
+        let e = sym3_eigenvalues(&t);
+        let tol = 1e-9 * e[2];
+        if e[0] + e[1] < e[2] - tol {
+            self.err(
+                &span,
+                key,
+                format!(
+                    "{label}: {key}: principal moments {e:.6?} kg·m² violate the triangle inequality I1 + I2 >= I3 (no rigid body has them)"
+                ),
+            );
+            return None;
+        }
+        Some(t)
+    }
+
+    fn body(
+        &mut self,
+        b: &BodySpec,
+        table: &Range<usize>,
+        names: &mut Vec<(String, Range<usize>)>,
+    ) -> Option<Body> {
+        let name = self.name(&b.name, table, "body", names);
+        let label = name
+            .as_ref()
+            .map_or_else(|| "body".to_owned(), |n| format!("body '{n}'"));
+        let dof_names = DofKind::ALL.map(DofKind::body_name);
+        let (mass, inertia, position, frozen) = self.rigid(
+            &label,
+            table,
+            &b.mass_kg,
+            &b.inertia_kgm2,
+            &b.products_kgm2,
+            &b.position_m,
+            &b.frozen,
+            &dof_names,
+        );
+        Some(Body {
+            name: name?,
+            mass: mass?,
+            inertia: inertia?,
+            position: position?,
+            frozen,
+        })
+    }
+
+    fn wheelset(
+        &mut self,
+        w: &WheelsetSpec,
+        table: &Range<usize>,
+        names: &mut Vec<(String, Range<usize>)>,
+        base_dir: &Path,
+    ) -> Option<Wheelset> {
+        let name = self.name(&w.name, table, "wheelset", names);
+        let label = name
+            .as_ref()
+            .map_or_else(|| "wheelset".to_owned(), |n| format!("wheelset '{n}'"));
+        let dof_names = DofKind::ALL.map(DofKind::wheelset_name);
+        let (mass, inertia, position, frozen) = self.rigid(
+            &label,
+            table,
+            &w.mass_kg,
+            &w.inertia_kgm2,
+            &w.products_kgm2,
+            &w.position_m,
+            &w.frozen,
+            &dof_names,
+        );
+        let r0 = self
+            .req(
+                &w.nominal_radius_m,
+                table,
+                &label,
+                "nominal_radius_m",
+                "a positive radius in m",
+            )
+            .and_then(|v| self.positive(v, &label, "nominal_radius_m", "m"));
+        if let (Some(r), Some(v)) = (r0, &w.nominal_radius_m)
+            && !(0.1..=1.0).contains(&r)
+        {
+            self.err(
+                &v.span(),
+                "nominal_radius_m",
+                format!(
+                    "{label}: nominal_radius_m = {r} m is implausible (expected 0.1 to 1.0 m; the file unit is m, not mm)"
+                ),
+            );
+        }
+        if let (Some(r), Some(p), Some(v)) = (r0, position, &w.position_m) {
+            if (p[2] - r).abs() > 0.005 {
+                self.err(
+                    &v.span(),
+                    "position_m",
+                    format!(
+                        "{label}: position_m z = {} m must equal nominal_radius_m = {r} m (axle centre above the rail plane), within 5 mm",
+                        p[2]
+                    ),
+                );
+            }
+            if p[1].abs() > 0.05 {
+                self.err(
+                    &v.span(),
+                    "position_m",
+                    format!(
+                        "{label}: position_m y = {} m: a wheelset's nominal lateral position must be within 0.05 m of the track centre",
+                        p[1]
+                    ),
+                );
+            }
+        }
+        let b2b = self
+            .req(
+                &w.back_to_back_mm,
+                table,
+                &label,
+                "back_to_back_mm",
+                "the flange-back distance in mm, e.g. 1360",
+            )
+            .and_then(|v| self.positive(v, &label, "back_to_back_mm", "mm"));
+        if let (Some(b), Some(v)) = (b2b, &w.back_to_back_mm)
+            && !(500.0..=2000.0).contains(&b)
+        {
+            self.err(
+                &v.span(),
+                "back_to_back_mm",
+                format!(
+                    "{label}: back_to_back_mm = {b} mm is implausible (expected 500 to 2000 mm)"
+                ),
+            );
+        }
+        let rc = match &w.running_circle_from_back_mm {
+            None => Some(70.0),
+            Some(v) => {
+                let x = *v.get_ref();
+                if x.is_finite() && (0.0..=200.0).contains(&x) {
+                    Some(x)
+                } else {
+                    self.err(
+                        &v.span(),
+                        "running_circle_from_back_mm",
+                        format!("{label}: running_circle_from_back_mm must lie in [0, 200] mm, found {x}"),
+                    );
+                    None
+                }
+            }
+        };
+        let torque = match &w.torque_nm {
+            None => Some(0.0),
+            Some(v) if v.get_ref().is_finite() => Some(*v.get_ref()),
+            Some(v) => {
+                self.err(
+                    &v.span(),
+                    "torque_nm",
+                    format!("{label}: torque_nm must be finite"),
+                );
+                None
+            }
+        };
+        let profiles = self
+            .req(
+                &w.wheel_profile,
+                table,
+                &label,
+                "wheel_profile",
+                "{ left = \"s1002\", right = \"s1002\" } or file paths",
+            )
+            .and_then(|p| {
+                let p = p.get_ref();
+                let l = self.profile(&p.left, &label, "wheel_profile.left", base_dir);
+                let r = self.profile(&p.right, &label, "wheel_profile.right", base_dir);
+                Some([l?, r?])
+            });
+        Some(Wheelset {
+            name: name?,
+            mass: mass?,
+            inertia: inertia?,
+            position: position?,
+            nominal_radius: r0?,
+            back_to_back: b2b? * 1e-3,
+            running_circle_from_back: rc? * 1e-3,
+            profiles: profiles?,
+            torque: torque?,
+            frozen,
+        })
+    }
+
+    fn profile(
+        &mut self,
+        v: &Spanned<String>,
+        label: &str,
+        key: &str,
+        base_dir: &Path,
+    ) -> Option<WheelProfile> {
+        let s = v.get_ref().trim();
+        if s.eq_ignore_ascii_case("s1002") {
+            return Some(WheelProfile::S1002);
+        }
+        let path = base_dir.join(s);
+        if !s.is_empty() && path.is_file() {
+            return Some(WheelProfile::File(path));
+        }
+        self.err(
+            &v.span(),
+            key,
+            format!(
+                "{label}: {key} '{s}' is neither a built-in profile ({}) nor a file (looked for {}){}",
+                BUILTIN_WHEEL_PROFILES.join(", "),
+                path.display(),
+                did_you_mean(s, BUILTIN_WHEEL_PROFILES)
+            ),
+        );
+        None
+    }
+
+    fn endpoint(
+        &mut self,
+        v: &Option<Spanned<String>>,
+        table: &Range<usize>,
+        label: &str,
+        key: &str,
+        bodies: &[Body],
+        wheelsets: &[Wheelset],
+        unreadable: &[String],
+    ) -> Option<(Endpoint, Option<Reach>)> {
+        let n = self.req(
+            v,
+            table,
+            label,
+            key,
+            "a body or wheelset name, or \"track\"",
+        )?;
+        let s = n.get_ref().as_str();
+        if s == TRACK {
+            return Some((Endpoint::Track, None));
+        }
+        if let Some(i) = bodies.iter().position(|b| b.name == s) {
+            return Some((
+                Endpoint::Member(Member::Body(BodyId(i))),
+                Some((bodies[i].position, MAX_REACH_BODY)),
+            ));
+        }
+        if let Some(i) = wheelsets.iter().position(|w| w.name == s) {
+            return Some((
+                Endpoint::Member(Member::Wheelset(WheelsetId(i))),
+                Some((wheelsets[i].position, MAX_REACH_WHEELSET)),
+            ));
+        }
+        // A body that exists but failed its own checks, or could not be read, is not reported
+        // again: its problems are already listed.
+        let known_bad = unreadable.iter().any(|u| u == s);
+        if !known_bad {
+            let candidates: Vec<&str> = bodies
+                .iter()
+                .map(|b| b.name.as_str())
+                .chain(wheelsets.iter().map(|w| w.name.as_str()))
+                .chain([TRACK])
+                .collect();
+            self.err(
+                &n.span(),
+                key,
+                format!(
+                    "{label}: {key} refers to unknown body '{s}'{}",
+                    did_you_mean(s, candidates.iter().copied())
+                ),
+            );
+        }
+        None
+    }
+
+    fn force(
+        &mut self,
+        f: &ForceSpec,
+        table: &Range<usize>,
+        names: &mut Vec<(String, Range<usize>)>,
+        bodies: &[Body],
+        wheelsets: &[Wheelset],
+        unreadable: &[String],
+    ) -> Option<ForceElement> {
+        let name = self.name(&f.name, table, "force", names);
+        let label = name
+            .as_ref()
+            .map_or_else(|| "force".to_owned(), |n| format!("force '{n}'"));
+        const KINDS: [&str; 4] = ["bushing", "table", "series_spring_damper", "anti_roll_bar"];
+        let kind = self
+            .req(&f.kind, table, &label, "type", &KINDS.join(", "))
+            .and_then(|k| {
+                let s = k.get_ref().as_str();
+                if KINDS.contains(&s) {
+                    Some(s)
+                } else {
+                    self.err(
+                        &k.span(),
+                        "type",
+                        format!(
+                            "{label}: unknown type '{s}'{}; expected one of: {}",
+                            did_you_mean(s, KINDS),
+                            KINDS.join(", ")
+                        ),
+                    );
+                    None
+                }
+            });
+        let e1 = self.endpoint(
+            &f.body1, table, &label, "body1", bodies, wheelsets, unreadable,
+        );
+        let e2 = self.endpoint(
+            &f.body2, table, &label, "body2", bodies, wheelsets, unreadable,
+        );
+        if let (Some((a, _)), Some((b, _)), Some(v)) = (&e1, &e2, &f.body2)
+            && a == b
+        {
+            self.err(
+                &v.span(),
+                "body2",
+                format!(
+                    "{label}: body1 and body2 are the same ('{}'); a force element joins two different bodies",
+                    v.get_ref()
+                ),
+            );
+        }
+        let p1 = self
+            .req(&f.point_m, table, &label, "point_m", "[x, y, z] in m")
+            .and_then(|v| self.finite3(v, &label, "point_m"));
+        let p2 = match &f.point2_m {
+            None => p1,
+            Some(v) => self.finite3(v, &label, "point2_m"),
+        };
+        for (p, end, key, value) in [
+            (p1, &e1, "point_m", &f.point_m),
+            (p2, &e2, "point2_m", &f.point2_m),
+        ] {
+            let (Some(p), Some(v)) = (p, value.as_ref().or(f.point_m.as_ref())) else {
+                continue;
+            };
+            let key = if value.is_some() { key } else { "point_m" };
+            if p[1].abs() > MAX_HALF_WIDTH || p[2] < Z_RANGE.0 || p[2] > Z_RANGE.1 {
+                self.err(
+                    &v.span(),
+                    key,
+                    format!(
+                        "{label}: {key} {p:?} is implausible (expected |y| <= {MAX_HALF_WIDTH} m and z in [{}, {}] m)",
+                        Z_RANGE.0, Z_RANGE.1
+                    ),
+                );
+            } else if let Some((_, Some((c, reach)))) = end {
+                let d =
+                    ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)).sqrt();
+                if d > *reach {
+                    self.err(
+                        &v.span(),
+                        key,
+                        format!(
+                            "{label}: {key} {p:?} lies {d:.2} m from the centre of gravity {c:?} of the body it attaches (at most {reach} m expected)"
+                        ),
+                    );
+                }
+            }
+        }
+        let axes = match &f.orientation_deg {
+            None => Some(rotation_rpy(0.0, 0.0, 0.0)),
+            Some(v) => self
+                .finite3(v, &label, "orientation_deg")
+                .map(|a| rotation_rpy(a[0].to_radians(), a[1].to_radians(), a[2].to_radians())),
+        };
+        let law = kind.and_then(|k| self.law(k, f, table, &label));
+        let (e1, e2) = (e1?.0, e2?.0);
+        if e1 == e2 {
+            return None;
+        }
+        Some(ForceElement {
+            name: name?,
+            body1: e1,
+            body2: e2,
+            point1: p1?,
+            point2: p2?,
+            axes: axes?,
+            law: law?,
+        })
+    }
+
+    fn not_applicable(&mut self, f: &ForceSpec, label: &str, kind: &str, allowed: &[&str]) {
+        let present: [(&str, Option<Range<usize>>); 9] = [
+            ("direction", f.direction.as_ref().map(|v| v.span())),
+            (
+                "stiffness_n_per_m",
+                f.stiffness_n_per_m.as_ref().map(|v| v.span()),
+            ),
+            (
+                "damping_ns_per_m",
+                f.damping_ns_per_m.as_ref().map(|v| v.span()),
+            ),
+            (
+                "rotational_stiffness_nm_per_rad",
+                f.rotational_stiffness_nm_per_rad.as_ref().map(|v| v.span()),
+            ),
+            (
+                "rotational_damping_nms_per_rad",
+                f.rotational_damping_nms_per_rad.as_ref().map(|v| v.span()),
+            ),
+            ("deflection_mm", f.deflection_mm.as_ref().map(|v| v.span())),
+            ("force_n", f.force_n.as_ref().map(|v| v.span())),
+            ("symmetric", f.symmetric.as_ref().map(|v| v.span())),
+            ("point2_m", None),
+        ];
+        for (key, span) in present {
+            if let Some(span) = span
+                && !allowed.contains(&key)
+            {
+                self.err(
+                    &span,
+                    key,
+                    format!(
+                        "{label}: key '{key}' does not apply to type '{kind}' (it takes: {})",
+                        allowed.join(", ")
+                    ),
+                );
+            }
+        }
+    }
+
+    fn triple(
+        &mut self,
+        v: &Option<Spanned<NumberOrTriple>>,
+        label: &str,
+        key: &str,
+        unit: &str,
+    ) -> Option<[f64; 3]> {
+        let Some(v) = v else {
+            return Some([0.0; 3]);
+        };
+        match *v.get_ref() {
+            NumberOrTriple::Three(a) if a.iter().all(|x| x.is_finite() && *x >= 0.0) => Some(a),
+            NumberOrTriple::Three(a) => {
+                self.err(
+                    &v.span(),
+                    key,
+                    format!("{label}: {key} must be non-negative numbers of {unit}, found {a:?}"),
+                );
+                None
+            }
+            NumberOrTriple::One(x) => {
+                self.err(
+                    &v.span(),
+                    key,
+                    format!(
+                        "{label}: {key} of a bushing takes three numbers [x, y, z] in {unit}, found the single number {x}"
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    fn scalar(
+        &mut self,
+        v: &Option<Spanned<NumberOrTriple>>,
+        table: &Range<usize>,
+        label: &str,
+        key: &str,
+        unit: &str,
+        strictly_positive: bool,
+    ) -> Option<f64> {
+        let v = self.req(v, table, label, key, &format!("one number in {unit}"))?;
+        match *v.get_ref() {
+            NumberOrTriple::One(x)
+                if x.is_finite() && (x > 0.0 || (!strictly_positive && x == 0.0)) =>
+            {
+                Some(x)
+            }
+            NumberOrTriple::One(x) => {
+                let want = if strictly_positive {
+                    "positive"
+                } else {
+                    "non-negative"
+                };
+                self.err(
+                    &v.span(),
+                    key,
+                    format!("{label}: {key} must be a {want} number of {unit}, found {x}"),
+                );
+                None
+            }
+            NumberOrTriple::Three(a) => {
+                self.err(
+                    &v.span(),
+                    key,
+                    format!("{label}: {key} takes one number in {unit} here, found three {a:?}"),
+                );
+                None
+            }
+        }
+    }
+
+    fn axis(&mut self, f: &ForceSpec, table: &Range<usize>, label: &str) -> Option<Axis> {
+        let d = self.req(
+            &f.direction,
+            table,
+            label,
+            "direction",
+            "\"x\", \"y\" or \"z\"",
+        )?;
+        match d.get_ref().as_str() {
+            "x" => Some(Axis::X),
+            "y" => Some(Axis::Y),
+            "z" => Some(Axis::Z),
+            s => {
+                self.err(
+                    &d.span(),
+                    "direction",
+                    format!("{label}: direction '{s}' is not a local axis (expected \"x\", \"y\" or \"z\")"),
+                );
+                None
+            }
+        }
+    }
+
+    fn law(
+        &mut self,
+        kind: &str,
+        f: &ForceSpec,
+        table: &Range<usize>,
+        label: &str,
+    ) -> Option<ForceLaw> {
+        match kind {
+            "bushing" => {
+                self.not_applicable(
+                    f,
+                    label,
+                    kind,
+                    &[
+                        "stiffness_n_per_m",
+                        "damping_ns_per_m",
+                        "rotational_stiffness_nm_per_rad",
+                        "rotational_damping_nms_per_rad",
+                    ],
+                );
+                if f.stiffness_n_per_m.is_none()
+                    && f.damping_ns_per_m.is_none()
+                    && f.rotational_stiffness_nm_per_rad.is_none()
+                    && f.rotational_damping_nms_per_rad.is_none()
+                {
+                    self.err(
+                        table,
+                        "stiffness_n_per_m",
+                        format!(
+                            "{label}: a bushing needs at least one of stiffness_n_per_m, damping_ns_per_m, rotational_stiffness_nm_per_rad, rotational_damping_nms_per_rad"
+                        ),
+                    );
+                }
+                let k = self.triple(&f.stiffness_n_per_m, label, "stiffness_n_per_m", "N/m");
+                let c = self.triple(&f.damping_ns_per_m, label, "damping_ns_per_m", "N·s/m");
+                let kr = self.triple(
+                    &f.rotational_stiffness_nm_per_rad,
+                    label,
+                    "rotational_stiffness_nm_per_rad",
+                    "N·m/rad",
+                );
+                let cr = self.triple(
+                    &f.rotational_damping_nms_per_rad,
+                    label,
+                    "rotational_damping_nms_per_rad",
+                    "N·m·s/rad",
+                );
+                let (k, c, kr, cr) = (k?, c?, kr?, cr?);
+                Some(ForceLaw::Bushing {
+                    stiffness: [k[0], k[1], k[2], kr[0], kr[1], kr[2]],
+                    damping: [c[0], c[1], c[2], cr[0], cr[1], cr[2]],
+                })
+            }
+            "table" => {
+                self.not_applicable(
+                    f,
+                    label,
+                    kind,
+                    &["direction", "deflection_mm", "force_n", "symmetric"],
+                );
+                let axis = self.axis(f, table, label);
+                let d = self.req(
+                    &f.deflection_mm,
+                    table,
+                    label,
+                    "deflection_mm",
+                    "an array of increasing deflections in mm",
+                );
+                let fo = self.req(
+                    &f.force_n,
+                    table,
+                    label,
+                    "force_n",
+                    "an array of forces in N, one per deflection",
+                );
+                let symmetric = f.symmetric.as_ref().is_some_and(|s| *s.get_ref());
+                let table = match (d, fo) {
+                    (Some(d), Some(fo)) => self.force_table(d, fo, symmetric, label),
+                    _ => None,
+                };
+                Some(ForceLaw::Table {
+                    axis: axis?,
+                    table: table?,
+                })
+            }
+            "series_spring_damper" => {
+                self.not_applicable(
+                    f,
+                    label,
+                    kind,
+                    &["direction", "stiffness_n_per_m", "damping_ns_per_m"],
+                );
+                let axis = self.axis(f, table, label);
+                let k = self.scalar(
+                    &f.stiffness_n_per_m,
+                    table,
+                    label,
+                    "stiffness_n_per_m",
+                    "N/m",
+                    true,
+                );
+                let c = self.scalar(
+                    &f.damping_ns_per_m,
+                    table,
+                    label,
+                    "damping_ns_per_m",
+                    "N·s/m",
+                    true,
+                );
+                Some(ForceLaw::SeriesSpringDamper {
+                    axis: axis?,
+                    stiffness: k?,
+                    damping: c?,
+                })
+            }
+            _ => {
+                self.not_applicable(f, label, kind, &["rotational_stiffness_nm_per_rad"]);
+                let k = self.scalar(
+                    &f.rotational_stiffness_nm_per_rad,
+                    table,
+                    label,
+                    "rotational_stiffness_nm_per_rad",
+                    "N·m/rad",
+                    false,
+                )?;
+                Some(ForceLaw::AntiRollBar { stiffness: k })
+            }
+        }
+    }
+
+    fn force_table(
+        &mut self,
+        d: &Spanned<Vec<Spanned<f64>>>,
+        f: &Spanned<Vec<Spanned<f64>>>,
+        symmetric: bool,
+        label: &str,
+    ) -> Option<ForceTable> {
+        let mut ok = true;
+        let (dv, fv) = (d.get_ref(), f.get_ref());
+        if dv.len() < 2 {
+            self.err(
+                &d.span(),
+                "deflection_mm",
+                format!(
+                    "{label}: deflection_mm needs at least 2 points, found {}",
+                    dv.len()
+                ),
+            );
+            ok = false;
+        }
+        if dv.len() != fv.len() {
+            self.err(
+                &f.span(),
+                "force_n",
+                format!(
+                    "{label}: force_n has {} values but deflection_mm has {}; expected one force per deflection",
+                    fv.len(),
+                    dv.len()
+                ),
+            );
+            ok = false;
+        }
+        for x in dv.iter().chain(fv.iter()) {
+            if !x.get_ref().is_finite() {
+                self.err(
+                    &x.span(),
+                    "deflection_mm",
+                    format!("{label}: table values must be finite"),
+                );
+                ok = false;
+            }
+        }
+        for w in dv.windows(2) {
+            if *w[1].get_ref() <= *w[0].get_ref() {
+                self.err(
+                    &w[1].span(),
+                    "deflection_mm",
+                    format!(
+                        "{label}: deflection_mm must be strictly increasing, but {} follows {}",
+                        w[1].get_ref(),
+                        w[0].get_ref()
+                    ),
+                );
+                ok = false;
+            }
+        }
+        if symmetric
+            && let Some(first) = dv.first()
+            && *first.get_ref() < 0.0
+        {
+            self.err(
+                &first.span(),
+                "deflection_mm",
+                format!(
+                    "{label}: a symmetric table is given for deflections >= 0, but deflection_mm starts at {}",
+                    first.get_ref()
+                ),
+            );
+            ok = false;
+        }
+        if !ok {
+            return None;
+        }
+        let mut deflection: Vec<f64> = dv.iter().map(|x| *x.get_ref() * 1e-3).collect();
+        let mut force: Vec<f64> = fv.iter().map(|x| *x.get_ref()).collect();
+        if symmetric && deflection[0] > 0.0 {
+            // Pin the mirrored law through the origin so that F(0) = 0 and it stays odd.
+            deflection.insert(0, 0.0);
+            force.insert(0, 0.0);
+        }
+        Some(ForceTable {
+            deflection,
+            force,
+            symmetric,
+        })
+    }
+}

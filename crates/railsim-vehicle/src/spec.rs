@@ -1,0 +1,462 @@
+//! `VehicleSpec`: the vehicle file as written, one to one with the TOML, in the file's units.
+//!
+//! Every value keeps its span so that [`crate::VehicleModel::compile`] can report
+//! `file:line:col`. Unknown keys are rejected (`deny_unknown_fields`, and a check of every
+//! table's keys before serde runs so that all unknown keys are reported, with a suggestion).
+//! The format is documented in `docs/formats/vehicle.md`.
+//!
+//! Keys are optional at the serde level; which ones are required is checked by the compile
+//! step, so that every missing key of every element is reported in one run. The reader parses
+//! the root table and each `[[body]]`, `[[wheelset]]` and `[[force]]` separately; a value of the
+//! wrong type is reported, dropped, and the table is read again, so one wrong type does not hide
+//! the next one.
+
+use std::ops::Range;
+
+use serde::Deserialize;
+use serde::de::DeserializeOwned;
+use toml::Spanned;
+use toml::de::{DeTable, DeValue, ValueDeserializer};
+
+use crate::error::{Problem, Sink, SourceMap, VehicleError, did_you_mean};
+
+/// A whole vehicle file.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleSpec {
+    /// Free-text name of the vehicle.
+    #[serde(default)]
+    pub name: Option<Spanned<String>>,
+    /// Free-text description (sources, remarks).
+    #[serde(default)]
+    pub description: Option<Spanned<String>>,
+    /// \[m/s²\] gravitational acceleration; default 9.81.
+    #[serde(default)]
+    pub gravity_m_per_s2: Option<Spanned<f64>>,
+    /// Rigid bodies other than wheelsets (carbody, bogie frames, ...).
+    #[serde(default)]
+    pub body: Vec<Spanned<BodySpec>>,
+    /// Wheelsets (at least one).
+    #[serde(default)]
+    pub wheelset: Vec<Spanned<WheelsetSpec>>,
+    /// Force elements (suspension) between two bodies, or a body and the frame `"track"`.
+    #[serde(default)]
+    pub force: Vec<Spanned<ForceSpec>>,
+    /// Names of elements that could not be read at all (their problems are already reported);
+    /// references to them are not reported again.
+    #[serde(skip)]
+    pub unreadable_names: Vec<String>,
+    /// Keys dropped by the reader because their value had the wrong type, per element:
+    /// `(table span start, key)`. The compile step does not report them as missing.
+    #[serde(skip)]
+    pub dropped_keys: Vec<(usize, String)>,
+    /// Line index of the text this spec was read from (empty when built in code).
+    #[serde(skip)]
+    pub source: SourceMap,
+}
+
+/// A rigid body (`[[body]]`).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Unique name among bodies and wheelsets (required).
+    #[serde(default)]
+    pub name: Option<Spanned<String>>,
+    /// \[kg\] mass (required, > 0).
+    #[serde(default)]
+    pub mass_kg: Option<Spanned<f64>>,
+    /// \[kg·m²\] moments of inertia `[Ixx, Iyy, Izz]` about the centre of gravity, vehicle axes
+    /// (required).
+    #[serde(default)]
+    pub inertia_kgm2: Option<Spanned<[f64; 3]>>,
+    /// \[kg·m²\] off-diagonal entries `[Ixy, Ixz, Iyz]` of the inertia tensor (the tensor's own
+    /// entries, i.e. `Ixy = -∫xy dm`); default zero.
+    #[serde(default)]
+    pub products_kgm2: Option<Spanned<[f64; 3]>>,
+    /// \[m\] centre of gravity `[x, y, z]` in the vehicle reference frame (required).
+    #[serde(default)]
+    pub position_m: Option<Spanned<[f64; 3]>>,
+    /// Degrees of freedom held at their nominal value: any of `x y z roll pitch yaw`.
+    #[serde(default)]
+    pub frozen: Option<Spanned<Vec<Spanned<String>>>>,
+}
+
+/// A wheelset (`[[wheelset]]`).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsetSpec {
+    /// Unique name among bodies and wheelsets (required).
+    #[serde(default)]
+    pub name: Option<Spanned<String>>,
+    /// \[kg\] mass (required, > 0).
+    #[serde(default)]
+    pub mass_kg: Option<Spanned<f64>>,
+    /// \[kg·m²\] `[Ixx, Iyy (spin), Izz]` about the centre of gravity (required).
+    #[serde(default)]
+    pub inertia_kgm2: Option<Spanned<[f64; 3]>>,
+    /// \[kg·m²\] off-diagonal entries `[Ixy, Ixz, Iyz]`; default zero.
+    #[serde(default)]
+    pub products_kgm2: Option<Spanned<[f64; 3]>>,
+    /// \[m\] axle centre `[x, y, z]` in the vehicle frame; z must equal the nominal radius
+    /// (required).
+    #[serde(default)]
+    pub position_m: Option<Spanned<[f64; 3]>>,
+    /// \[m\] nominal rolling radius r0 (required, > 0).
+    #[serde(default)]
+    pub nominal_radius_m: Option<Spanned<f64>>,
+    /// \[mm\] flange-back (back-to-back) distance between the inner faces of the wheels
+    /// (required; 1360 for standard gauge).
+    #[serde(default)]
+    pub back_to_back_mm: Option<Spanned<f64>>,
+    /// \[mm\] distance from the wheel's back face to its running (measuring) circle; default 70.
+    #[serde(default)]
+    pub running_circle_from_back_mm: Option<Spanned<f64>>,
+    /// Wheel profile per side (required).
+    #[serde(default)]
+    pub wheel_profile: Option<Spanned<WheelProfileSpec>>,
+    /// \[N·m\] constant traction (> 0) or brake (< 0) torque about the axle; default 0.
+    #[serde(default)]
+    pub torque_nm: Option<Spanned<f64>>,
+    /// Degrees of freedom held at their nominal value: any of `x y z roll yaw spin`.
+    #[serde(default)]
+    pub frozen: Option<Spanned<Vec<Spanned<String>>>>,
+}
+
+/// Wheel profile per side: the built-in name `"s1002"` or a file path relative to the vehicle
+/// file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelProfileSpec {
+    /// Profile of the left wheel.
+    pub left: Spanned<String>,
+    /// Profile of the right wheel.
+    pub right: Spanned<String>,
+}
+
+/// A force element (`[[force]]`). Which keys apply depends on `type`; see
+/// `docs/formats/vehicle.md`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForceSpec {
+    /// Unique name among force elements (required).
+    #[serde(default)]
+    pub name: Option<Spanned<String>>,
+    /// `"bushing"`, `"table"`, `"series_spring_damper"` or `"anti_roll_bar"` (required).
+    #[serde(default, rename = "type")]
+    pub kind: Option<Spanned<String>>,
+    /// First body (a body or wheelset name, or `"track"`) (required).
+    #[serde(default)]
+    pub body1: Option<Spanned<String>>,
+    /// Second body (a body or wheelset name, or `"track"`) (required).
+    #[serde(default)]
+    pub body2: Option<Spanned<String>>,
+    /// \[m\] attachment point in the vehicle frame, nominal configuration; on both bodies unless
+    /// `point2_m` is given (required).
+    #[serde(default)]
+    pub point_m: Option<Spanned<[f64; 3]>>,
+    /// \[m\] attachment point on `body2` when it differs from `point_m` (e.g. a damper's ends).
+    #[serde(default)]
+    pub point2_m: Option<Spanned<[f64; 3]>>,
+    /// \[deg\] orientation `[roll, pitch, yaw]` of the element's local axes relative to the
+    /// vehicle axes (R = Rz(yaw)·Ry(pitch)·Rx(roll)); default zero.
+    #[serde(default)]
+    pub orientation_deg: Option<Spanned<[f64; 3]>>,
+    /// Local axis a `table` or `series_spring_damper` acts along: `"x"`, `"y"` or `"z"`.
+    #[serde(default)]
+    pub direction: Option<Spanned<String>>,
+    /// \[N/m\] bushing: `[kx, ky, kz]`; series spring-damper: the series spring, one number.
+    #[serde(default)]
+    pub stiffness_n_per_m: Option<Spanned<NumberOrTriple>>,
+    /// \[N·s/m\] bushing: `[cx, cy, cz]`; series spring-damper: the damper, one number.
+    #[serde(default)]
+    pub damping_ns_per_m: Option<Spanned<NumberOrTriple>>,
+    /// \[N·m/rad\] bushing: `[krx, kry, krz]`; anti-roll bar: one number (about x).
+    #[serde(default)]
+    pub rotational_stiffness_nm_per_rad: Option<Spanned<NumberOrTriple>>,
+    /// \[N·m·s/rad\] bushing: `[crx, cry, crz]`.
+    #[serde(default)]
+    pub rotational_damping_nms_per_rad: Option<Spanned<NumberOrTriple>>,
+    /// \[mm\] table: deflections, strictly increasing.
+    #[serde(default)]
+    pub deflection_mm: Option<Spanned<Vec<Spanned<f64>>>>,
+    /// \[N\] table: restoring force magnitude at each deflection.
+    #[serde(default)]
+    pub force_n: Option<Spanned<Vec<Spanned<f64>>>>,
+    /// Table: mirror the table to negative deflections (odd force law); default false.
+    #[serde(default)]
+    pub symmetric: Option<Spanned<bool>>,
+}
+
+/// A number, or three numbers (one per local axis).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum NumberOrTriple {
+    /// One number.
+    One(f64),
+    /// Three numbers `[x, y, z]`.
+    Three([f64; 3]),
+}
+
+/// Keys of the root table.
+pub const ROOT_KEYS: &[&str] = &[
+    "name",
+    "description",
+    "gravity_m_per_s2",
+    "body",
+    "wheelset",
+    "force",
+];
+/// Keys of a `[[body]]`.
+pub const BODY_KEYS: &[&str] = &[
+    "name",
+    "mass_kg",
+    "inertia_kgm2",
+    "products_kgm2",
+    "position_m",
+    "frozen",
+];
+/// Keys of a `[[wheelset]]`.
+pub const WHEELSET_KEYS: &[&str] = &[
+    "name",
+    "mass_kg",
+    "inertia_kgm2",
+    "products_kgm2",
+    "position_m",
+    "nominal_radius_m",
+    "back_to_back_mm",
+    "running_circle_from_back_mm",
+    "wheel_profile",
+    "torque_nm",
+    "frozen",
+];
+/// Keys of a `[[force]]`.
+pub const FORCE_KEYS: &[&str] = &[
+    "name",
+    "type",
+    "body1",
+    "body2",
+    "point_m",
+    "point2_m",
+    "orientation_deg",
+    "direction",
+    "stiffness_n_per_m",
+    "damping_ns_per_m",
+    "rotational_stiffness_nm_per_rad",
+    "rotational_damping_nms_per_rad",
+    "deflection_mm",
+    "force_n",
+    "symmetric",
+];
+
+impl VehicleSpec {
+    /// Read a vehicle from TOML text, failing on any structural problem (syntax, unknown key,
+    /// wrong type), all of them reported. `source_name` (usually the path) prefixes every
+    /// message.
+    pub fn from_toml_str(text: &str, source_name: &str) -> Result<VehicleSpec, VehicleError> {
+        let (spec, problems) = VehicleSpec::parse_lenient(text, source_name);
+        if problems.is_empty() {
+            Ok(spec)
+        } else {
+            Err(VehicleError::Invalid { problems })
+        }
+    }
+
+    /// Read a vehicle from TOML text, keeping whatever could be read: returns the spec (with
+    /// wrongly typed values dropped) and the structural problems found. Used by
+    /// [`crate::VehicleModel::from_toml_str`] to report structural and range problems together.
+    pub fn parse_lenient(text: &str, source_name: &str) -> (VehicleSpec, Vec<Problem>) {
+        let map = SourceMap::new(text);
+        let mut sink = Sink::new(source_name, &map);
+        let (root, errors) = DeTable::parse_recoverable(text);
+        if !errors.is_empty() {
+            for e in errors {
+                sink.at(
+                    e.span().as_ref(),
+                    "",
+                    format!("TOML syntax: {}", e.message().trim()),
+                );
+            }
+            let problems = sink.problems;
+            return (
+                VehicleSpec {
+                    source: map,
+                    ..VehicleSpec::default()
+                },
+                problems,
+            );
+        }
+        let root_span = root.span();
+        let mut table = root.into_inner();
+        let arrays = [
+            ("body", table.remove("body")),
+            ("wheelset", table.remove("wheelset")),
+            ("force", table.remove("force")),
+        ];
+        let mut unreadable = Vec::new();
+        let mut dropped = Vec::new();
+        let mut spec: VehicleSpec = read_table(
+            table,
+            root_span,
+            ROOT_KEYS,
+            "vehicle",
+            &mut sink,
+            &mut dropped,
+        )
+        .unwrap_or_default();
+        for (what, value) in arrays {
+            let Some(value) = value else { continue };
+            let span = value.span();
+            let items = match value.into_inner() {
+                DeValue::Array(items) => items,
+                other => {
+                    sink.at(
+                        Some(&span),
+                        what,
+                        format!(
+                            "{what}: expected an array of tables ([[{what}]]), found {}",
+                            other.type_str()
+                        ),
+                    );
+                    continue;
+                }
+            };
+            for (i, item) in items.into_iter().enumerate() {
+                let span = item.span();
+                let DeValue::Table(t) = item.into_inner() else {
+                    sink.at(
+                        Some(&span),
+                        what,
+                        format!("{what}: expected a table ([[{what}]])"),
+                    );
+                    continue;
+                };
+                let label = match t.get("name").map(|v| v.get_ref()) {
+                    Some(DeValue::String(s)) => format!("{what} '{s}'"),
+                    _ => format!("{what} #{}", i + 1),
+                };
+                let name = match t.get("name").map(|v| v.get_ref()) {
+                    Some(DeValue::String(s)) => Some(s.to_string()),
+                    _ => None,
+                };
+                let ok = match what {
+                    "body" => read_table::<BodySpec>(
+                        t,
+                        span.clone(),
+                        BODY_KEYS,
+                        &label,
+                        &mut sink,
+                        &mut dropped,
+                    )
+                    .map(|b| spec.body.push(Spanned::new(span.clone(), b)))
+                    .is_some(),
+                    "wheelset" => read_table::<WheelsetSpec>(
+                        t,
+                        span.clone(),
+                        WHEELSET_KEYS,
+                        &label,
+                        &mut sink,
+                        &mut dropped,
+                    )
+                    .map(|w| spec.wheelset.push(Spanned::new(span.clone(), w)))
+                    .is_some(),
+                    _ => read_table::<ForceSpec>(
+                        t,
+                        span.clone(),
+                        FORCE_KEYS,
+                        &label,
+                        &mut sink,
+                        &mut dropped,
+                    )
+                    .map(|f| spec.force.push(Spanned::new(span.clone(), f)))
+                    .is_some(),
+                };
+                if !ok && let Some(n) = name {
+                    unreadable.push(n);
+                }
+            }
+        }
+        let problems = sink.problems;
+        spec.unreadable_names = unreadable;
+        spec.dropped_keys = dropped;
+        spec.source = map;
+        (spec, problems)
+    }
+}
+
+/// Deserialize one table: report every unknown key (with a suggestion), then deserialize,
+/// dropping and reporting each wrongly typed value until the rest reads.
+fn read_table<T: DeserializeOwned>(
+    mut table: DeTable<'_>,
+    span: Range<usize>,
+    known: &[&str],
+    label: &str,
+    sink: &mut Sink<'_>,
+    dropped: &mut Vec<(usize, String)>,
+) -> Option<T> {
+    let unknown: Vec<(String, Range<usize>)> = table
+        .iter()
+        .filter(|(k, _)| !known.contains(&k.get_ref().as_ref()))
+        .map(|(k, _)| (k.get_ref().to_string(), k.span()))
+        .collect();
+    for (k, key_span) in unknown {
+        sink.at(
+            Some(&key_span),
+            &k,
+            format!(
+                "{label}: unknown key '{k}'{}; expected one of: {}",
+                did_you_mean(&k, known.iter().copied()),
+                known.join(", ")
+            ),
+        );
+        table.remove(k.as_str());
+    }
+    loop {
+        let copy = DeValue::Table(table.clone());
+        let value = Spanned::new(span.clone(), DeValue::Table(table.clone()));
+        match T::deserialize(ValueDeserializer::from(value)) {
+            Ok(v) => return Some(v),
+            Err(e) => {
+                let key = e.span().and_then(|sp| key_in_value(&copy, sp.start, ""));
+                let message = e.message().trim().replace(
+                    "data did not match any variant of untagged enum NumberOrTriple",
+                    "expected a number or an array of 3 numbers",
+                );
+                let top = key
+                    .as_deref()
+                    .map(|k| k.split('.').next().unwrap_or(k).to_owned());
+                let at = e.span().unwrap_or_else(|| span.clone());
+                let k = key.clone().unwrap_or_default();
+                let text = if k.is_empty() {
+                    format!("{label}: {message}")
+                } else {
+                    format!("{label}: {k}: {message}")
+                };
+                sink.at(Some(&at), &k, text);
+                match top {
+                    Some(top) if table.remove(top.as_str()).is_some() => {
+                        dropped.push((span.start, top));
+                    }
+                    _ => return None,
+                }
+            }
+        }
+    }
+}
+
+/// The dotted key whose key or value span contains byte `offset` (deepest match).
+fn key_in_value(value: &DeValue<'_>, offset: usize, prefix: &str) -> Option<String> {
+    let DeValue::Table(table) = value else {
+        return None;
+    };
+    for (k, v) in table.iter() {
+        let name = if prefix.is_empty() {
+            k.get_ref().to_string()
+        } else {
+            format!("{prefix}.{}", k.get_ref())
+        };
+        if v.span().contains(&offset) || k.span().contains(&offset) {
+            return key_in_value(v.get_ref(), offset, &name).or(Some(name));
+        }
+    }
+    None
+}

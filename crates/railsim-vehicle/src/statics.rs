@@ -1,0 +1,261 @@
+//! Static equilibrium on level, ideal track: a linear stiffness solve of the whole vehicle.
+//!
+//! Unknowns: the small displacements (x, y, z, roll, pitch, yaw) of every body and wheelset,
+//! except frozen ones and the wheelsets' spin. Each force element contributes its stiffness at
+//! zero deflection (a bushing its K, a table its slope at 0, so a bump stop inside its
+//! clearance contributes nothing; a series spring-damper nothing, since its damper relaxes;
+//! an anti-roll bar its torsional k). Each wheel rests on the rail through a contact support
+//! at its running circle (x of the axle, y = ±b, z = 0): vertical stiffness
+//! [`CONTACT_NORMAL_STIFFNESS`] and, to remove the rigid-body modes of free wheelsets,
+//! longitudinal and lateral stiffness [`CONTACT_TANGENT_STIFFNESS`]. Gravity acts at every
+//! centre of gravity. The wheel load is the compression force of the vertical support, so the
+//! loads balance the weight exactly (up to rounding) unless frozen degrees of freedom or
+//! elements to the track carry part of it. See `docs/models/vehicle.md`.
+
+use crate::error::VehicleError;
+use crate::linalg::{Mat3, cholesky, cholesky_solve};
+use crate::model::{DofKind, Endpoint, ForceLaw, Member, VehicleModel};
+
+/// \[N/m\] vertical stiffness of a wheel's contact support in the static solve.
+pub const CONTACT_NORMAL_STIFFNESS: f64 = 1e9;
+/// \[N/m\] longitudinal and lateral stiffness of a wheel's contact support in the static solve.
+pub const CONTACT_TANGENT_STIFFNESS: f64 = 1e8;
+
+/// The static equilibrium of a vehicle on level track.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticEquilibrium {
+    /// \[N\] vertical wheel load Q per wheelset, `[left, right]`, positive in compression.
+    pub wheel_loads: Vec<[f64; 2]>,
+    /// \[m, m, m, rad, rad, rad\] displacement of each body from its nominal position.
+    pub body_displacement: Vec<[f64; 6]>,
+    /// \[m, m, m, rad, rad, rad\] displacement of each wheelset (spin always 0).
+    pub wheelset_displacement: Vec<[f64; 6]>,
+    /// \[N, N, N, N·m, N·m, N·m\] force and moment of each element on its body 2, local axes:
+    /// the preload a simulation needs for the nominal geometry to be in equilibrium.
+    pub element_force: Vec<[f64; 6]>,
+}
+
+impl StaticEquilibrium {
+    /// \[N\] sum of all wheel loads.
+    pub fn total_wheel_load(&self) -> f64 {
+        self.wheel_loads.iter().map(|q| q[0] + q[1]).sum()
+    }
+}
+
+/// A linear map from the 6·N displacements to the 6 local deflections of a connection.
+struct Connection {
+    /// 6 × 6N, row-major.
+    g: Vec<f64>,
+}
+
+impl Connection {
+    fn new(n: usize) -> Self {
+        Connection {
+            g: vec![0.0; 6 * 6 * n],
+        }
+    }
+
+    /// Add `sign` × (local deflection of point `p` on member index `m` with centre `c`).
+    fn add(&mut self, n: usize, m: usize, c: [f64; 3], p: [f64; 3], axes: &Mat3, sign: f64) {
+        let a = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
+        // d = t + r × a = t + S r with S = [[0, az, -ay], [-az, 0, ax], [ay, -ax, 0]].
+        let s = [[0.0, a[2], -a[1]], [-a[2], 0.0, a[0]], [a[1], -a[0], 0.0]];
+        let cols = 6 * n;
+        for i in 0..3 {
+            for j in 0..3 {
+                // local_i = Σ_j R[j][i] · global_j
+                let r = axes[j][i] * sign;
+                self.g[i * cols + 6 * m + j] += r;
+                for k in 0..3 {
+                    self.g[i * cols + 6 * m + 3 + k] += r * s[j][k];
+                }
+                self.g[(3 + i) * cols + 6 * m + 3 + j] += r;
+            }
+        }
+    }
+
+    /// K += Gᵀ·diag(k)·G.
+    fn assemble(&self, k: &[f64; 6], kk: &mut [f64], cols: usize) {
+        for (r, kr) in k.iter().enumerate() {
+            if *kr == 0.0 {
+                continue;
+            }
+            let row = &self.g[r * cols..(r + 1) * cols];
+            for (i, gi) in row.iter().enumerate() {
+                if *gi == 0.0 {
+                    continue;
+                }
+                for (j, gj) in row.iter().enumerate() {
+                    kk[i * cols + j] += kr * gi * gj;
+                }
+            }
+        }
+    }
+
+    fn apply(&self, u: &[f64], cols: usize) -> [f64; 6] {
+        let mut out = [0.0; 6];
+        for (r, o) in out.iter_mut().enumerate() {
+            *o = (0..cols).map(|j| self.g[r * cols + j] * u[j]).sum();
+        }
+        out
+    }
+}
+
+impl VehicleModel {
+    /// Static equilibrium on level, ideal track under gravity (linear statics, see
+    /// [`crate::statics`]).
+    ///
+    /// Fails with [`VehicleError::Statics`] when a body is not supported in some direction
+    /// (nothing connects it to the wheelsets or the track, and it is not frozen).
+    pub fn static_equilibrium(&self) -> Result<StaticEquilibrium, VehicleError> {
+        let nb = self.bodies.len();
+        let n = nb + self.wheelsets.len();
+        let cols = 6 * n;
+        let centre = |m: Member| match m {
+            Member::Body(b) => self.bodies[b.index()].position,
+            Member::Wheelset(w) => self.wheelsets[w.index()].position,
+        };
+        let index = |m: Member| match m {
+            Member::Body(b) => b.index(),
+            Member::Wheelset(w) => nb + w.index(),
+        };
+        let mut kk = vec![0.0; cols * cols];
+        let mut connections = Vec::with_capacity(self.forces.len());
+        for f in &self.forces {
+            let mut c = Connection::new(n);
+            if let Endpoint::Member(m) = f.body1 {
+                c.add(n, index(m), centre(m), f.point1, &f.axes, -1.0);
+            }
+            if let Endpoint::Member(m) = f.body2 {
+                c.add(n, index(m), centre(m), f.point2, &f.axes, 1.0);
+            }
+            let k = linear_stiffness(&f.law);
+            c.assemble(&k, &mut kk, cols);
+            connections.push((c, k));
+        }
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let support_k = [
+            CONTACT_TANGENT_STIFFNESS,
+            CONTACT_TANGENT_STIFFNESS,
+            CONTACT_NORMAL_STIFFNESS,
+            0.0,
+            0.0,
+            0.0,
+        ];
+        let mut supports = Vec::new();
+        for (i, w) in self.wheelsets.iter().enumerate() {
+            let b = w.contact_half_distance();
+            for side in [1.0, -1.0] {
+                let p = [
+                    w.position[0],
+                    w.position[1] + side * b,
+                    w.position[2] - w.nominal_radius,
+                ];
+                let mut c = Connection::new(n);
+                c.add(n, nb + i, w.position, p, &identity, 1.0);
+                c.assemble(&support_k, &mut kk, cols);
+                supports.push(c);
+            }
+        }
+        // Free unknowns: not frozen, not a wheelset's spin.
+        let mut free = Vec::new();
+        for (i, b) in self.bodies.iter().enumerate() {
+            for k in DofKind::ALL {
+                if !b.frozen[k.index()] {
+                    free.push(6 * i + k.index());
+                }
+            }
+        }
+        for (i, w) in self.wheelsets.iter().enumerate() {
+            for k in DofKind::ALL {
+                if !w.frozen[k.index()] && k != DofKind::Pitch {
+                    free.push(6 * (nb + i) + k.index());
+                }
+            }
+        }
+        let nf = free.len();
+        let mut a = vec![0.0; nf * nf];
+        for (i, gi) in free.iter().enumerate() {
+            for (j, gj) in free.iter().enumerate() {
+                a[i * nf + j] = kk[gi * cols + gj];
+            }
+        }
+        let mut rhs: Vec<f64> = free
+            .iter()
+            .map(|&g| {
+                if g % 6 == DofKind::Z.index() {
+                    let m = g / 6;
+                    let mass = if m < nb {
+                        self.bodies[m].mass
+                    } else {
+                        self.wheelsets[m - nb].mass
+                    };
+                    -mass * self.gravity
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        if let Err(j) = cholesky(&mut a, nf) {
+            let g = free[j];
+            let (m, k) = (g / 6, DofKind::ALL[g % 6]);
+            let who = if m < nb {
+                format!(
+                    "body '{}' has no support in {}",
+                    self.bodies[m].name,
+                    k.body_name()
+                )
+            } else {
+                format!(
+                    "wheelset '{}' has no support in {}",
+                    self.wheelsets[m - nb].name,
+                    k.wheelset_name()
+                )
+            };
+            return Err(VehicleError::Statics {
+                vehicle: self.name.clone(),
+                message: format!(
+                    "{who}: connect it by force elements with stiffness in that direction, or freeze it"
+                ),
+            });
+        }
+        cholesky_solve(&a, nf, &mut rhs);
+        let mut u = vec![0.0; cols];
+        for (i, g) in free.iter().enumerate() {
+            u[*g] = rhs[i];
+        }
+        let wheel_loads = supports
+            .chunks(2)
+            .map(|pair| {
+                let q = |c: &Connection| -CONTACT_NORMAL_STIFFNESS * c.apply(&u, cols)[2];
+                [q(&pair[0]), q(&pair[1])]
+            })
+            .collect();
+        let element_force = connections
+            .iter()
+            .map(|(c, k)| {
+                let d = c.apply(&u, cols);
+                std::array::from_fn(|i| -k[i] * d[i])
+            })
+            .collect();
+        let disp = |m: usize| -> [f64; 6] { std::array::from_fn(|i| u[6 * m + i]) };
+        Ok(StaticEquilibrium {
+            wheel_loads,
+            body_displacement: (0..nb).map(disp).collect(),
+            wheelset_displacement: (nb..n).map(disp).collect(),
+            element_force,
+        })
+    }
+}
+
+/// \[N/m ×3, N·m/rad ×3\] stiffness of an element at zero deflection, local axes.
+fn linear_stiffness(law: &ForceLaw) -> [f64; 6] {
+    let mut k = [0.0; 6];
+    match law {
+        ForceLaw::Bushing { stiffness, .. } => k = *stiffness,
+        ForceLaw::Table { axis, table } => k[axis.index()] = table.slope(0.0).max(0.0),
+        ForceLaw::SeriesSpringDamper { .. } => {}
+        ForceLaw::AntiRollBar { stiffness } => k[3] = *stiffness,
+    }
+    k
+}
