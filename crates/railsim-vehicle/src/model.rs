@@ -20,7 +20,7 @@ pub const MAX_REACH_WHEELSET: f64 = 2.0;
 pub const MAX_HALF_WIDTH: f64 = 2.5;
 /// \[m\] range of z of an attachment point or centre of gravity (track level to roof).
 pub const Z_RANGE: (f64, f64) = (-0.5, 6.0);
-/// Built-in wheel profile names.
+/// Built-in wheel profile names (besides `"cone:λ"`).
 pub const BUILTIN_WHEEL_PROFILES: [&str; 1] = ["s1002"];
 /// The reserved name of the track-following frame, usable as a force element's end.
 pub const TRACK: &str = "track";
@@ -137,10 +137,16 @@ pub struct Body {
 }
 
 /// A wheel profile reference, resolved.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum WheelProfile {
     /// The built-in S1002 profile of `railsim-profile`.
     S1002,
+    /// A pure cone through the running circle (`"cone:0.15"` in the file), for analytic
+    /// checks (Klingel, Wickens).
+    Cone {
+        /// \[-\] conicity λ (slope of the tread against the axle), in (0, 1\].
+        conicity: f64,
+    },
     /// A profile file (path resolved relative to the vehicle file; it exists).
     File(PathBuf),
 }
@@ -709,7 +715,9 @@ impl Compiler<'_> {
             self.err(
                 &n.span(),
                 "name",
-                format!("{what}: duplicate name '{s}' (first defined at line {l}, column {c})"),
+                format!(
+                    "{what} '{s}': duplicate name '{s}' (first defined at line {l}, column {c})"
+                ),
             );
             return None;
         }
@@ -1018,6 +1026,19 @@ impl Compiler<'_> {
         if s.eq_ignore_ascii_case("s1002") {
             return Some(WheelProfile::S1002);
         }
+        if let Some(rest) = s.strip_prefix("cone:") {
+            return match rest.trim().parse::<f64>() {
+                Ok(x) if x > 0.0 && x <= 1.0 => Some(WheelProfile::Cone { conicity: x }),
+                _ => {
+                    self.err(
+                        &v.span(),
+                        key,
+                        format!("{label}: {key} '{s}': a cone takes its conicity in (0, 1], e.g. \"cone:0.15\""),
+                    );
+                    None
+                }
+            };
+        }
         let path = base_dir.join(s);
         if !s.is_empty() && path.is_file() {
             return Some(WheelProfile::File(path));
@@ -1026,7 +1047,7 @@ impl Compiler<'_> {
             &v.span(),
             key,
             format!(
-                "{label}: {key} '{s}' is neither a built-in profile ({}) nor a file (looked for {}){}",
+                "{label}: {key} '{s}' is neither a built-in profile ({}, cone:λ) nor a file (looked for {}){}",
                 BUILTIN_WHEEL_PROFILES.join(", "),
                 path.display(),
                 did_you_mean(s, BUILTIN_WHEEL_PROFILES)
@@ -1072,10 +1093,12 @@ impl Compiler<'_> {
         // again: its problems are already listed.
         let known_bad = unreadable.iter().any(|u| u == s);
         if !known_bad {
+            // Suggest among every declared name, also those whose element failed its checks.
             let candidates: Vec<&str> = bodies
                 .iter()
                 .map(|b| b.name.as_str())
                 .chain(wheelsets.iter().map(|w| w.name.as_str()))
+                .chain(unreadable.iter().map(|u| u.as_str()))
                 .chain([TRACK])
                 .collect();
             self.err(
