@@ -415,3 +415,22 @@ fn missing_file_is_an_io_error() {
     let e = VehicleModel::from_file(Path::new("no/such/vehicle.toml")).unwrap_err();
     assert!(matches!(e, VehicleError::Io { .. }));
 }
+
+#[test]
+fn the_format_documentation_example_compiles() {
+    let doc = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/formats/vehicle.md"),
+    )
+    .unwrap();
+    let start = doc.find("```toml\n").expect("example block") + "```toml\n".len();
+    let end = start + doc[start..].find("```").unwrap();
+    let v = VehicleModel::from_toml_str(&doc[start..end], "format-doc", &vehicles_dir())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(v.internal_states().len(), 1);
+    assert_eq!(v.dofs().len(), 5 + 6);
+    assert!(matches!(
+        v.wheelsets()[0].profiles[1],
+        WheelProfile::File(ref p) if p.ends_with("profiles/MBench_S1002_v3.prw")
+    ));
+    v.static_equilibrium().unwrap();
+}
