@@ -70,48 +70,7 @@ impl From<TrackError> for TrackErrors {
     }
 }
 
-/// Line starts of a text, to turn byte offsets into 1-based `line:col`.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct SourceMap {
-    text: String,
-    line_starts: Vec<usize>,
-}
-
-impl SourceMap {
-    /// Index `text`.
-    pub fn new(text: &str) -> Self {
-        let mut line_starts = vec![0];
-        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        SourceMap {
-            text: text.to_owned(),
-            line_starts,
-        }
-    }
-
-    /// 1-based `(line, col)` of byte `offset` (col counts characters). An empty map gives (1, 1).
-    pub fn line_col(&self, offset: usize) -> (usize, usize) {
-        if self.line_starts.is_empty() {
-            return (1, 1);
-        }
-        let offset = offset.min(self.text.len());
-        let line = match self.line_starts.binary_search(&offset) {
-            Ok(i) => i,
-            Err(i) => i - 1,
-        };
-        let start = self.line_starts[line];
-        let col = self
-            .text
-            .get(start..offset)
-            .map_or(offset - start, |s| s.chars().count())
-            + 1;
-        (line + 1, col)
-    }
-
-    /// Position of the start of `span`.
-    pub fn at(&self, span: &Range<usize>) -> (usize, usize) {
-        self.line_col(span.start)
-    }
-}
+pub use railsim_spec::SourceMap;
 
 /// Collects problems for one file.
 #[derive(Debug)]

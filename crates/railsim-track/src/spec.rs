@@ -165,7 +165,7 @@ impl TrackSpec {
                             Err(e) => {
                                 let key = e
                                     .span()
-                                    .and_then(|sp| key_in_value(item.get_ref(), sp.start, ""));
+                                    .and_then(|sp| railsim_spec::key_at(item.get_ref(), sp.start));
                                 sink.parse(
                                     e.span().or_else(|| Some(item.span())),
                                     format!("segment {}: {}", i + 1, with_key(key, e.message())),
@@ -193,7 +193,7 @@ impl TrackSpec {
                 Err(e) => {
                     let key = e
                         .span()
-                        .and_then(|sp| key_in_value(copy.get_ref(), sp.start, ""));
+                        .and_then(|sp| railsim_spec::key_at(copy.get_ref(), sp.start));
                     sink.parse(
                         e.span().or(Some(span)),
                         format!("irregularities: {}", with_key(key, e.message())),
@@ -212,7 +212,7 @@ impl TrackSpec {
             Err(e) => {
                 let key = e
                     .span()
-                    .and_then(|sp| key_in_value(&root_copy, sp.start, ""));
+                    .and_then(|sp| railsim_spec::key_at(&root_copy, sp.start));
                 sink.parse(e.span().or(Some(root_span)), with_key(key, e.message()));
                 None
             }
@@ -238,22 +238,4 @@ fn with_key(key: Option<String>, message: &str) -> String {
         Some(k) if !message.contains(&format!("`{k}`")) => format!("{k}: {message}"),
         _ => message.to_owned(),
     }
-}
-
-/// The dotted key whose key or value span contains byte `offset` (deepest match).
-fn key_in_value(value: &DeValue<'_>, offset: usize, prefix: &str) -> Option<String> {
-    let DeValue::Table(table) = value else {
-        return None;
-    };
-    for (k, v) in table.iter() {
-        let name = if prefix.is_empty() {
-            k.get_ref().to_string()
-        } else {
-            format!("{prefix}.{}", k.get_ref())
-        };
-        if v.span().contains(&offset) || k.span().contains(&offset) {
-            return key_in_value(v.get_ref(), offset, &name).or(Some(name));
-        }
-    }
-    None
 }

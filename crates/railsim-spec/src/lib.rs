@@ -1,0 +1,142 @@
+//! Shared machinery of railsim's TOML file formats (tracks, vehicles, scenes): every format
+//! crate parses its own serde spec, and reports problems as `file:line:col: message` naming the
+//! key, with "did you mean" suggestions for misspelt names. This crate holds the pieces those
+//! messages need, so that they are written once.
+#![deny(rustdoc::broken_intra_doc_links)]
+
+use toml::de::DeValue;
+
+/// Line starts of a text, to turn byte offsets into 1-based `line:col`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SourceMap {
+    text: String,
+    line_starts: Vec<usize>,
+}
+
+impl SourceMap {
+    /// Index `text`.
+    pub fn new(text: &str) -> Self {
+        let mut line_starts = vec![0];
+        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        SourceMap {
+            text: text.to_owned(),
+            line_starts,
+        }
+    }
+
+    /// 1-based `(line, col)` of byte `offset` (col counts characters). An empty map gives (1, 1).
+    pub fn line_col(&self, offset: usize) -> (usize, usize) {
+        if self.line_starts.is_empty() {
+            return (1, 1);
+        }
+        let offset = offset.min(self.text.len());
+        let line = match self.line_starts.binary_search(&offset) {
+            Ok(i) => i,
+            Err(i) => i.saturating_sub(1),
+        };
+        let start = self.line_starts[line];
+        let col = self
+            .text
+            .get(start..offset)
+            .map_or(offset - start, |s| s.chars().count())
+            + 1;
+        (line + 1, col)
+    }
+
+    /// 1-based `(line, col)` of the start of `span`.
+    pub fn at(&self, span: &std::ops::Range<usize>) -> (usize, usize) {
+        self.line_col(span.start)
+    }
+}
+
+/// The dotted key whose key or value span contains byte `offset` in a parsed TOML value
+/// (deepest match), to name the key of a serde error that only has a span.
+pub fn key_at(value: &DeValue<'_>, offset: usize) -> Option<String> {
+    key_in_value(value, offset, "")
+}
+
+fn key_in_value(value: &DeValue<'_>, offset: usize, prefix: &str) -> Option<String> {
+    let DeValue::Table(table) = value else {
+        return None;
+    };
+    for (k, v) in table.iter() {
+        let name = if prefix.is_empty() {
+            k.get_ref().to_string()
+        } else {
+            format!("{prefix}.{}", k.get_ref())
+        };
+        if v.span().contains(&offset) || k.span().contains(&offset) {
+            return key_in_value(v.get_ref(), offset, &name).or(Some(name));
+        }
+    }
+    None
+}
+
+/// Levenshtein distance between two strings (characters).
+pub fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    let mut cur = vec![0; b.len() + 1];
+    for (i, ca) in a.chars().enumerate() {
+        cur[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != *cb);
+            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        std::mem::swap(&mut prev, &mut cur);
+    }
+    prev[b.len()]
+}
+
+/// `" (did you mean 'x'?)"` for the closest candidate within a small edit distance (a third of
+/// the word's length, at least 2; case-insensitive), else `""`.
+pub fn did_you_mean<'c>(word: &str, candidates: impl IntoIterator<Item = &'c str>) -> String {
+    let limit = (word.chars().count() / 3).max(2);
+    let best = candidates
+        .into_iter()
+        .map(|c| (edit_distance(&word.to_lowercase(), &c.to_lowercase()), c))
+        .filter(|(d, _)| *d <= limit)
+        .min_by_key(|(d, _)| *d);
+    match best {
+        Some((_, c)) => format!(" (did you mean '{c}'?)"),
+        None => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edit_distance_and_suggestion() {
+        assert_eq!(edit_distance("bogy", "bogie"), 2);
+        assert_eq!(edit_distance("", "abc"), 3);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+        assert_eq!(
+            did_you_mean("bogy", ["carbody", "bogie", "ws1"]),
+            " (did you mean 'bogie'?)"
+        );
+        assert_eq!(did_you_mean("zzzzzz", ["carbody", "bogie"]), "");
+    }
+
+    #[test]
+    fn line_col_counts_characters() {
+        let m = SourceMap::new("a = 1\nbé = 2\n");
+        assert_eq!(m.line_col(0), (1, 1));
+        assert_eq!(m.line_col(6), (2, 1));
+        assert_eq!(m.line_col(9), (2, 3));
+        assert_eq!(SourceMap::default().line_col(5), (1, 1));
+    }
+
+    #[test]
+    fn key_at_finds_the_deepest_key() {
+        // (Spans of inline tables cover their contents; the formats look keys up inside one
+        // table or array item at a time.)
+        let text = "a = 1\nb = { c = { d = \"x\" } }\n";
+        let root = toml::de::DeTable::parse(text).unwrap();
+        let v = DeValue::Table(root.into_inner());
+        let off = text.find("\"x\"").unwrap();
+        assert_eq!(key_at(&v, off).as_deref(), Some("b.c.d"));
+        assert_eq!(key_at(&v, 0).as_deref(), Some("a"));
+    }
+}
