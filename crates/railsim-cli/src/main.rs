@@ -20,6 +20,8 @@ use railsim_profile::conicity::{
 };
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
 
+mod replay;
+
 /// railsim: rail-vehicle dynamics with online multi-patch wheel/rail contact.
 #[derive(Parser)]
 #[command(name = "railsim", version, about)]
@@ -35,6 +37,9 @@ enum Command {
     Contact(ContactArgs),
     /// Rolling-radius difference, contact angles and equivalent conicity of a wheelset on a track.
     Conicity(ConicityArgs),
+    /// Read a log: list its channels, scene and statistics (no options), export topics and a
+    /// time range to CSV (--csv), or plot signals against time to PNG (--plot ... --png).
+    Replay(replay::ReplayArgs),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -156,6 +161,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Contact(a) => run_contact(&a),
         Command::Conicity(a) => run_conicity(&a),
+        Command::Replay(a) => replay::run_replay(&a),
     };
     match result {
         Ok(code) => code,

@@ -1,0 +1,623 @@
+//! `railsim replay LOG`: lists a log's channels, scene and statistics, exports topics to CSV and
+//! plots signals to PNG. Reading, flattening and units come from `railsim_log`; this module only
+//! chooses what to read, formats it and draws it.
+
+use std::collections::HashMap;
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::Args;
+use plotters::prelude::*;
+use plotters::style::{FontStyle, register_font};
+
+use railsim_log::export::{
+    Scalar, csv_file_name, export_csv, export_csv_files, flatten_json, summarize, units_of,
+};
+use railsim_log::{LogError, LogReader, Query, ns_to_s, s_to_ns};
+
+/// DejaVu Sans (Bitstream Vera licence, see `assets/SOURCE.md`): the plots' only font, so that
+/// drawing text needs no system font library.
+const FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+const FONT_FAMILY: &str = "sans-serif";
+/// \[px\] size of the PNG.
+const PLOT_SIZE: (u32, u32) = (1280, 720);
+/// Line colours, chosen to stay distinct on white and from each other.
+const COLOURS: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(23, 190, 207),
+    RGBColor(0, 0, 0),
+];
+
+#[derive(Args)]
+pub struct ReplayArgs {
+    /// The MCAP log written by `railsim run` (a log cut short by a killed run is read up to its
+    /// last complete chunk).
+    log: PathBuf,
+    /// Topics to list or export, comma-separated (default: all).
+    #[arg(long, value_delimiter = ',')]
+    topics: Vec<String>,
+    /// Start of the time range (s), inclusive.
+    #[arg(long)]
+    from_s: Option<f64>,
+    /// End of the time range (s), inclusive.
+    #[arg(long)]
+    to_s: Option<f64>,
+    /// Export to CSV: a directory (one `<topic>.csv` per topic, created if needed) or a single
+    /// `.csv` file (exactly one topic).
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Signals to plot against time, comma-separated, each `topic:field.path`, e.g.
+    /// `/wheelsets/0:y_over_q_left` or `/bodies/wheelset_0:position.1`.
+    #[arg(long, value_delimiter = ',', requires = "png")]
+    plot: Vec<String>,
+    /// The PNG file the plot is written to.
+    #[arg(long, requires = "plot")]
+    png: Option<PathBuf>,
+}
+
+pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
+    let reader = open_log(&a.log)?;
+    if let Some(note) = reader.truncation() {
+        eprintln!("railsim: warning: {} is truncated: {note}", a.log.display());
+    }
+    let range = time_range(a.from_s, a.to_s)?;
+    check_topics(&reader, &a.topics)?;
+    let mut query = if a.topics.is_empty() {
+        Query::all()
+    } else {
+        Query::topics(a.topics.iter().cloned())
+    };
+    query.start_ns = range.0;
+    query.end_ns = range.1;
+
+    let mut did_something = false;
+    if let Some(out) = &a.csv {
+        write_csv(&reader, &query, out)?;
+        did_something = true;
+    }
+    if let Some(png) = &a.png {
+        plot(&reader, &a.plot, range, png)?;
+        did_something = true;
+    }
+    if !did_something {
+        list(&reader, &query)?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn open_log(path: &Path) -> Result<LogReader> {
+    LogReader::open(path).map_err(|e| match e {
+        LogError::Corrupt { what, .. } if what.starts_with("the file starts with") => anyhow!(
+            "{}: not an MCAP file ({what}; an MCAP log starts with the bytes \\x89MCAP0\\r\\n)",
+            path.display()
+        ),
+        other => flat(other),
+    })
+}
+
+/// A log error as a one-line message: its `Display` already includes its cause, which `{:#}`
+/// would otherwise print a second time.
+fn flat(e: LogError) -> anyhow::Error {
+    anyhow!("{e}")
+}
+
+/// `--from-s` / `--to-s` as an inclusive nanosecond range.
+fn time_range(from_s: Option<f64>, to_s: Option<f64>) -> Result<(Option<u64>, Option<u64>)> {
+    let to_ns = |name: &str, t: Option<f64>| -> Result<Option<u64>> {
+        t.map(|t| {
+            s_to_ns(t).ok_or_else(|| anyhow!("{name}: expected a time >= 0 in seconds, found {t}"))
+        })
+        .transpose()
+    };
+    let from = to_ns("--from-s", from_s)?;
+    let to = to_ns("--to-s", to_s)?;
+    if let (Some(f), Some(t)) = (from, to)
+        && f > t
+    {
+        bail!(
+            "--from-s {} is after --to-s {}",
+            from_s.unwrap_or_default(),
+            to_s.unwrap_or_default()
+        );
+    }
+    Ok((from, to))
+}
+
+fn available_topics(reader: &LogReader) -> String {
+    let topics: Vec<&str> = reader.channels().iter().map(|c| c.topic.as_str()).collect();
+    if topics.is_empty() {
+        "the log has no channels".to_owned()
+    } else {
+        format!("the log has: {}", topics.join(", "))
+    }
+}
+
+fn check_topics(reader: &LogReader, topics: &[String]) -> Result<()> {
+    for topic in topics {
+        if reader.channel(topic).is_none() {
+            bail!(
+                "{}: unknown topic '{topic}'; {}",
+                reader.path().display(),
+                available_topics(reader)
+            );
+        }
+    }
+    Ok(())
+}
+
+/// A number in a column: fixed-point in a readable range, exponent otherwise.
+fn num(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 {
+        "0".to_owned()
+    } else if (1e-3..1e6).contains(&a) {
+        let s = format!("{x:.6}");
+        let s = s.trim_end_matches('0');
+        s.trim_end_matches('.').to_owned()
+    } else {
+        let s = format!("{x:.6e}");
+        match s.split_once('e') {
+            Some((mantissa, exp)) if mantissa.contains('.') => {
+                let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+                format!("{mantissa}e{exp}")
+            }
+            _ => s,
+        }
+    }
+}
+
+fn seconds(t_ns: Option<u64>) -> String {
+    t_ns.map_or_else(|| "-".to_owned(), |t| format!("{:.6}", ns_to_s(t)))
+}
+
+/// Prints rows as left-aligned first columns and right-aligned numeric columns.
+fn print_table(header: &[&str], rows: &[Vec<String>], left: usize, indent: &str) {
+    let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    for row in rows {
+        for (w, cell) in widths.iter_mut().zip(row) {
+            *w = (*w).max(cell.chars().count());
+        }
+    }
+    let line = |cells: &mut dyn Iterator<Item = &str>| {
+        let mut s = String::from(indent);
+        for (i, (cell, w)) in cells.zip(&widths).enumerate() {
+            if i > 0 {
+                s.push_str("  ");
+            }
+            let pad = w - cell.chars().count();
+            if i < left {
+                s.push_str(cell);
+                s.push_str(&" ".repeat(pad));
+            } else {
+                s.push_str(&" ".repeat(pad));
+                s.push_str(cell);
+            }
+        }
+        println!("{}", s.trim_end());
+    };
+    line(&mut header.iter().copied());
+    for row in rows {
+        line(&mut row.iter().map(String::as_str));
+    }
+}
+
+fn list(reader: &LogReader, query: &Query) -> Result<()> {
+    let status = if reader.is_complete() {
+        "finished"
+    } else {
+        "truncated, read up to its last complete chunk"
+    };
+    println!(
+        "log {} ({status}): {} messages on {} channels",
+        reader.path().display(),
+        reader.message_count(),
+        reader.channels().len()
+    );
+    match reader.time_range() {
+        Some((first, last)) => println!(
+            "time {} s to {} s",
+            seconds(Some(first)),
+            seconds(Some(last))
+        ),
+        None => println!("no messages"),
+    }
+    match reader.scene() {
+        Some(scene) => {
+            let name = scene.get("name").map_or("(unnamed)", String::as_str);
+            println!("scene {name}: {} keys", scene.len());
+            let width = scene.keys().map(|k| k.chars().count()).max().unwrap_or(0);
+            for (k, v) in scene {
+                let mut v = v.replace('\n', " ");
+                if v.chars().count() > 70 {
+                    v = v.chars().take(67).collect::<String>() + "...";
+                }
+                println!("  {k:<width$} = {v}");
+            }
+        }
+        None => println!("scene: none recorded"),
+    }
+    if let Some(toml) = reader.scene_toml().map_err(flat)? {
+        println!("scene TOML attached ({} bytes)", toml.len());
+    }
+
+    println!();
+    println!("channels:");
+    let rows: Vec<Vec<String>> = reader
+        .channels()
+        .iter()
+        .filter(|c| query.topics.as_ref().is_none_or(|t| t.contains(&c.topic)))
+        .map(|c| {
+            vec![
+                c.topic.clone(),
+                c.schema_name.clone(),
+                c.message_count.to_string(),
+                seconds(c.first_ns),
+                seconds(c.last_ns),
+            ]
+        })
+        .collect();
+    print_table(
+        &["topic", "schema", "messages", "first[s]", "last[s]"],
+        &rows,
+        2,
+        "  ",
+    );
+
+    let stats = summarize(reader, query).map_err(flat)?;
+    println!();
+    match (query.start_ns, query.end_ns) {
+        (None, None) => println!("statistics (numeric fields):"),
+        (s, e) => println!(
+            "statistics (numeric fields) from {} s to {} s:",
+            s.map_or("start".to_owned(), |t| format!("{}", ns_to_s(t))),
+            e.map_or("end".to_owned(), |t| format!("{}", ns_to_s(t)))
+        ),
+    }
+    for topic in &stats {
+        println!();
+        println!(
+            "{} ({}, {} messages)",
+            topic.topic, topic.schema_name, topic.messages
+        );
+        if topic.fields.is_empty() {
+            println!("  no numeric fields in range");
+            continue;
+        }
+        let rows: Vec<Vec<String>> = topic
+            .fields
+            .iter()
+            .map(|f| {
+                vec![
+                    f.path.clone(),
+                    f.unit.clone().unwrap_or_default(),
+                    num(f.min),
+                    num(f.max),
+                    num(f.mean),
+                ]
+            })
+            .collect();
+        print_table(&["field", "unit", "min", "max", "mean"], &rows, 2, "  ");
+    }
+    Ok(())
+}
+
+fn write_csv(reader: &LogReader, query: &Query, out: &Path) -> Result<()> {
+    let is_file = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+        && !out.is_dir();
+    let range = match (query.start_ns, query.end_ns) {
+        (None, None) => None,
+        (s, e) => Some((s.unwrap_or(0), e.unwrap_or(u64::MAX))),
+    };
+    if is_file {
+        let topic = match &query.topics {
+            Some(t) if t.len() == 1 => t[0].clone(),
+            Some(t) => bail!(
+                "--csv {}: a single CSV file holds one topic, {} were given; give a directory \
+                 for one file per topic",
+                out.display(),
+                t.len()
+            ),
+            None if reader.channels().len() == 1 => reader.channels()[0].topic.clone(),
+            None => bail!(
+                "--csv {}: a single CSV file holds one topic; choose one with --topics ({}) or \
+                 give a directory for one file per topic",
+                out.display(),
+                available_topics(reader)
+            ),
+        };
+        let file = File::create(out).with_context(|| format!("creating {}", out.display()))?;
+        let export = export_csv(reader, &topic, range, file).map_err(flat)?;
+        println!("{topic}: {} rows to {}", export.rows, out.display());
+        return Ok(());
+    }
+    // Two topics that map to one file name would overwrite each other: refuse before writing.
+    let topics: Vec<&str> = match &query.topics {
+        Some(t) => t.iter().map(String::as_str).collect(),
+        None => reader.channels().iter().map(|c| c.topic.as_str()).collect(),
+    };
+    let mut seen = HashMap::new();
+    for topic in topics {
+        if let Some(other) = seen.insert(csv_file_name(topic), topic) {
+            bail!(
+                "--csv {}: topics '{other}' and '{topic}' both map to {}; export them one at a time",
+                out.display(),
+                csv_file_name(topic)
+            );
+        }
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let written = export_csv_files(reader, query, out).map_err(flat)?;
+    for (topic, file, rows) in &written {
+        println!("{topic}: {rows} rows to {}", file.display());
+    }
+    Ok(())
+}
+
+/// One requested signal and the samples read for it.
+struct Signal {
+    topic: String,
+    field: String,
+    unit: Option<String>,
+    /// Samples per line. Topics such as `/contact/0/left` carry one message per patch at each
+    /// time: each patch (by the message's `patch` field, else by its rank among the messages of
+    /// one time) becomes its own line.
+    series: Vec<Vec<(f64, f64)>>,
+    /// Whether lines are told apart by a `patch` field (else by rank within a time).
+    by_patch: bool,
+}
+
+fn parse_signal(reader: &LogReader, spec: &str) -> Result<Signal> {
+    let Some((topic, field)) = spec.rsplit_once(':') else {
+        bail!(
+            "--plot: expected topic:field.path, found \"{spec}\" (e.g. /wheelsets/0:y_over_q_left)"
+        );
+    };
+    if field.is_empty() {
+        bail!("--plot: \"{spec}\" names no field after the ':'");
+    }
+    let channel = reader.channel(topic).ok_or_else(|| {
+        anyhow!(
+            "{}: --plot {spec}: unknown topic '{topic}'; {}",
+            reader.path().display(),
+            available_topics(reader)
+        )
+    })?;
+    let units = units_of(channel);
+    let unit_key: Vec<&str> = field
+        .split('.')
+        .filter(|p| p.parse::<usize>().is_err())
+        .collect();
+    Ok(Signal {
+        topic: topic.to_owned(),
+        field: field.to_owned(),
+        unit: units.get(&unit_key.join(".")).cloned(),
+        series: Vec::new(),
+        by_patch: false,
+    })
+}
+
+fn read_signal(
+    reader: &LogReader,
+    signal: &mut Signal,
+    range: (Option<u64>, Option<u64>),
+) -> Result<()> {
+    let mut query = Query::topics([signal.topic.as_str()]);
+    query.start_ns = range.0;
+    query.end_ns = range.1;
+    let mut last_t: Option<u64> = None;
+    let mut index = 0usize;
+    let mut fields_seen: Option<Vec<String>> = None;
+    let path = reader.path().to_path_buf();
+    reader
+        .for_each(&query, |m| {
+            let fields = flatten_json(m.data).map_err(|e| LogError::Export {
+                path: path.clone(),
+                message: format!(
+                    "message on '{}' at t = {} ns is not JSON: {e}",
+                    signal.topic, m.log_time_ns
+                ),
+            })?;
+            index = if last_t == Some(m.log_time_ns) {
+                index + 1
+            } else {
+                0
+            };
+            last_t = Some(m.log_time_ns);
+            let patch = fields.iter().find_map(|(p, v)| match v {
+                Scalar::Number(x) if p == "patch" && *x >= 0.0 && x.fract() == 0.0 => {
+                    Some(*x as usize)
+                }
+                _ => None,
+            });
+            signal.by_patch |= patch.is_some();
+            let index = patch.unwrap_or(index);
+            match fields.iter().find(|(p, _)| *p == signal.field) {
+                Some((_, Scalar::Number(y))) => {
+                    if signal.series.len() <= index {
+                        signal.series.resize_with(index + 1, Vec::new);
+                    }
+                    signal.series[index].push((ns_to_s(m.log_time_ns), *y));
+                }
+                // A non-finite value is logged as null: leave a gap rather than fail.
+                Some((_, Scalar::Null)) => {}
+                Some((_, other)) => {
+                    return Err(LogError::Export {
+                        path: path.clone(),
+                        message: format!(
+                            "field '{}' of '{}' is not numeric (found \"{other}\")",
+                            signal.field, signal.topic
+                        ),
+                    });
+                }
+                None => {
+                    fields_seen = Some(fields.into_iter().map(|(p, _)| p).collect());
+                    return Err(LogError::Export {
+                        path: path.clone(),
+                        message: String::new(),
+                    });
+                }
+            }
+            Ok(())
+        })
+        .map_err(|e| match &fields_seen {
+            Some(fields) => anyhow!(
+                "{}: unknown field '{}' on topic '{}'; its fields are: {}",
+                reader.path().display(),
+                signal.field,
+                signal.topic,
+                fields.join(", ")
+            ),
+            None => flat(e),
+        })
+}
+
+fn plot(
+    reader: &LogReader,
+    specs: &[String],
+    range: (Option<u64>, Option<u64>),
+    png: &Path,
+) -> Result<()> {
+    let mut signals = Vec::new();
+    for spec in specs {
+        signals.push(parse_signal(reader, spec)?);
+    }
+    for signal in &mut signals {
+        read_signal(reader, signal, range)?;
+    }
+    let points = signals
+        .iter()
+        .flat_map(|s| s.series.iter().flatten())
+        .filter(|(_, y)| y.is_finite());
+    let (mut t0, mut t1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for &(t, y) in points {
+        t0 = t0.min(t);
+        t1 = t1.max(t);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if !t0.is_finite() {
+        bail!(
+            "--plot: no samples of {} in the chosen time range",
+            specs.join(", ")
+        );
+    }
+    if t1 <= t0 {
+        t1 = t0 + 1e-3;
+    }
+    let pad = if y1 > y0 {
+        0.05 * (y1 - y0)
+    } else {
+        0.05 * y0.abs().max(1e-12)
+    };
+    let (y0, y1) = (y0 - pad, y1 + pad);
+
+    let units: Vec<Option<&str>> = signals.iter().map(|s| s.unit.as_deref()).collect();
+    let y_label = if signals.len() == 1 {
+        label(&signals[0])
+    } else if units.iter().all(|u| *u == units[0]) {
+        format!("value [{}]", units[0].unwrap_or("1"))
+    } else {
+        "value (units in the legend)".to_owned()
+    };
+    let title = match reader.scene().and_then(|s| s.get("name")) {
+        Some(name) => format!("scene {name}: {}", file_name(reader.path())),
+        None => file_name(reader.path()),
+    };
+
+    register_font(FONT_FAMILY, FontStyle::Normal, FONT)
+        .map_err(|_| anyhow!("the built-in font assets/DejaVuSans.ttf does not load"))?;
+    let draw_err = |e: &dyn std::fmt::Display| anyhow!("{}: drawing the plot: {e}", png.display());
+    {
+        let root = BitMapBackend::new(png, PLOT_SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| draw_err(&e))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, (FONT_FAMILY, 24))
+            .margin(16)
+            .x_label_area_size(50)
+            .y_label_area_size(90)
+            .build_cartesian_2d(t0..t1, y0..y1)
+            .map_err(|e| draw_err(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("time [s]")
+            .y_desc(y_label)
+            .label_style((FONT_FAMILY, 15))
+            .axis_desc_style((FONT_FAMILY, 18))
+            .draw()
+            .map_err(|e| draw_err(&e))?;
+        let mut colour = 0usize;
+        for signal in &signals {
+            let several = signal.series.len() > 1;
+            for (k, series) in signal.series.iter().enumerate() {
+                let c = COLOURS[colour % COLOURS.len()];
+                colour += 1;
+                if series.is_empty() {
+                    continue;
+                }
+                let name = if signal.by_patch && (several || k > 0) {
+                    format!("{} patch {k}", label(signal))
+                } else if several {
+                    format!("{} (message {k} at each time)", label(signal))
+                } else {
+                    label(signal)
+                };
+                chart
+                    .draw_series(LineSeries::new(series.iter().copied(), c.stroke_width(2)))
+                    .map_err(|e| draw_err(&e))?
+                    .label(name)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(2))
+                    });
+            }
+        }
+        chart
+            .configure_series_labels()
+            .label_font((FONT_FAMILY, 15))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(|e| draw_err(&e))?;
+        root.present().map_err(|e| draw_err(&e))?;
+    }
+    let samples: usize = signals
+        .iter()
+        .flat_map(|s| s.series.iter().map(Vec::len))
+        .sum();
+    println!(
+        "plotted {} signal(s), {samples} samples, {} s to {} s, to {}",
+        signals.len(),
+        num(t0),
+        num(t1),
+        png.display()
+    );
+    Ok(())
+}
+
+fn label(signal: &Signal) -> String {
+    match &signal.unit {
+        Some(u) => format!("{}:{} [{u}]", signal.topic, signal.field),
+        None => format!("{}:{}", signal.topic, signal.field),
+    }
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
