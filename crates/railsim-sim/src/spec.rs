@@ -1,0 +1,362 @@
+//! `SceneSpec`: the scene file as written, one to one with the TOML, in the file's units.
+//!
+//! Every value keeps its span so that [`crate::Scene::compile`] can report `file:line:col`.
+//! Unknown keys are rejected (`deny_unknown_fields`, and a check of every table's keys before
+//! serde runs, so that all unknown keys are reported, with a suggestion). The format is
+//! documented in `docs/formats/scene.md`.
+//!
+//! Keys are optional at the serde level; which ones are required, and which combinations are
+//! allowed, is checked by the compile step so that every problem is reported in one run. The
+//! reader parses the root table and each sub-table (`[speed_profile]`, `[contact]`,
+//! `[integrator]`, `[log]`, `[initial]`) separately; a value of the wrong type is reported,
+//! dropped, and the table is read again, so one wrong type does not hide the next one.
+
+use std::ops::Range;
+
+use serde::Deserialize;
+use serde::de::DeserializeOwned;
+use toml::Spanned;
+use toml::de::{DeTable, DeValue, ValueDeserializer};
+
+use crate::error::{Problem, SceneError, Sink, SourceMap, did_you_mean};
+
+/// A whole scene file.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSpec {
+    /// Free-text name of the scene.
+    #[serde(default)]
+    pub name: Option<Spanned<String>>,
+    /// Free-text description.
+    #[serde(default)]
+    pub description: Option<Spanned<String>>,
+    /// Vehicle file, relative to the scene file (required).
+    #[serde(default)]
+    pub vehicle: Option<Spanned<String>>,
+    /// Track file, relative to the scene file (required).
+    #[serde(default)]
+    pub track: Option<Spanned<String>>,
+    /// \[km/h\] constant speed (this or `[speed_profile]`).
+    #[serde(default)]
+    pub speed_kmh: Option<Spanned<f64>>,
+    /// Speed against distance run (this or `speed_kmh`).
+    #[serde(default)]
+    pub speed_profile: Option<Spanned<SpeedProfileSpec>>,
+    /// \[m\] track position s of the vehicle reference point (x = 0 of the vehicle frame) at
+    /// t = 0; default: the rearmost wheelset at s = 0.
+    #[serde(default)]
+    pub start_m: Option<Spanned<f64>>,
+    /// \[s\] simulated time (this or `distance_m`).
+    #[serde(default)]
+    pub duration_s: Option<Spanned<f64>>,
+    /// \[m\] distance run (this or `duration_s`).
+    #[serde(default)]
+    pub distance_m: Option<Spanned<f64>>,
+    /// Wheel/rail contact model; default `stripes`.
+    #[serde(default)]
+    pub contact: Option<Spanned<ContactSpec>>,
+    /// ODE integrator; default `dopri5`.
+    #[serde(default)]
+    pub integrator: Option<Spanned<IntegratorSpec>>,
+    /// What to log and where; defaults when absent.
+    #[serde(default)]
+    pub log: Option<Spanned<LogSpec>>,
+    /// Initial disturbance of the leading wheelset; none when absent.
+    #[serde(default)]
+    pub initial: Option<Spanned<InitialSpec>>,
+    /// Degrees of freedom held at their nominal value, as `"body.dof"` (e.g. `"ws1.spin"`).
+    #[serde(default)]
+    pub freeze: Option<Spanned<Vec<Spanned<String>>>>,
+    /// Keys dropped by the reader because their value had the wrong type:
+    /// `(table span start, key)`. The compile step does not report them as missing.
+    #[serde(skip)]
+    pub dropped_keys: Vec<(usize, String)>,
+    /// Sub-tables that could not be read at all (their problems are already reported).
+    #[serde(skip)]
+    pub unreadable_tables: Vec<String>,
+    /// Line index of the text this spec was read from (empty when built in code).
+    #[serde(skip)]
+    pub source: SourceMap,
+}
+
+/// `[speed_profile]`: speed against distance run, linear in between, constant beyond the ends.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedProfileSpec {
+    /// \[m\] distance run since t = 0, starting at 0, strictly increasing (required).
+    #[serde(default)]
+    pub distance_m: Option<Spanned<Vec<Spanned<f64>>>>,
+    /// \[km/h\] speed at each distance, positive (required).
+    #[serde(default)]
+    pub speed_kmh: Option<Spanned<Vec<Spanned<f64>>>>,
+}
+
+/// `[contact]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// `"polach"`, `"fastsim"`, `"stripes"` or `"halfspace"` (required in the table).
+    #[serde(default)]
+    pub model: Option<Spanned<String>>,
+    /// \[mm\] arc-length step of the contact search near contact; default 0.5.
+    #[serde(default)]
+    pub step_mm: Option<Spanned<f64>>,
+}
+
+/// `[integrator]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntegratorSpec {
+    /// `"dopri5"`, `"rk4"` or `"radau5"` (required in the table).
+    #[serde(default)]
+    pub method: Option<Spanned<String>>,
+    /// \[-\] relative tolerance (`dopri5`, `radau5`); default 1e-6.
+    #[serde(default)]
+    pub rtol: Option<Spanned<f64>>,
+    /// \[SI units of the state\] absolute tolerance (`dopri5`, `radau5`); default 1e-8.
+    #[serde(default)]
+    pub atol: Option<Spanned<f64>>,
+    /// \[s\] fixed step (`rk4`, required there).
+    #[serde(default)]
+    pub step_s: Option<Spanned<f64>>,
+    /// \[s\] largest step (`dopri5`, `radau5`); default unlimited.
+    #[serde(default)]
+    pub max_step_s: Option<Spanned<f64>>,
+}
+
+/// `[log]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LogSpec {
+    /// MCAP file to write, relative to the working directory of the run; default
+    /// `out/run.mcap`.
+    #[serde(default)]
+    pub path: Option<Spanned<String>>,
+    /// \[Hz\] logging rate; default 200.
+    #[serde(default)]
+    pub rate_hz: Option<Spanned<f64>>,
+    /// Topics to log: any of `bodies`, `contact`, `wheelsets`, `tf`; default all.
+    #[serde(default)]
+    pub topics: Option<Spanned<Vec<Spanned<String>>>>,
+}
+
+/// `[initial]`: a disturbance of the leading wheelset at t = 0.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    /// \[mm\] lateral offset, positive to the left; default 0.
+    #[serde(default)]
+    pub lateral_offset_mm: Option<Spanned<f64>>,
+    /// \[mrad\] yaw angle, positive nose-left; default 0.
+    #[serde(default)]
+    pub yaw_mrad: Option<Spanned<f64>>,
+}
+
+/// Keys of the root table.
+pub const ROOT_KEYS: &[&str] = &[
+    "name",
+    "description",
+    "vehicle",
+    "track",
+    "speed_kmh",
+    "speed_profile",
+    "start_m",
+    "duration_s",
+    "distance_m",
+    "contact",
+    "integrator",
+    "log",
+    "initial",
+    "freeze",
+];
+/// Keys of `[speed_profile]`.
+pub const SPEED_PROFILE_KEYS: &[&str] = &["distance_m", "speed_kmh"];
+/// Keys of `[contact]`.
+pub const CONTACT_KEYS: &[&str] = &["model", "step_mm"];
+/// Keys of `[integrator]`.
+pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_step_s"];
+/// Keys of `[log]`.
+pub const LOG_KEYS: &[&str] = &["path", "rate_hz", "topics"];
+/// Keys of `[initial]`.
+pub const INITIAL_KEYS: &[&str] = &["lateral_offset_mm", "yaw_mrad"];
+
+const SUBTABLES: [(&str, &[&str]); 5] = [
+    ("speed_profile", SPEED_PROFILE_KEYS),
+    ("contact", CONTACT_KEYS),
+    ("integrator", INTEGRATOR_KEYS),
+    ("log", LOG_KEYS),
+    ("initial", INITIAL_KEYS),
+];
+
+/// A sub-table taken out of the root: name, known keys, value.
+type Subtable<'a> = (
+    &'static str,
+    &'static [&'static str],
+    Option<Spanned<DeValue<'a>>>,
+);
+
+impl SceneSpec {
+    /// Read a scene from TOML text, failing on any structural problem (syntax, unknown key,
+    /// wrong type), all of them reported. `source_name` (usually the path) prefixes every
+    /// message.
+    pub fn from_toml_str(text: &str, source_name: &str) -> Result<SceneSpec, SceneError> {
+        let (spec, problems) = SceneSpec::parse_lenient(text, source_name);
+        if problems.is_empty() {
+            Ok(spec)
+        } else {
+            Err(SceneError::Invalid { problems })
+        }
+    }
+
+    /// Read a scene from TOML text, keeping whatever could be read: returns the spec (with
+    /// wrongly typed values dropped) and the structural problems found. Used by
+    /// [`crate::Scene::from_toml_str`] to report structural and range problems together.
+    pub fn parse_lenient(text: &str, source_name: &str) -> (SceneSpec, Vec<Problem>) {
+        let map = SourceMap::new(text);
+        let mut sink = Sink::new(source_name, &map);
+        let (root, errors) = DeTable::parse_recoverable(text);
+        if !errors.is_empty() {
+            for e in errors {
+                let span = e.span().unwrap_or(0..0);
+                sink.at(&span, "", format!("TOML syntax: {}", e.message().trim()));
+            }
+            let problems = sink.problems;
+            return (
+                SceneSpec {
+                    source: map,
+                    ..SceneSpec::default()
+                },
+                problems,
+            );
+        }
+        let root_span = root.span();
+        let mut table = root.into_inner();
+        let subtables: Vec<Subtable<'_>> = SUBTABLES
+            .iter()
+            .map(|(name, keys)| (*name, *keys, table.remove(*name)))
+            .collect();
+        let mut dropped = Vec::new();
+        let mut spec: SceneSpec =
+            read_table(table, root_span, ROOT_KEYS, "", &mut sink, &mut dropped)
+                .unwrap_or_default();
+        let mut unreadable = Vec::new();
+        for (name, keys, value) in subtables {
+            let Some(value) = value else { continue };
+            let span = value.span();
+            let DeValue::Table(t) = value.into_inner() else {
+                sink.at(
+                    &span,
+                    name,
+                    format!("{name}: expected a table ([{name}] or {name} = {{ ... }})"),
+                );
+                unreadable.push(name.to_owned());
+                continue;
+            };
+            let label = format!("[{name}] ");
+            let ok = match name {
+                "speed_profile" => {
+                    read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
+                        .map(|v| spec.speed_profile = Some(Spanned::new(span.clone(), v)))
+                        .is_some()
+                }
+                "contact" => read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
+                    .map(|v| spec.contact = Some(Spanned::new(span.clone(), v)))
+                    .is_some(),
+                "integrator" => read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
+                    .map(|v| spec.integrator = Some(Spanned::new(span.clone(), v)))
+                    .is_some(),
+                "log" => read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
+                    .map(|v| spec.log = Some(Spanned::new(span.clone(), v)))
+                    .is_some(),
+                _ => read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
+                    .map(|v| spec.initial = Some(Spanned::new(span.clone(), v)))
+                    .is_some(),
+            };
+            if !ok {
+                unreadable.push(name.to_owned());
+            }
+        }
+        let mut problems = sink.problems;
+        problems.sort_by_key(|p| (p.line, p.col));
+        spec.dropped_keys = dropped;
+        spec.unreadable_tables = unreadable;
+        spec.source = map;
+        (spec, problems)
+    }
+}
+
+/// Deserialize one table: report every unknown key (with a suggestion), then deserialize,
+/// dropping and reporting each wrongly typed value until the rest reads. `label` prefixes the
+/// messages (`"[contact] "`, or empty for the root table).
+fn read_table<T: DeserializeOwned>(
+    mut table: DeTable<'_>,
+    span: Range<usize>,
+    known: &[&str],
+    label: &str,
+    sink: &mut Sink<'_>,
+    dropped: &mut Vec<(usize, String)>,
+) -> Option<T> {
+    let unknown: Vec<(String, Range<usize>)> = table
+        .iter()
+        .filter(|(k, _)| !known.contains(&k.get_ref().as_ref()))
+        .map(|(k, _)| (k.get_ref().to_string(), k.span()))
+        .collect();
+    for (k, key_span) in unknown {
+        sink.at(
+            &key_span,
+            &k,
+            format!(
+                "{label}unknown key '{k}'{}; expected one of: {}",
+                did_you_mean(&k, known.iter().copied()),
+                known.join(", ")
+            ),
+        );
+        table.remove(k.as_str());
+    }
+    loop {
+        let copy = DeValue::Table(table.clone());
+        let value = Spanned::new(span.clone(), DeValue::Table(table.clone()));
+        match T::deserialize(ValueDeserializer::from(value)) {
+            Ok(v) => return Some(v),
+            Err(e) => {
+                let key = e.span().and_then(|sp| key_in_value(&copy, sp.start, ""));
+                let message = e.message().trim().to_owned();
+                let top = key
+                    .as_deref()
+                    .map(|k| k.split('.').next().unwrap_or(k).to_owned());
+                let at = e.span().unwrap_or_else(|| span.clone());
+                let k = key.unwrap_or_default();
+                let text = if k.is_empty() {
+                    format!("{label}{message}")
+                } else {
+                    format!("{label}{k}: {message}")
+                };
+                sink.at(&at, &k, text);
+                match top {
+                    Some(top) if table.remove(top.as_str()).is_some() => {
+                        dropped.push((span.start, top));
+                    }
+                    _ => return None,
+                }
+            }
+        }
+    }
+}
+
+/// The dotted key whose key or value span contains byte `offset` (deepest match).
+fn key_in_value(value: &DeValue<'_>, offset: usize, prefix: &str) -> Option<String> {
+    let DeValue::Table(table) = value else {
+        return None;
+    };
+    for (k, v) in table.iter() {
+        let name = if prefix.is_empty() {
+            k.get_ref().to_string()
+        } else {
+            format!("{prefix}.{}", k.get_ref())
+        };
+        if v.span().contains(&offset) || k.span().contains(&offset) {
+            return key_in_value(v.get_ref(), offset, &name).or(Some(name));
+        }
+    }
+    None
+}

@@ -1,0 +1,476 @@
+//! Integration tests of railsim-sim: every shipped scene compiles, the format doc's example
+//! compiles, and each kind of bad scene is reported with `file:line:col` and its key, several at
+//! once.
+
+use std::path::{Path, PathBuf};
+
+use railsim_contact::ContactModelKind;
+use railsim_ode::Method;
+use railsim_sim::{
+    RunLength, Scene, SceneError, Topic, longest_rigid_wheelbase, required_curve_radius,
+};
+use railsim_vehicle::{Dof, DofKind, Member};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scenes_dir() -> PathBuf {
+    root().join("scenes")
+}
+
+/// Compile text as if it were `scenes/x.toml`.
+fn compile(text: &str) -> Result<Scene, SceneError> {
+    Scene::from_toml_str(text, "scenes/x.toml", &scenes_dir())
+}
+
+fn problems(text: &str) -> Vec<String> {
+    match compile(text) {
+        Ok(_) => panic!("expected problems for:\n{text}"),
+        Err(e) => {
+            assert!(!e.problems().is_empty(), "not a located error: {e}");
+            e.problems().iter().map(|p| p.to_string()).collect()
+        }
+    }
+}
+
+/// The one problem in `file` at `line` containing all `needles`.
+fn expect_in(problems: &[String], file: &str, line: usize, needles: &[&str]) {
+    let prefix = format!("{file}:{line}:");
+    let hit = problems
+        .iter()
+        .find(|p| p.starts_with(&prefix) && needles.iter().all(|n| p.contains(n)));
+    let Some(hit) = hit else {
+        panic!(
+            "no problem at {file}:{line} containing {needles:?} in:\n{}",
+            problems.join("\n")
+        );
+    };
+    let col: usize = hit[prefix.len()..]
+        .split(':')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(col >= 1);
+}
+
+fn expect(problems: &[String], line: usize, needles: &[&str]) {
+    expect_in(problems, "scenes/x.toml", line, needles);
+}
+
+const GOOD: &str = r#"vehicle = "../vehicles/bogie_two_axle.toml"
+track = "../tracks/curve_r1200.toml"
+speed_kmh = 100
+duration_s = 1
+"#;
+
+#[test]
+fn every_scene_file_compiles() {
+    let mut n = 0;
+    for entry in std::fs::read_dir(scenes_dir()).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let scene =
+                Scene::from_file(&path).unwrap_or_else(|e| panic!("{}:\n{e}", path.display()));
+            assert!(scene.duration() > 0.0 && scene.distance() > 0.0);
+            assert!(!scene.dofs().is_empty());
+            n += 1;
+        }
+    }
+    assert!(n >= 3, "expected at least three scenes, found {n}");
+}
+
+#[test]
+fn default_scene_is_the_issue_default() {
+    let s = Scene::from_file(scenes_dir().join("default.toml")).unwrap();
+    assert_eq!(s.vehicle.wheelsets().len(), 4);
+    assert!((s.speed.speed_at(0.0) - 55.0).abs() < 1e-12);
+    assert!(s.speed.is_constant());
+    assert!(s.track.irregularities().is_some());
+    let r_min = s
+        .track
+        .segments()
+        .iter()
+        .map(|g| g.curvature_start.abs().max(g.curvature_end.abs()))
+        .fold(0.0, f64::max);
+    assert!((1.0 / r_min - 1200.0).abs() < 1e-6);
+    assert_eq!(s.contact.model, ContactModelKind::Stripes);
+    assert!(matches!(s.integrator, Method::DormandPrince { .. }));
+    assert_eq!(s.log.topics, Topic::ALL.to_vec());
+    // Rear wheelset at s = 0, and the whole run stays on the track.
+    assert!((s.start - 10.78).abs() < 1e-12);
+    assert!(s.start + s.distance() + 10.78 <= s.track.length());
+    // Messages name files the way a user would.
+    assert!(
+        s.vehicle_file
+            .ends_with("vehicles/manchester_vehicle1.toml")
+    );
+    assert!(!s.vehicle_file.to_string_lossy().contains(".."));
+}
+
+#[test]
+fn other_scenes_carry_their_choices() {
+    let w = Scene::from_file(scenes_dir().join("wheelset_springs_critical.toml")).unwrap();
+    assert!((w.speed.speed_at(0.0) - 289.5).abs() < 1e-9);
+    assert_eq!(w.contact.model, ContactModelKind::Polach);
+    let ws = Member::Wheelset(w.vehicle.wheelset_id("ws").unwrap());
+    let spin = Dof {
+        member: ws,
+        kind: DofKind::Pitch,
+    };
+    assert!(w.is_frozen(spin));
+    assert!(!w.dofs().contains(&spin));
+    assert_eq!(w.dofs().len(), 4);
+    assert!((w.initial.lateral_offset - 1e-3).abs() < 1e-15);
+
+    let k = Scene::from_file(scenes_dir().join("free_wheelset_klingel.toml")).unwrap();
+    assert!((k.speed.speed_at(0.0) - 10.0).abs() < 1e-12);
+    assert_eq!(k.length, RunLength::Distance(100.0));
+    assert!((k.duration() - 10.0).abs() < 1e-12);
+    assert!((k.initial.lateral_offset - 3e-3).abs() < 1e-15);
+}
+
+#[test]
+fn units_are_converted_and_defaults_applied() {
+    let s = compile(&format!(
+        "{GOOD}[contact]\nmodel = \"fastsim\"\nstep_mm = 0.25\n[integrator]\nmethod = \"radau5\"\nrtol = 1e-5\nmax_step_s = 1e-3\n[initial]\nyaw_mrad = 2\n"
+    ))
+    .unwrap();
+    assert_eq!(s.contact.model, ContactModelKind::Fastsim);
+    assert!((s.contact.travel.step - 0.25e-3).abs() < 1e-15);
+    match s.integrator {
+        Method::Radau5 {
+            rtol, atol, h_max, ..
+        } => {
+            assert_eq!((rtol, atol, h_max), (1e-5, 1e-8, 1e-3));
+        }
+        m => panic!("{m:?}"),
+    }
+    assert!((s.initial.yaw - 2e-3).abs() < 1e-15);
+    assert_eq!(s.vehicle.wheelset(s.initial.wheelset).name, "ws_front");
+    assert_eq!(s.log.rate_hz, 200.0);
+    let rk = compile(&format!(
+        "{GOOD}[integrator]\nmethod = \"rk4\"\nstep_s = 2e-5\n"
+    ))
+    .unwrap();
+    assert_eq!(rk.integrator, Method::Rk4 { h: 2e-5 });
+    let p = compile(
+        "vehicle = \"../vehicles/wheelset_free.toml\"\ntrack = \"../tracks/straight.toml\"\ndistance_m = 300\n[speed_profile]\ndistance_m = [0, 100, 200]\nspeed_kmh = [36, 72, 72]\n",
+    )
+    .unwrap();
+    assert!((p.speed.speed_at(50.0) - 15.0).abs() < 1e-12);
+    assert!((p.duration() - (2f64.ln() / 0.1 + 10.0)).abs() < 1e-9);
+}
+
+#[test]
+fn curve_criterion_uses_the_longest_rigid_wheelbase() {
+    let bogie =
+        railsim_vehicle::VehicleModel::from_file(root().join("vehicles/bogie_two_axle.toml"))
+            .unwrap();
+    let wb = longest_rigid_wheelbase(&bogie).unwrap();
+    assert!((wb.length - 2.56).abs() < 1e-12);
+    assert!((required_curve_radius(&bogie) - 51.2).abs() < 1e-9);
+    let manchester =
+        railsim_vehicle::VehicleModel::from_file(root().join("vehicles/manchester_vehicle1.toml"))
+            .unwrap();
+    // The bogie wheelbase, not the 19 m bogie-centre distance: the carbody holds bogies, not
+    // wheelsets.
+    assert!((longest_rigid_wheelbase(&manchester).unwrap().length - 2.56).abs() < 1e-12);
+    let free = railsim_vehicle::VehicleModel::from_file(root().join("vehicles/wheelset_free.toml"))
+        .unwrap();
+    assert!(longest_rigid_wheelbase(&free).is_none());
+    assert_eq!(required_curve_radius(&free), 0.0);
+}
+
+/// A two-axle wagon with a 9 m rigid wheelbase (wheelsets sprung straight to the body) written
+/// next to a track with an R = 150 m curve: 150 < 20 × 9 = 180 m is rejected; R = 300 m passes.
+#[test]
+fn a_curve_too_tight_for_the_wheelbase_is_rejected() {
+    let dir = std::env::temp_dir().join(format!("railsim-sim-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ws = |name: &str, x: f64| {
+        format!(
+            "[[wheelset]]\nname = \"{name}\"\nmass_kg = 1200\ninertia_kgm2 = [700, 100, 700]\nposition_m = [{x}, 0, 0.46]\nnominal_radius_m = 0.46\nback_to_back_mm = 1360\nwheel_profile = {{ left = \"s1002\", right = \"s1002\" }}\n"
+        )
+    };
+    let spring = |name: &str, ws: &str, x: f64, y: f64| {
+        format!(
+            "[[force]]\nname = \"{name}\"\ntype = \"bushing\"\nbody1 = \"body\"\nbody2 = \"{ws}\"\npoint_m = [{x}, {y}, 0.46]\nstiffness_n_per_m = [1e7, 1e6, 1e6]\n"
+        )
+    };
+    let mut wagon = String::from(
+        "name = \"two-axle wagon\"\n[[body]]\nname = \"body\"\nmass_kg = 10000\ninertia_kgm2 = [1e4, 1e5, 1e5]\nposition_m = [0, 0, 1.5]\n",
+    );
+    wagon += &ws("ws1", 4.5);
+    wagon += &ws("ws2", -4.5);
+    for (n, w, x) in [("a", "ws1", 4.5), ("b", "ws2", -4.5)] {
+        wagon += &spring(&format!("{n}_l"), w, x, 1.0);
+        wagon += &spring(&format!("{n}_r"), w, x, -1.0);
+    }
+    std::fs::write(dir.join("wagon.toml"), wagon).unwrap();
+    let track = |r: f64| {
+        format!(
+            "gauge_mm = 1435\nrail_inclination = \"1:40\"\nrail_profile = {{ left = \"uic60\", right = \"uic60\" }}\n[[segment]]\ntype = \"tangent\"\nlength_m = 100\n[[segment]]\ntype = \"curve\"\nradius_m = {r}\ndirection = \"right\"\nlength_m = 200\n"
+        )
+    };
+    std::fs::write(dir.join("r150.toml"), track(150.0)).unwrap();
+    std::fs::write(dir.join("r300.toml"), track(300.0)).unwrap();
+    let scene = |t: &str| {
+        format!("vehicle = \"wagon.toml\"\ntrack = \"{t}\"\nspeed_kmh = 40\ndistance_m = 200\n")
+    };
+    let ok = Scene::from_toml_str(&scene("r300.toml"), "scenes/x.toml", &dir);
+    assert!(ok.is_ok(), "{}", ok.unwrap_err());
+    let err = Scene::from_toml_str(&scene("r150.toml"), "scenes/x.toml", &dir).unwrap_err();
+    let p: Vec<String> = err.problems().iter().map(|p| p.to_string()).collect();
+    expect(
+        &p,
+        2,
+        &[
+            "track",
+            "radius 150.0 m",
+            "r150.toml:9:12",
+            "9.00 m",
+            "'ws1' and 'ws2'",
+            "180.0 m",
+        ],
+    );
+    assert_eq!(err.problems()[0].key, "track");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn unknown_key_is_reported_with_a_suggestion() {
+    let p = problems(&format!("{GOOD}sped_kmh = 3\n[log]\nrate = 10\n"));
+    expect(
+        &p,
+        5,
+        &["unknown key 'sped_kmh'", "did you mean 'speed_kmh'"],
+    );
+    expect(
+        &p,
+        7,
+        &["[log] unknown key 'rate'", "did you mean 'rate_hz'"],
+    );
+}
+
+#[test]
+fn missing_vehicle_file_is_reported_at_the_key() {
+    let p = problems(&GOOD.replace("bogie_two_axle", "no_such_vehicle"));
+    expect(
+        &p,
+        1,
+        &[
+            "vehicle: cannot read vehicle file",
+            "vehicles/no_such_vehicle.toml",
+        ],
+    );
+}
+
+#[test]
+fn missing_keys_are_reported() {
+    let p = problems("name = \"empty\"\n");
+    for key in [
+        "'vehicle'",
+        "'track'",
+        "missing speed",
+        "missing run length",
+    ] {
+        assert!(
+            p.iter()
+                .any(|x| x.starts_with("scenes/x.toml:1:1:") && x.contains(key)),
+            "{key}: {p:?}"
+        );
+    }
+}
+
+#[test]
+fn both_duration_and_distance_are_rejected() {
+    let p = problems(&format!("{GOOD}distance_m = 100\n"));
+    expect(&p, 5, &["distance_m", "either duration_s or distance_m"]);
+}
+
+#[test]
+fn negative_speed_is_rejected() {
+    let p = problems(&GOOD.replace("speed_kmh = 100", "speed_kmh = -100"));
+    expect(&p, 3, &["speed_kmh must be a positive speed", "-100"]);
+    let p = problems(
+        "vehicle = \"../vehicles/wheelset_free.toml\"\ntrack = \"../tracks/straight.toml\"\nduration_s = 1\n[speed_profile]\ndistance_m = [0, 10]\nspeed_kmh = [10, -5]\n",
+    );
+    expect(&p, 6, &["[speed_profile] speed_kmh", "-5"]);
+}
+
+#[test]
+fn bad_contact_model_lists_the_valid_names() {
+    let p = problems(&format!("{GOOD}[contact]\nmodel = \"stripse\"\n"));
+    expect(
+        &p,
+        6,
+        &[
+            "unknown contact model 'stripse'",
+            "did you mean 'stripes'",
+            "polach, fastsim, stripes, halfspace",
+        ],
+    );
+}
+
+#[test]
+fn bad_integrator_and_tolerances_are_rejected() {
+    let p = problems(&format!("{GOOD}[integrator]\nmethod = \"dopri45\"\n"));
+    expect(
+        &p,
+        6,
+        &["unknown integrator 'dopri45'", "dopri5, rk4, radau5"],
+    );
+    let p = problems(&format!(
+        "{GOOD}[integrator]\nmethod = \"dopri5\"\nrtol = 0.5\natol = -1\nstep_s = 1e-4\n"
+    ));
+    expect(&p, 7, &["rtol must lie in"]);
+    expect(&p, 8, &["atol must lie in"]);
+    expect(&p, 9, &["'step_s' does not apply to method 'dopri5'"]);
+    let p = problems(&format!(
+        "{GOOD}[integrator]\nmethod = \"rk4\"\nrtol = 1e-6\n"
+    ));
+    expect(&p, 6, &["method 'rk4' needs step_s"]);
+    expect(&p, 7, &["'rtol' does not apply to method 'rk4'"]);
+}
+
+#[test]
+fn unknown_dof_in_freeze_gets_a_suggestion() {
+    let p = problems(&format!(
+        "{GOOD}freeze = [\"ws_front.spn\", \"bogy.x\", \"ws_rear.pitch\", \"ws_front\"]\n"
+    ));
+    expect(
+        &p,
+        5,
+        &[
+            "'spn' is not a degree of freedom of wheelset 'ws_front'",
+            "did you mean 'spin'",
+        ],
+    );
+    expect(
+        &p,
+        5,
+        &["no body or wheelset 'bogy'", "did you mean 'bogie'"],
+    );
+    expect(
+        &p,
+        5,
+        &[
+            "'pitch' is not a degree of freedom of wheelset 'ws_rear'",
+            "x, y, z, roll, spin, yaw",
+        ],
+    );
+    expect(
+        &p,
+        5,
+        &["'ws_front' is not a degree of freedom", "body.dof"],
+    );
+    assert_eq!(p.len(), 4, "{p:?}");
+}
+
+#[test]
+fn run_past_the_end_of_the_track_is_rejected() {
+    // curve_r1200.toml is 1540 m long.
+    let p = problems(&GOOD.replace("duration_s = 1", "duration_s = 100"));
+    expect(
+        &p,
+        4,
+        &["duration_s", "beyond the end of track", "curve_r1200.toml"],
+    );
+}
+
+#[test]
+fn disturbance_of_a_frozen_dof_and_bad_log_are_rejected() {
+    let p = problems(&format!(
+        "{GOOD}freeze = [\"ws_front.y\"]\n[initial]\nlateral_offset_mm = 2\nyaw_mrad = 500\n[log]\npath = \"out/run.txt\"\nrate_hz = 0\ntopics = [\"bodies\", \"contacts\", \"bodies\"]\n"
+    ));
+    expect(
+        &p,
+        7,
+        &["lateral_offset_mm", "'ws_front' has 'y' frozen (by freeze)"],
+    );
+    expect(&p, 8, &["yaw_mrad must lie in [-20, 20] mrad"]);
+    expect(&p, 10, &["ending in '.mcap'"]);
+    expect(&p, 11, &["rate_hz must lie in"]);
+    expect(
+        &p,
+        12,
+        &["unknown topic 'contacts'", "did you mean 'contact'"],
+    );
+    expect(&p, 12, &["'bodies' is listed twice"]);
+}
+
+#[test]
+fn wrong_types_are_reported_and_the_rest_still_checked() {
+    let p = problems(
+        "vehicle = 3\ntrack = \"../tracks/straight.toml\"\nspeed_kmh = \"fast\"\nduration_s = -1\n[contact]\nmodel = \"hertz\"\n",
+    );
+    expect(&p, 1, &["vehicle"]);
+    expect(&p, 3, &["speed_kmh"]);
+    expect(&p, 4, &["duration_s must be a positive time"]);
+    expect(&p, 6, &["unknown contact model 'hertz'"]);
+    // Dropped keys are not reported again as missing.
+    assert!(
+        !p.iter()
+            .any(|x| x.contains("missing key 'vehicle'") || x.contains("missing speed")),
+        "{p:?}"
+    );
+}
+
+#[test]
+fn several_problems_in_several_files_are_all_reported() {
+    // Scene problems (bad speed, bad model, bad integrator, both lengths) and the vehicle
+    // file's own problems, with the vehicle file's own line and column, in one error.
+    let dir = std::env::temp_dir().join(format!("railsim-sim-many-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("bad_vehicle.toml"),
+        "[[wheelset]]\nname = \"ws\"\nmass_kg = -5\ninertia_kgm2 = [1120, 112, 1120]\nposition_m = [0, 0, 0.46]\nnominal_radius_m = 0.46\nback_to_back_mm = 1360\nwheel_profile = { left = \"s1002\", right = \"s1002\" }\ncolour = \"red\"\n",
+    )
+    .unwrap();
+    let text = format!(
+        "vehicle = \"bad_vehicle.toml\"\ntrack = \"{}\"\nspeed_kmh = 0\nduration_s = 1\ndistance_m = 5\n[contact]\nmodel = \"kalker\"\n[integrator]\nmethod = \"euler\"\n",
+        root().join("tracks/straight.toml").display()
+    );
+    let err = Scene::from_toml_str(&text, "scenes/x.toml", &dir).unwrap_err();
+    let p: Vec<String> = err.problems().iter().map(|p| p.to_string()).collect();
+    expect(&p, 1, &["vehicle file", "has 2 problem(s)"]);
+    expect(&p, 3, &["speed_kmh must be a positive speed"]);
+    expect(&p, 5, &["either duration_s or distance_m"]);
+    expect(&p, 7, &["unknown contact model 'kalker'"]);
+    expect(&p, 9, &["unknown integrator 'euler'"]);
+    let vfile = dir.join("bad_vehicle.toml").display().to_string();
+    expect_in(&p, &vfile, 3, &["mass_kg"]);
+    expect_in(&p, &vfile, 9, &["unknown key 'colour'"]);
+    // The scene's own problems come first, in file order.
+    let lines: Vec<usize> = err
+        .problems()
+        .iter()
+        .take_while(|q| q.file == "scenes/x.toml")
+        .map(|q| q.line)
+        .collect();
+    assert_eq!(lines, vec![1, 3, 5, 7, 9]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn syntax_error_is_located() {
+    let p = problems("vehicle = \"a.toml\nspeed_kmh = 3\n");
+    assert!(
+        p[0].starts_with("scenes/x.toml:1:") && p[0].contains("TOML syntax"),
+        "{p:?}"
+    );
+}
+
+#[test]
+fn format_doc_example_compiles() {
+    let doc = std::fs::read_to_string(root().join("docs/formats/scene.md")).unwrap();
+    let start = doc.find("```toml\n").expect("a toml example") + "```toml\n".len();
+    let end = start + doc[start..].find("```").unwrap();
+    let scene = Scene::from_toml_str(&doc[start..end], "docs/formats/scene.md", &scenes_dir())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.vehicle.wheelsets().len(), 4);
+    assert!(!scene.frozen.is_empty());
+    let _ = Path::new(".");
+}
