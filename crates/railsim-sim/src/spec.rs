@@ -319,7 +319,9 @@ fn read_table<T: DeserializeOwned>(
         match T::deserialize(ValueDeserializer::from(value)) {
             Ok(v) => return Some(v),
             Err(e) => {
-                let key = e.span().and_then(|sp| key_in_value(&copy, sp.start, ""));
+                let key = e
+                    .span()
+                    .and_then(|sp| railsim_spec::key_at(&copy, sp.start));
                 let message = e.message().trim().to_owned();
                 let top = key
                     .as_deref()
@@ -341,22 +343,4 @@ fn read_table<T: DeserializeOwned>(
             }
         }
     }
-}
-
-/// The dotted key whose key or value span contains byte `offset` (deepest match).
-fn key_in_value(value: &DeValue<'_>, offset: usize, prefix: &str) -> Option<String> {
-    let DeValue::Table(table) = value else {
-        return None;
-    };
-    for (k, v) in table.iter() {
-        let name = if prefix.is_empty() {
-            k.get_ref().to_string()
-        } else {
-            format!("{prefix}.{}", k.get_ref())
-        };
-        if v.span().contains(&offset) || k.span().contains(&offset) {
-            return key_in_value(v.get_ref(), offset, &name).or(Some(name));
-        }
-    }
-    None
 }

@@ -88,13 +88,24 @@ pub fn edit_distance(a: &str, b: &str) -> usize {
     prev[b.len()]
 }
 
-/// `" (did you mean 'x'?)"` for the closest candidate within a small edit distance (a third of
-/// the word's length, at least 2; case-insensitive), else `""`.
+/// `" (did you mean 'x'?)"` for the best candidate, else `""`: a candidate that starts with the
+/// word (a truncation such as "rate" for "rate_hz", words of 3 characters or more), otherwise
+/// the closest one within a small edit distance (a third of the word's length, at least 2);
+/// case-insensitive.
 pub fn did_you_mean<'c>(word: &str, candidates: impl IntoIterator<Item = &'c str>) -> String {
     let limit = (word.chars().count() / 3).max(2);
+    let word = word.to_lowercase();
+    let candidates: Vec<&str> = candidates.into_iter().collect();
+    if word.chars().count() >= 3
+        && let Some(c) = candidates
+            .iter()
+            .find(|c| c.to_lowercase().starts_with(&word))
+    {
+        return format!(" (did you mean '{c}'?)");
+    }
     let best = candidates
         .into_iter()
-        .map(|c| (edit_distance(&word.to_lowercase(), &c.to_lowercase()), c))
+        .map(|c| (edit_distance(&word, &c.to_lowercase()), c))
         .filter(|(d, _)| *d <= limit)
         .min_by_key(|(d, _)| *d);
     match best {
@@ -117,6 +128,10 @@ mod tests {
             " (did you mean 'bogie'?)"
         );
         assert_eq!(did_you_mean("zzzzzz", ["carbody", "bogie"]), "");
+        assert_eq!(
+            did_you_mean("rate", ["path", "rate_hz"]),
+            " (did you mean 'rate_hz'?)"
+        );
     }
 
     #[test]
