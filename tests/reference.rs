@@ -5,6 +5,7 @@
 mod bad_input;
 mod common;
 mod hertz_reference;
+mod klingel;
 mod mbench;
 mod stripes_hertz;
 mod travel;
