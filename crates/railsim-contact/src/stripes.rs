@@ -1,5 +1,6 @@
 //! STRIPES, the semi-Hertzian normal model of Ayasse & Chollet (VSD 43, 2005) on the isosceles
-//! strips of Jalili & Salehi (2011, §3.4), with FASTSIM per strip for the tangential problem.
+//! strips of Jalili & Salehi (2011, §3.4), with FaStrip or FASTSIM per strip for the tangential
+//! problem.
 //!
 //! Per patch, with the rigid pair's curvatures `A0`, `B0` and Hertz coefficients `m0, n0, r0`:
 //! - `eps0 = n0^2 B0 / (r0 (A0 + B0))` (seed eq. 8), `h0 = eps0 delta0` (seed eq. 7);
@@ -20,10 +21,11 @@
 //! the interpenetration is projected on the patch normal and the lateral coordinate on the patch
 //! tangent, i.e. the strips are used in the original (projected) form.
 //!
-//! Tangential forces: FASTSIM (Kalker 1982) per strip, each strip a line of `nx` cells with
-//! its own rigid slip (the wheel's velocity at the strip's locus point, which carries the spin
-//! variation across the patch), and the flexibilities of the patch's area- and
-//! aspect-preserving equivalent ellipse (Kik & Piotrowski 2008, as CONTACT does).
+//! Tangential forces: FaStrip (Sichani et al. 2016, the default) or FASTSIM (Kalker 1982) per
+//! strip, each strip a line of `nx` cells with its own rigid slip (the wheel's velocity at the
+//! strip's locus point, which carries the spin variation across the patch), and the Kalker
+//! coefficients and flexibilities of the patch's area- and aspect-preserving equivalent ellipse
+//! (Kik & Piotrowski 2008, as CONTACT does).
 
 use railsim_elastic::{
     Creepages, FastripPatch, TractionBound, blended_flexibilities, fastrip_strip, fastsim_strip,
