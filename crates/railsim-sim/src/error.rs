@@ -1,37 +1,9 @@
 //! The crate's error type: located problems, from the scene file and from the vehicle and track
 //! files it refers to, all reported together.
 
-use std::fmt;
-use std::ops::Range;
-
-/// One located problem: prints as `file:line:col: message`.
-///
-/// `file` is the scene file for problems of the scene itself, and the vehicle or track file
-/// (with its own line and column) for problems found while compiling those.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Problem {
-    /// File the problem is in.
-    pub file: String,
-    /// \[-\] 1-based line.
-    pub line: usize,
-    /// \[-\] 1-based column (characters).
-    pub col: usize,
-    /// The offending key (`speed_kmh`, `contact.model`, ...), as written in the file; empty for
-    /// a syntax error.
-    pub key: String,
-    /// What is wrong and what was expected; names the key.
-    pub message: String,
-}
-
-impl fmt::Display for Problem {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}:{}:{}: {}",
-            self.file, self.line, self.col, self.message
-        )
-    }
-}
+/// One located problem: `file` is the scene file for problems of the scene itself, and the
+/// vehicle or track file (with its own line and column) for problems found while compiling those.
+pub use railsim_spec::Problem;
 
 /// Every error of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -73,35 +45,7 @@ impl SceneError {
 
 pub use railsim_spec::SourceMap;
 
-/// Collects the problems of the scene file.
-#[derive(Debug)]
-pub(crate) struct Sink<'a> {
-    pub file: &'a str,
-    pub map: &'a SourceMap,
-    pub problems: Vec<Problem>,
-}
-
-impl<'a> Sink<'a> {
-    pub fn new(file: &'a str, map: &'a SourceMap) -> Self {
-        Sink {
-            file,
-            map,
-            problems: Vec::new(),
-        }
-    }
-
-    /// Record a problem at the start of `span`.
-    pub fn at(&mut self, span: &Range<usize>, key: &str, message: String) {
-        let (line, col) = self.map.line_col(span.start);
-        self.problems.push(Problem {
-            file: self.file.to_owned(),
-            line,
-            col,
-            key: key.to_owned(),
-            message,
-        });
-    }
-}
+pub(crate) use railsim_spec::Sink;
 
 pub(crate) use railsim_spec::did_you_mean;
 

@@ -520,7 +520,7 @@ fn extent(vehicle: &VehicleModel) -> (WheelsetId, f64, f64) {
 
 impl Compiler<'_> {
     fn err(&mut self, span: &Range<usize>, key: &str, message: String) {
-        self.sink.at(span, key, message);
+        self.sink.at(Some(span), key, message);
     }
 
     /// A number in `[lo, hi]` (or `(lo, hi]` when `open_lo`); reports and returns `None`

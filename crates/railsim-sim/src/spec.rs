@@ -11,14 +11,14 @@
 //! `[integrator]`, `[log]`, `[initial]`) separately; a value of the wrong type is reported,
 //! dropped, and the table is read again, so one wrong type does not hide the next one.
 
-use std::ops::Range;
-
 use serde::Deserialize;
-use serde::de::DeserializeOwned;
-use toml::Spanned;
-use toml::de::{DeTable, DeValue, ValueDeserializer};
 
-use crate::error::{Problem, SceneError, Sink, SourceMap, did_you_mean};
+use toml::Spanned;
+use toml::de::{DeTable, DeValue};
+
+use railsim_spec::{as_is, read_table};
+
+use crate::error::{Problem, SceneError, Sink, SourceMap};
 
 /// A whole scene file.
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -218,7 +218,11 @@ impl SceneSpec {
         if !errors.is_empty() {
             for e in errors {
                 let span = e.span().unwrap_or(0..0);
-                sink.at(&span, "", format!("TOML syntax: {}", e.message().trim()));
+                sink.at(
+                    Some(&span),
+                    "",
+                    format!("TOML syntax: {}", e.message().trim()),
+                );
             }
             let problems = sink.problems;
             return (
@@ -236,16 +240,23 @@ impl SceneSpec {
             .map(|(name, keys)| (*name, *keys, table.remove(*name)))
             .collect();
         let mut dropped = Vec::new();
-        let mut spec: SceneSpec =
-            read_table(table, root_span, ROOT_KEYS, "", &mut sink, &mut dropped)
-                .unwrap_or_default();
+        let mut spec: SceneSpec = read_table(
+            table,
+            root_span,
+            ROOT_KEYS,
+            "",
+            &mut sink,
+            &mut dropped,
+            as_is,
+        )
+        .unwrap_or_default();
         let mut unreadable = Vec::new();
         for (name, keys, value) in subtables {
             let Some(value) = value else { continue };
             let span = value.span();
             let DeValue::Table(t) = value.into_inner() else {
                 sink.at(
-                    &span,
+                    Some(&span),
                     name,
                     format!("{name}: expected a table ([{name}] or {name} = {{ ... }})"),
                 );
@@ -254,23 +265,61 @@ impl SceneSpec {
             };
             let label = format!("[{name}] ");
             let ok = match name {
-                "speed_profile" => {
-                    read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
-                        .map(|v| spec.speed_profile = Some(Spanned::new(span.clone(), v)))
-                        .is_some()
-                }
-                "contact" => read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
-                    .map(|v| spec.contact = Some(Spanned::new(span.clone(), v)))
-                    .is_some(),
-                "integrator" => read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
-                    .map(|v| spec.integrator = Some(Spanned::new(span.clone(), v)))
-                    .is_some(),
-                "log" => read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
-                    .map(|v| spec.log = Some(Spanned::new(span.clone(), v)))
-                    .is_some(),
-                _ => read_table(t, span.clone(), keys, &label, &mut sink, &mut dropped)
-                    .map(|v| spec.initial = Some(Spanned::new(span.clone(), v)))
-                    .is_some(),
+                "speed_profile" => read_table(
+                    t,
+                    span.clone(),
+                    keys,
+                    &label,
+                    &mut sink,
+                    &mut dropped,
+                    as_is,
+                )
+                .map(|v| spec.speed_profile = Some(Spanned::new(span.clone(), v)))
+                .is_some(),
+                "contact" => read_table(
+                    t,
+                    span.clone(),
+                    keys,
+                    &label,
+                    &mut sink,
+                    &mut dropped,
+                    as_is,
+                )
+                .map(|v| spec.contact = Some(Spanned::new(span.clone(), v)))
+                .is_some(),
+                "integrator" => read_table(
+                    t,
+                    span.clone(),
+                    keys,
+                    &label,
+                    &mut sink,
+                    &mut dropped,
+                    as_is,
+                )
+                .map(|v| spec.integrator = Some(Spanned::new(span.clone(), v)))
+                .is_some(),
+                "log" => read_table(
+                    t,
+                    span.clone(),
+                    keys,
+                    &label,
+                    &mut sink,
+                    &mut dropped,
+                    as_is,
+                )
+                .map(|v| spec.log = Some(Spanned::new(span.clone(), v)))
+                .is_some(),
+                _ => read_table(
+                    t,
+                    span.clone(),
+                    keys,
+                    &label,
+                    &mut sink,
+                    &mut dropped,
+                    as_is,
+                )
+                .map(|v| spec.initial = Some(Spanned::new(span.clone(), v)))
+                .is_some(),
             };
             if !ok {
                 unreadable.push(name.to_owned());
@@ -282,65 +331,5 @@ impl SceneSpec {
         spec.unreadable_tables = unreadable;
         spec.source = map;
         (spec, problems)
-    }
-}
-
-/// Deserialize one table: report every unknown key (with a suggestion), then deserialize,
-/// dropping and reporting each wrongly typed value until the rest reads. `label` prefixes the
-/// messages (`"[contact] "`, or empty for the root table).
-fn read_table<T: DeserializeOwned>(
-    mut table: DeTable<'_>,
-    span: Range<usize>,
-    known: &[&str],
-    label: &str,
-    sink: &mut Sink<'_>,
-    dropped: &mut Vec<(usize, String)>,
-) -> Option<T> {
-    let unknown: Vec<(String, Range<usize>)> = table
-        .iter()
-        .filter(|(k, _)| !known.contains(&k.get_ref().as_ref()))
-        .map(|(k, _)| (k.get_ref().to_string(), k.span()))
-        .collect();
-    for (k, key_span) in unknown {
-        sink.at(
-            &key_span,
-            &k,
-            format!(
-                "{label}unknown key '{k}'{}; expected one of: {}",
-                did_you_mean(&k, known.iter().copied()),
-                known.join(", ")
-            ),
-        );
-        table.remove(k.as_str());
-    }
-    loop {
-        let copy = DeValue::Table(table.clone());
-        let value = Spanned::new(span.clone(), DeValue::Table(table.clone()));
-        match T::deserialize(ValueDeserializer::from(value)) {
-            Ok(v) => return Some(v),
-            Err(e) => {
-                let key = e
-                    .span()
-                    .and_then(|sp| railsim_spec::key_at(&copy, sp.start));
-                let message = e.message().trim().to_owned();
-                let top = key
-                    .as_deref()
-                    .map(|k| k.split('.').next().unwrap_or(k).to_owned());
-                let at = e.span().unwrap_or_else(|| span.clone());
-                let k = key.unwrap_or_default();
-                let text = if k.is_empty() {
-                    format!("{label}{message}")
-                } else {
-                    format!("{label}{k}: {message}")
-                };
-                sink.at(&at, &k, text);
-                match top {
-                    Some(top) if table.remove(top.as_str()).is_some() => {
-                        dropped.push((span.start, top));
-                    }
-                    _ => return None,
-                }
-            }
-        }
     }
 }

@@ -4,7 +4,137 @@
 //! messages need, so that they are written once.
 #![deny(rustdoc::broken_intra_doc_links)]
 
-use toml::de::DeValue;
+use std::fmt;
+use std::ops::Range;
+
+use serde::de::DeserializeOwned;
+use toml::Spanned;
+use toml::de::{DeTable, DeValue, ValueDeserializer};
+
+/// One located problem in a file: prints as `file:line:col: message`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Problem {
+    /// File the problem is in.
+    pub file: String,
+    /// \[-\] 1-based line.
+    pub line: usize,
+    /// \[-\] 1-based column (characters).
+    pub col: usize,
+    /// The offending key, as written in the file; empty for a syntax error.
+    pub key: String,
+    /// What is wrong and what was expected; names the key.
+    pub message: String,
+}
+
+impl fmt::Display for Problem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}:{}:{}: {}",
+            self.file, self.line, self.col, self.message
+        )
+    }
+}
+
+/// Collects the problems of one file.
+#[derive(Debug)]
+pub struct Sink<'a> {
+    /// The file's name, as it appears in messages.
+    pub file: &'a str,
+    /// The file's source map.
+    pub map: &'a SourceMap,
+    /// The problems so far.
+    pub problems: Vec<Problem>,
+}
+
+impl<'a> Sink<'a> {
+    /// An empty sink for `file`.
+    pub fn new(file: &'a str, map: &'a SourceMap) -> Self {
+        Sink {
+            file,
+            map,
+            problems: Vec::new(),
+        }
+    }
+
+    /// Record a problem at the start of `span` (1:1 when there is no span).
+    pub fn at(&mut self, span: Option<&Range<usize>>, key: &str, message: String) {
+        let (line, col) = span.map_or((1, 1), |s| self.map.line_col(s.start));
+        self.problems.push(Problem {
+            file: self.file.to_owned(),
+            line,
+            col,
+            key: key.to_owned(),
+            message,
+        });
+    }
+}
+
+/// Deserialize one table: report every unknown key (with a suggestion, and the list of
+/// `known` keys), then deserialize, dropping and reporting each wrongly typed value until the
+/// rest reads, so that one run reports every problem of the table. `prefix` starts every message
+/// (`"[contact] "`, `"body 'x': "`, or empty); `rewrite` turns serde's message into the one shown.
+/// Dropped keys are pushed to `dropped` with the table's start offset.
+pub fn read_table<T: DeserializeOwned>(
+    mut table: DeTable<'_>,
+    span: Range<usize>,
+    known: &[&str],
+    prefix: &str,
+    sink: &mut Sink<'_>,
+    dropped: &mut Vec<(usize, String)>,
+    rewrite: fn(&str) -> String,
+) -> Option<T> {
+    let unknown: Vec<(String, Range<usize>)> = table
+        .iter()
+        .filter(|(k, _)| !known.contains(&k.get_ref().as_ref()))
+        .map(|(k, _)| (k.get_ref().to_string(), k.span()))
+        .collect();
+    for (k, key_span) in unknown {
+        sink.at(
+            Some(&key_span),
+            &k,
+            format!(
+                "{prefix}unknown key '{k}'{}; expected one of: {}",
+                did_you_mean(&k, known.iter().copied()),
+                known.join(", ")
+            ),
+        );
+        table.remove(k.as_str());
+    }
+    loop {
+        let copy = DeValue::Table(table.clone());
+        let value = Spanned::new(span.clone(), DeValue::Table(table.clone()));
+        match T::deserialize(ValueDeserializer::from(value)) {
+            Ok(v) => return Some(v),
+            Err(e) => {
+                let key = e.span().and_then(|sp| key_at(&copy, sp.start));
+                let message = rewrite(e.message().trim());
+                let top = key
+                    .as_deref()
+                    .map(|k| k.split('.').next().unwrap_or(k).to_owned());
+                let at = e.span().unwrap_or_else(|| span.clone());
+                let k = key.unwrap_or_default();
+                let text = if k.is_empty() {
+                    format!("{prefix}{message}")
+                } else {
+                    format!("{prefix}{k}: {message}")
+                };
+                sink.at(Some(&at), &k, text);
+                match top {
+                    Some(top) if table.remove(top.as_str()).is_some() => {
+                        dropped.push((span.start, top));
+                    }
+                    _ => return None,
+                }
+            }
+        }
+    }
+}
+
+/// serde's message as it is.
+pub fn as_is(message: &str) -> String {
+    message.to_owned()
+}
 
 /// Line starts of a text, to turn byte offsets into 1-based `line:col`.
 #[derive(Debug, Clone, Default, PartialEq)]

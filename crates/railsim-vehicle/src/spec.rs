@@ -11,14 +11,14 @@
 //! wrong type is reported, dropped, and the table is read again, so one wrong type does not hide
 //! the next one.
 
-use std::ops::Range;
-
 use serde::Deserialize;
-use serde::de::DeserializeOwned;
-use toml::Spanned;
-use toml::de::{DeTable, DeValue, ValueDeserializer};
 
-use crate::error::{Problem, Sink, SourceMap, VehicleError, did_you_mean};
+use toml::Spanned;
+use toml::de::{DeTable, DeValue};
+
+use railsim_spec::read_table;
+
+use crate::error::{Problem, Sink, SourceMap, VehicleError};
 
 /// A whole vehicle file.
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -298,9 +298,10 @@ impl VehicleSpec {
             table,
             root_span,
             ROOT_KEYS,
-            "vehicle",
+            "vehicle: ",
             &mut sink,
             &mut dropped,
+            explain,
         )
         .unwrap_or_default();
         for (what, value) in arrays {
@@ -330,9 +331,9 @@ impl VehicleSpec {
                     );
                     continue;
                 };
-                let label = match t.get("name").map(|v| v.get_ref()) {
-                    Some(DeValue::String(s)) => format!("{what} '{s}'"),
-                    _ => format!("{what} #{}", i + 1),
+                let prefix = match t.get("name").map(|v| v.get_ref()) {
+                    Some(DeValue::String(s)) => format!("{what} '{s}': "),
+                    _ => format!("{what} #{}: ", i + 1),
                 };
                 let name = match t.get("name").map(|v| v.get_ref()) {
                     Some(DeValue::String(s)) => Some(s.to_string()),
@@ -343,9 +344,10 @@ impl VehicleSpec {
                         t,
                         span.clone(),
                         BODY_KEYS,
-                        &label,
+                        &prefix,
                         &mut sink,
                         &mut dropped,
+                        explain,
                     )
                     .map(|b| spec.body.push(Spanned::new(span.clone(), b)))
                     .is_some(),
@@ -353,9 +355,10 @@ impl VehicleSpec {
                         t,
                         span.clone(),
                         WHEELSET_KEYS,
-                        &label,
+                        &prefix,
                         &mut sink,
                         &mut dropped,
+                        explain,
                     )
                     .map(|w| spec.wheelset.push(Spanned::new(span.clone(), w)))
                     .is_some(),
@@ -363,9 +366,10 @@ impl VehicleSpec {
                         t,
                         span.clone(),
                         FORCE_KEYS,
-                        &label,
+                        &prefix,
                         &mut sink,
                         &mut dropped,
+                        explain,
                     )
                     .map(|f| spec.force.push(Spanned::new(span.clone(), f)))
                     .is_some(),
@@ -383,64 +387,10 @@ impl VehicleSpec {
     }
 }
 
-/// Deserialize one table: report every unknown key (with a suggestion), then deserialize,
-/// dropping and reporting each wrongly typed value until the rest reads.
-fn read_table<T: DeserializeOwned>(
-    mut table: DeTable<'_>,
-    span: Range<usize>,
-    known: &[&str],
-    label: &str,
-    sink: &mut Sink<'_>,
-    dropped: &mut Vec<(usize, String)>,
-) -> Option<T> {
-    let unknown: Vec<(String, Range<usize>)> = table
-        .iter()
-        .filter(|(k, _)| !known.contains(&k.get_ref().as_ref()))
-        .map(|(k, _)| (k.get_ref().to_string(), k.span()))
-        .collect();
-    for (k, key_span) in unknown {
-        sink.at(
-            Some(&key_span),
-            &k,
-            format!(
-                "{label}: unknown key '{k}'{}; expected one of: {}",
-                did_you_mean(&k, known.iter().copied()),
-                known.join(", ")
-            ),
-        );
-        table.remove(k.as_str());
-    }
-    loop {
-        let copy = DeValue::Table(table.clone());
-        let value = Spanned::new(span.clone(), DeValue::Table(table.clone()));
-        match T::deserialize(ValueDeserializer::from(value)) {
-            Ok(v) => return Some(v),
-            Err(e) => {
-                let key = e
-                    .span()
-                    .and_then(|sp| railsim_spec::key_at(&copy, sp.start));
-                let message = e.message().trim().replace(
-                    "data did not match any variant of untagged enum NumberOrTriple",
-                    "expected a number or an array of 3 numbers",
-                );
-                let top = key
-                    .as_deref()
-                    .map(|k| k.split('.').next().unwrap_or(k).to_owned());
-                let at = e.span().unwrap_or_else(|| span.clone());
-                let k = key.clone().unwrap_or_default();
-                let text = if k.is_empty() {
-                    format!("{label}: {message}")
-                } else {
-                    format!("{label}: {k}: {message}")
-                };
-                sink.at(Some(&at), &k, text);
-                match top {
-                    Some(top) if table.remove(top.as_str()).is_some() => {
-                        dropped.push((span.start, top));
-                    }
-                    _ => return None,
-                }
-            }
-        }
-    }
+/// serde's message, with the untagged `NumberOrTriple` enum explained.
+fn explain(message: &str) -> String {
+    message.replace(
+        "data did not match any variant of untagged enum NumberOrTriple",
+        "expected a number or an array of 3 numbers",
+    )
 }
