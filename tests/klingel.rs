@@ -111,15 +111,8 @@ impl OdeSystem for FreeWheelset {
     }
 }
 
-fn cone_pair(lambda: f64) -> WheelRailPair {
-    // A pure cone: radius r0 - lambda * y over the whole running surface, no flange.
-    let points: Vec<[f64; 2]> = (0..=240)
-        .map(|i| {
-            let y = -0.06 + i as f64 * 0.0005;
-            [y, lambda * y]
-        })
-        .collect();
-    let wheel = Profile::new("cone", ProfileKind::Wheel, points).unwrap();
+/// Wheel on the UIC60 rail inclined 1:40, gauge 1435 mm, flange-back distance 1360 mm.
+fn pair_on_uic60(wheel: Profile) -> WheelRailPair {
     WheelRailPair::new(&PairSpec {
         wheel,
         rail: analytic::uic60(),
@@ -137,22 +130,44 @@ fn cone_pair(lambda: f64) -> WheelRailPair {
     .unwrap()
 }
 
-#[test]
-fn free_conical_wheelset_has_klingels_wavelength() {
-    let lambda = 0.2;
-    let v = 5.0;
-    let contact = WheelRailContact::new(cone_pair(lambda), ContactOptions::default()).unwrap();
+/// A pure cone: radius r0 - lambda * y over the whole running surface, no flange.
+fn cone(lambda: f64) -> Profile {
+    let points: Vec<[f64; 2]> = (0..=240)
+        .map(|i| {
+            let y = -0.06 + i as f64 * 0.0005;
+            [y, lambda * y]
+        })
+        .collect();
+    Profile::new("cone", ProfileKind::Wheel, points).unwrap()
+}
+
+/// The kinematic oscillation of a free wheelset started centred, at its static height, with a
+/// small yaw angle (the motion then starts with y' = -yaw; a lateral offset without the matching
+/// roll would start far from equilibrium on a steep cone).
+struct Oscillation {
+    /// \[m\] distance travelled between the first two up-crossings of y
+    wavelength: f64,
+    /// \[m\] largest |y|
+    amplitude: f64,
+    /// \[m\] rolling radius of the centred contact
+    radius: f64,
+    /// \[m\] half the distance between the centred contact points
+    e0: f64,
+}
+
+fn oscillate(pair: WheelRailPair, v: f64, yaw0: f64, periods: f64, l_guess: f64) -> Oscillation {
+    let contact = WheelRailContact::new(pair, ContactOptions::default()).unwrap();
     let mut sys = FreeWheelset {
         contact,
         ws: ContactWorkspace::new(),
         v,
     };
-    // Static equilibrium height at y = 0: each wheel carries half the weight.
     let rolling = WheelsetVelocity {
         vx: v,
         spin: v / R0,
         ..Default::default()
     };
+    // Static equilibrium height at y = 0: each wheel carries half the weight.
     let s = sys
         .contact
         .evaluate_with_load(
@@ -164,21 +179,21 @@ fn free_conical_wheelset_has_klingels_wavelength() {
             &mut sys.ws,
         )
         .unwrap();
-    let z0 = s.z;
-    // Klingel's e0 and r0 from the centred contact.
-    let p = sys.ws.patches[0];
-    let e0 = p.point_track[1].abs();
-    let r_c = p.rolling_radius;
-    let l_klingel = 2.0 * std::f64::consts::PI * (r_c * e0 / lambda).sqrt();
-    // Start centred at the static height with a small yaw angle: the kinematic motion starts
-    // from there with y' = -yaw (a lateral offset without the matching roll would start far from
-    // equilibrium on a 1:5 cone).
-    let mut x = [0.0, z0, 0.0, 5e-4, 0.0, 0.0, 0.0, 0.0, v / r_c];
-    let mut ode = Integrator::new(Method::dormand_prince(1e-6, 1e-7), 9).unwrap();
-    let t_end = 3.2 * l_klingel / v;
+    let centred = sys.ws.patches[0];
+    let (radius, e0) = (centred.rolling_radius, centred.point_track[1].abs());
+    let mut x = [0.0, s.z, 0.0, yaw0, 0.0, 0.0, 0.0, 0.0, v / radius];
+    // A small first step and a step limit: a trial stage far from the contact equilibrium would
+    // be rejected by the contact model as an absurd penetration.
+    let method = Method::DormandPrince {
+        rtol: 1e-6,
+        atol: 1e-7,
+        h0: Some(1e-5),
+        h_max: 2e-3,
+    };
+    let mut ode = Integrator::new(method, 9).unwrap();
     let mut track: Vec<(f64, f64)> = Vec::new();
     let (reason, stats) = ode
-        .integrate(&mut sys, 0.0, &mut x, t_end, &mut |t, x| {
+        .integrate(&mut sys, 0.0, &mut x, periods * l_guess / v, &mut |t, x| {
             track.push((t, x[0]));
             ControlFlow::Continue(())
         })
@@ -195,78 +210,37 @@ fn free_conical_wheelset_has_klingels_wavelength() {
             ups.push(t0 + (t1 - t0) * (-y0) / (y1 - y0));
         }
     }
-    assert!(ups.len() >= 2, "fewer than two up-crossings in {t_end} s");
-    let l_sim = v * (ups[1] - ups[0]);
-    let amp: f64 = track.iter().map(|&(_, y)| y.abs()).fold(0.0, f64::max);
-    eprintln!(
-        "Klingel: L = {l_klingel:.3} m (e0 = {e0:.4} m, r = {r_c:.4} m); simulated {l_sim:.3} m ({:+.2} %), max |y| {:.1} µm, {} steps, {} rhs",
-        100.0 * (l_sim / l_klingel - 1.0),
-        amp * 1e6,
-        stats.steps,
-        stats.rhs_evals
-    );
-    // A real oscillation of the expected size (yaw0 L / 2 pi ~ 0.65 mm), not noise.
-    assert!(amp > 0.3e-3 && amp < 2e-3, "amplitude {amp}");
-    assert!((l_sim / l_klingel - 1.0).abs() < 0.02 * tol_scale());
+    assert!(ups.len() >= 2, "fewer than two up-crossings");
+    let amplitude = track.iter().map(|&(_, y)| y.abs()).fold(0.0, f64::max);
+    eprintln!("{} steps, {} rhs evaluations", stats.steps, stats.rhs_evals);
+    Oscillation {
+        wavelength: v * (ups[1] - ups[0]),
+        amplitude,
+        radius,
+        e0,
+    }
 }
 
-/// Wavelength of a free wheelset's kinematic oscillation, from a small initial yaw, at `v`;
-/// also the largest lateral excursion.
-fn oscillate(pair: WheelRailPair, v: f64, yaw0: f64, periods: f64, l_guess: f64) -> (f64, f64) {
-    let contact = WheelRailContact::new(pair, ContactOptions::default()).unwrap();
-    let mut sys = FreeWheelset {
-        contact,
-        ws: ContactWorkspace::new(),
-        v,
-    };
-    let rolling = WheelsetVelocity {
-        vx: v,
-        spin: v / R0,
-        ..Default::default()
-    };
-    let s = sys
-        .contact
-        .evaluate_with_load(
-            Side::Left,
-            &WheelsetPose::default(),
-            &rolling,
-            0.5 * M * G,
-            1e-9,
-            &mut sys.ws,
-        )
-        .unwrap();
-    let r_c = sys.ws.patches[0].rolling_radius;
-    let mut x = [0.0, s.z, 0.0, yaw0, 0.0, 0.0, 0.0, 0.0, v / r_c];
-    // A small first step and a step limit: a trial stage far from the contact equilibrium would
-    // be rejected by the contact model as an absurd penetration.
-    let method = Method::DormandPrince {
-        rtol: 1e-6,
-        atol: 1e-7,
-        h0: Some(1e-5),
-        h_max: 2e-3,
-    };
-    let mut ode = Integrator::new(method, 9).unwrap();
-    let mut track: Vec<(f64, f64)> = Vec::new();
-    let (reason, _) = ode
-        .integrate(&mut sys, 0.0, &mut x, periods * l_guess / v, &mut |t, x| {
-            track.push((t, x[0]));
-            ControlFlow::Continue(())
-        })
-        .unwrap();
-    assert!(
-        matches!(reason, railsim_ode::StopReason::Reached),
-        "{reason:?}"
+#[test]
+fn free_conical_wheelset_has_klingels_wavelength() {
+    let lambda = 0.2;
+    let o = oscillate(pair_on_uic60(cone(lambda)), 5.0, 5e-4, 3.2, 8.2);
+    let l_klingel = 2.0 * std::f64::consts::PI * (o.radius * o.e0 / lambda).sqrt();
+    eprintln!(
+        "Klingel: L = {l_klingel:.3} m (e0 = {:.4} m, r = {:.4} m); simulated {:.3} m ({:+.2} %), max |y| {:.1} µm",
+        o.e0,
+        o.radius,
+        o.wavelength,
+        100.0 * (o.wavelength / l_klingel - 1.0),
+        o.amplitude * 1e6
     );
-    let mut ups = Vec::new();
-    for w in track.windows(2) {
-        let ((t0, y0), (t1, y1)) = (w[0], w[1]);
-        if y0 < 0.0 && y1 >= 0.0 {
-            ups.push(t0 + (t1 - t0) * (-y0) / (y1 - y0));
-        }
-    }
-    assert!(ups.len() >= 2, "fewer than two up-crossings");
-    let amp = track.iter().map(|&(_, y)| y.abs()).fold(0.0, f64::max);
-    (v * (ups[1] - ups[0]), amp)
+    // A real oscillation of the expected size (yaw0 L / 2 pi ~ 0.65 mm), not noise.
+    assert!(
+        o.amplitude > 0.3e-3 && o.amplitude < 2e-3,
+        "amplitude {}",
+        o.amplitude
+    );
+    assert!((o.wavelength / l_klingel - 1.0).abs() < 0.02 * tol_scale());
 }
 
 #[test]
@@ -276,27 +250,12 @@ fn s1002_wheelset_wavelength_matches_klingel_at_its_equivalent_conicity() {
     use railsim_profile::conicity::{
         WheelsetTrackSetup, delta_r_interp, equivalent_conicity_harmonic, rolling_radius_difference,
     };
-    let wheel = analytic::s1002();
-    let rail = analytic::uic60();
-    let pair = WheelRailPair::new(&PairSpec {
-        wheel: wheel.clone(),
-        rail: rail.clone(),
-        r0: R0,
-        flange_back_distance: 1.360,
-        flange_back_y: -0.070,
-        gauge: 1.435,
-        gauge_depth: 0.014,
-        inclination: (1.0f64 / 40.0).atan(),
-        material: Material::new(82e9, 0.28).unwrap(),
-        mu: 0.3,
-        curve_ds: 5e-5,
-        smoothing: 0.0,
-    })
-    .unwrap();
-    let (l_sim, amp) = oscillate(pair, 5.0, 2e-3, 2.6, 7.0);
+    let o = oscillate(pair_on_uic60(analytic::s1002()), 5.0, 2e-3, 2.6, 7.0);
+    let (l_sim, amp) = (o.wavelength, o.amplitude);
     let setup = WheelsetTrackSetup::default();
     let ys: Vec<f64> = (-400..=400).map(|i| i as f64 * 25e-6).collect();
-    let samples = rolling_radius_difference(&wheel, &rail, &setup, &ys).unwrap();
+    let samples =
+        rolling_radius_difference(&analytic::s1002(), &analytic::uic60(), &setup, &ys).unwrap();
     let lambda_e = equivalent_conicity_harmonic(|y| delta_r_interp(&samples, y), amp);
     let l_klingel = 2.0 * std::f64::consts::PI * (0.46 * 0.75 / lambda_e).sqrt();
     eprintln!(
