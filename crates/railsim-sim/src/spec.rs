@@ -264,62 +264,28 @@ impl SceneSpec {
                 continue;
             };
             let label = format!("[{name}] ");
+            // Read the subtable into `spec.$field`; false when it could not be read.
+            macro_rules! read_into {
+                ($field:ident) => {
+                    read_table(
+                        t,
+                        span.clone(),
+                        keys,
+                        &label,
+                        &mut sink,
+                        &mut dropped,
+                        as_is,
+                    )
+                    .map(|v| spec.$field = Some(Spanned::new(span.clone(), v)))
+                    .is_some()
+                };
+            }
             let ok = match name {
-                "speed_profile" => read_table(
-                    t,
-                    span.clone(),
-                    keys,
-                    &label,
-                    &mut sink,
-                    &mut dropped,
-                    as_is,
-                )
-                .map(|v| spec.speed_profile = Some(Spanned::new(span.clone(), v)))
-                .is_some(),
-                "contact" => read_table(
-                    t,
-                    span.clone(),
-                    keys,
-                    &label,
-                    &mut sink,
-                    &mut dropped,
-                    as_is,
-                )
-                .map(|v| spec.contact = Some(Spanned::new(span.clone(), v)))
-                .is_some(),
-                "integrator" => read_table(
-                    t,
-                    span.clone(),
-                    keys,
-                    &label,
-                    &mut sink,
-                    &mut dropped,
-                    as_is,
-                )
-                .map(|v| spec.integrator = Some(Spanned::new(span.clone(), v)))
-                .is_some(),
-                "log" => read_table(
-                    t,
-                    span.clone(),
-                    keys,
-                    &label,
-                    &mut sink,
-                    &mut dropped,
-                    as_is,
-                )
-                .map(|v| spec.log = Some(Spanned::new(span.clone(), v)))
-                .is_some(),
-                _ => read_table(
-                    t,
-                    span.clone(),
-                    keys,
-                    &label,
-                    &mut sink,
-                    &mut dropped,
-                    as_is,
-                )
-                .map(|v| spec.initial = Some(Spanned::new(span.clone(), v)))
-                .is_some(),
+                "speed_profile" => read_into!(speed_profile),
+                "contact" => read_into!(contact),
+                "integrator" => read_into!(integrator),
+                "log" => read_into!(log),
+                _ => read_into!(initial),
             };
             if !ok {
                 unreadable.push(name.to_owned());
