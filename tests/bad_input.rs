@@ -174,7 +174,7 @@ fn bad_options_are_rejected() {
     let e = ContactModelKind::from_name("exact").unwrap_err();
     assert!(
         e.to_string()
-            .contains("polach, fastsim, stripes, halfspace"),
+            .contains("linear, polach, fastsim, stripes, halfspace"),
         "{e}"
     );
     let mut opts = railsim_contact::ContactOptions::default();

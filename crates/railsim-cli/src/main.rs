@@ -21,6 +21,7 @@ use railsim_profile::conicity::{
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
 
 mod replay;
+mod run;
 
 /// railsim: rail-vehicle dynamics with online multi-patch wheel/rail contact.
 #[derive(Parser)]
@@ -32,6 +33,9 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Simulate a scene (default: the built-in scene, Manchester vehicle 1 at 55 m/s over
+    /// irregular straight track into a curve), with a progress line, an MCAP log and a summary.
+    Run(run::RunArgs),
     /// Evaluate one wheel/rail contact (default: S1002 on UIC60 1:40, gauge 1435 mm, flange-back
     /// 1360 mm, r0 = 460 mm, 10 kN wheel load), or a batch of cases with --cases.
     Contact(ContactArgs),
@@ -44,6 +48,7 @@ enum Command {
 
 #[derive(Clone, Copy, ValueEnum)]
 enum ModelName {
+    Linear,
     Polach,
     Fastsim,
     Stripes,
@@ -53,6 +58,7 @@ enum ModelName {
 impl From<ModelName> for ContactModelKind {
     fn from(m: ModelName) -> Self {
         match m {
+            ModelName::Linear => ContactModelKind::Linear,
             ModelName::Polach => ContactModelKind::Polach,
             ModelName::Fastsim => ContactModelKind::Fastsim,
             ModelName::Stripes => ContactModelKind::Stripes,
@@ -159,6 +165,7 @@ struct ConicityArgs {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Run(a) => run::run_scene(&a),
         Command::Contact(a) => run_contact(&a),
         Command::Conicity(a) => run_conicity(&a),
         Command::Replay(a) => replay::run_replay(&a),

@@ -6,14 +6,16 @@
 //!
 //! | name | normal problem | tangential problem |
 //! |---|---|---|
+//! | `linear` | Hertz ellipse per patch | Kalker's linear theory, or a constant creep coefficient (Wickens) |
 //! | `polach` | Hertz ellipse per patch from the rigid pair's curvatures and penetration | Polach (1999/2005) |
 //! | `fastsim` | Hertz ellipse per patch | FASTSIM (Kalker 1982) on the ellipse |
 //! | `stripes` | STRIPES on the isosceles strips (Ayasse & Chollet 2005; Jalili & Salehi 2011) | FASTSIM per strip |
 //! | `halfspace` | Boussinesq–Love half-space (Kalker's NORM; Polonsky & Keer CG) on the patch's gap | FASTSIM per grid row |
 
 use railsim_elastic::{
-    Creepages, Grid, HalfspaceSolver, PolachParams, TractionBound, blended_flexibilities,
-    fastsim_ellipse, fastsim_strip, hertz_from_approach, polach,
+    Creepages, Grid, HalfspaceSolver, PolachParams, TangentialForces, TractionBound,
+    blended_flexibilities, fastsim_ellipse, fastsim_strip, hertz_from_approach, linear_kalker,
+    polach,
 };
 
 use crate::error::ContactError;
@@ -31,6 +33,12 @@ use crate::stripes::{self, Local, Strip, StripesVariant, Tangential};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ContactModelKind {
+    /// Hertz ellipse per patch + Kalker's linear creep theory (no saturation): Kalker's
+    /// coefficients C11, C22, C23, C33 (J.J. Kalker, 1967), or a constant creep coefficient
+    /// f11 = f22 = f with no spin terms ([`ContactOptions::linear_creep`]), the model of the
+    /// classical linear stability analyses (A.H. Wickens, Fundamentals of Rail Vehicle Dynamics,
+    /// 2003). For analytic checks and linearised studies, not for curving with flange contact.
+    Linear,
     /// Hertz ellipse per patch + Polach's creep-force formulas (O. Polach, VSD 33 suppl. 1999;
     /// Wear 258, 2005). The fastest level.
     Polach,
@@ -46,7 +54,8 @@ pub enum ContactModelKind {
 
 impl ContactModelKind {
     /// All models, fastest first.
-    pub const ALL: [ContactModelKind; 4] = [
+    pub const ALL: [ContactModelKind; 5] = [
+        ContactModelKind::Linear,
         ContactModelKind::Polach,
         ContactModelKind::Fastsim,
         ContactModelKind::Stripes,
@@ -55,6 +64,7 @@ impl ContactModelKind {
     /// The model's name as used in files and on the command line.
     pub fn name(self) -> &'static str {
         match self {
+            ContactModelKind::Linear => "linear",
             ContactModelKind::Polach => "polach",
             ContactModelKind::Fastsim => "fastsim",
             ContactModelKind::Stripes => "stripes",
@@ -69,7 +79,7 @@ impl ContactModelKind {
             .ok_or_else(|| ContactError::BadOption {
                 key: "model",
                 value: name.to_string(),
-                expected: "one of polach, fastsim, stripes, halfspace".into(),
+                expected: "one of linear, polach, fastsim, stripes, halfspace".into(),
             })
     }
 }
@@ -103,6 +113,9 @@ pub struct ContactOptions {
     pub halfspace_cells: (usize, usize),
     /// \[m\] interpenetration beyond which a pose is rejected as absurd
     pub max_penetration: f64,
+    /// \[N\] `linear` model only: a constant creep coefficient f11 = f22 = f with
+    /// f23 = f33 = 0 (no spin), instead of Kalker's coefficients of the Hertz ellipse.
+    pub linear_creep: Option<f64>,
 }
 
 impl Default for ContactOptions {
@@ -120,8 +133,17 @@ impl Default for ContactOptions {
             bound: TractionBound::Elliptic,
             halfspace_cells: (48, 48),
             max_penetration: 5e-3,
+            linear_creep: None,
         }
     }
+}
+
+/// The tangential solution on a Hertz ellipse.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum HertzTangential {
+    Linear,
+    Polach,
+    Fastsim,
 }
 
 /// Everything a model needs to solve one patch.
@@ -371,8 +393,18 @@ impl WheelRailContact {
                     )?,
                     frame.delta0,
                 ),
-                ContactModelKind::Fastsim => (self.solve_hertz(&input, false)?, frame.delta0),
-                ContactModelKind::Polach => (self.solve_hertz(&input, true)?, frame.delta0),
+                ContactModelKind::Linear => (
+                    self.solve_hertz(&input, HertzTangential::Linear)?,
+                    frame.delta0,
+                ),
+                ContactModelKind::Fastsim => (
+                    self.solve_hertz(&input, HertzTangential::Fastsim)?,
+                    frame.delta0,
+                ),
+                ContactModelKind::Polach => (
+                    self.solve_hertz(&input, HertzTangential::Polach)?,
+                    frame.delta0,
+                ),
                 ContactModelKind::Halfspace => {
                     let f = solve_halfspace(&input, &self.opts, &mut ws.halfspace)?;
                     (f, frame.delta0)
@@ -558,12 +590,23 @@ impl WheelRailContact {
     fn solve_hertz(
         &self,
         input: &PatchInput<'_>,
-        use_polach: bool,
+        kind: HertzTangential,
     ) -> Result<PatchForces, ContactError> {
         let fr = &input.frame;
         let mat = &self.pair.material;
         let hz = hertz_from_approach(fr.a_curv, fr.b_curv, fr.delta0, mat)?;
-        let tang = if use_polach {
+        let tang = if kind == HertzTangential::Linear {
+            match self.opts.linear_creep {
+                // Wickens' linear model: Fx = -f xi, Fy = -f eta, no spin.
+                Some(f) => TangentialForces {
+                    fx: -f * input.creep.xi,
+                    fy: -f * input.creep.eta,
+                    mz: 0.0,
+                    adhesion_fraction: 1.0,
+                },
+                None => linear_kalker(hz.a, hz.b, &input.creep, mat)?,
+            }
+        } else if kind == HertzTangential::Polach {
             polach(
                 hz.a,
                 hz.b,

@@ -416,6 +416,23 @@ impl LogWriter {
         self.write(&channel, t_ns, message)
     }
 
+    /// Writes a further Metadata record now (e.g. results known only at the end of a run). The
+    /// reserved names `scene` and `railsim_log` are refused.
+    pub fn write_metadata(&mut self, name: &str, entries: BTreeMap<String, String>) -> Result<()> {
+        if name == SCENE_METADATA || name == FORMAT_METADATA {
+            return Err(LogError::Topic {
+                path: self.path.clone(),
+                message: format!("metadata may not be named '{name}' (reserved)"),
+            });
+        }
+        self.mcap
+            .write_metadata(&mcap::records::Metadata {
+                name: name.to_owned(),
+                metadata: entries,
+            })
+            .map_err(|e| self.write_err(e))
+    }
+
     /// Closes the current chunk and flushes the file buffer to the operating system. After it
     /// returns, every message written so far survives the process being killed. (It does not
     /// `fsync`: a power loss may still lose data the OS had not written.)

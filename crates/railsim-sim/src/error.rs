@@ -25,6 +25,52 @@ pub enum SceneError {
     },
 }
 
+/// Errors of building and running a simulation.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// The scene (or a file it names) is invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The scene compiles but cannot be simulated (e.g. a profile file cannot be read).
+    #[error("cannot build the simulation: {message}")]
+    Model {
+        /// What is wrong.
+        message: String,
+    },
+    /// The initial state could not be found.
+    #[error("initial state: {message}")]
+    Initial {
+        /// What failed.
+        message: String,
+    },
+    /// The simulation stopped: it went unstable, derailed, or the integrator failed. The log
+    /// written so far is kept and readable.
+    #[error("simulation stopped at t = {t:.6} s: {body}: {quantity}{}", log_note(.log))]
+    Stopped {
+        /// \[s\] time of the last good state (or of the failed evaluation).
+        t: f64,
+        /// The body, wheelset or wheel concerned ("integrator" when none).
+        body: String,
+        /// What went wrong, with the value.
+        quantity: String,
+        /// The log that was kept, if any.
+        log: Option<std::path::PathBuf>,
+    },
+    /// Writing the log failed.
+    #[error(transparent)]
+    Log(#[from] railsim_log::LogError),
+    /// Invalid integrator settings.
+    #[error("integrator: {0}")]
+    Ode(#[from] railsim_ode::OdeError),
+}
+
+fn log_note(log: &Option<std::path::PathBuf>) -> String {
+    match log {
+        Some(p) => format!(" (the log up to this point is kept in {})", p.display()),
+        None => String::new(),
+    }
+}
+
 fn list(problems: &[Problem]) -> String {
     problems
         .iter()

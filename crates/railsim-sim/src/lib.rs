@@ -10,16 +10,26 @@
 //! Every problem is reported at once as `file:line:col: message`, those of the vehicle and
 //! track files with their own file, line and column.
 //!
-//! The compiled [`Scene`] is immutable; the simulation (`step`, not written yet) will build its
-//! model, state and workspace from it.
+//! The compiled [`Scene`] is immutable; [`Simulation::new`] builds from it the simulation model
+//! ([`SimModel`]: members, force elements, one online contact pair per wheel, the state layout),
+//! the initial state (static equilibrium, wheelsets settled on the rails) and the workspace;
+//! [`dynamics`] holds the right-hand side with its stages in order, and [`Simulation::run`]
+//! steps the integrator, samples at the log rate, checks for derailment and instability, writes
+//! the MCAP log and returns a [`RunSummary`].
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod dynamics;
 pub mod error;
+pub mod math;
+pub mod model;
+pub mod run;
 pub mod scene;
 pub mod spec;
 
-pub use error::{Problem, SceneError, SourceMap};
+pub use error::{Problem, SceneError, SimError, SourceMap};
+pub use model::SimModel;
+pub use run::{RunOptions, RunSummary, Sample, Simulation};
 pub use scene::{
     InitialDisturbance, LogOptions, RigidWheelbase, RunLength, Scene, SpeedProfile, Topic,
     longest_rigid_wheelbase, required_curve_radius,

@@ -31,6 +31,12 @@ pub const MAX_STEP_LIMIT_S: f64 = 1.0;
 pub const DEFAULT_RTOL: f64 = 1e-6;
 /// \[SI units of the state\] default absolute tolerance of `dopri5` and `radau5`.
 pub const DEFAULT_ATOL: f64 = 1e-8;
+/// \[-\] friction coefficient when the scene gives none.
+pub const DEFAULT_FRICTION: f64 = 0.3;
+/// \[-\] accepted friction coefficients.
+const FRICTION_RANGE: (f64, f64) = (0.01, 1.0);
+/// \[N\] accepted constant creep coefficients of the `linear` model.
+const CREEP_COEFFICIENT_RANGE_N: (f64, f64) = (1e4, 1e10);
 /// \[mm\] range of the contact search step `step_mm` (that of the contact crate).
 pub const CONTACT_STEP_RANGE_MM: (f64, f64) = (1e-3, 5.0);
 /// \[Hz\] largest logging rate.
@@ -338,6 +344,8 @@ pub struct Scene {
     pub length: RunLength,
     /// Contact model and options for every wheel.
     pub contact: ContactOptions,
+    /// \[-\] Coulomb friction coefficient of every wheel/rail pair.
+    pub friction: f64,
     /// The integration method and its settings.
     pub integrator: Method,
     /// What to log and where.
@@ -598,6 +606,7 @@ impl Compiler<'_> {
         if !fits {
             return None;
         }
+        let (contact, friction) = contact?;
         Some(Scene {
             name,
             source: source_name.to_owned(),
@@ -608,7 +617,8 @@ impl Compiler<'_> {
             speed: speed?,
             start,
             length: length?,
-            contact: contact?,
+            contact,
+            friction,
             integrator: integrator?,
             log: log?,
             initial: initial?,
@@ -950,10 +960,11 @@ impl Compiler<'_> {
         }
     }
 
-    fn contact(&mut self, c: Option<&Spanned<ContactSpec>>) -> Option<ContactOptions> {
+    fn contact(&mut self, c: Option<&Spanned<ContactSpec>>) -> Option<(ContactOptions, f64)> {
         let mut opts = ContactOptions::default();
         let Some(c) = c else {
-            return (!self.unreadable.iter().any(|t| t == "contact")).then_some(opts);
+            return (!self.unreadable.iter().any(|t| t == "contact"))
+                .then_some((opts, DEFAULT_FRICTION));
         };
         let c = c.get_ref();
         let mut ok = true;
@@ -982,7 +993,38 @@ impl Compiler<'_> {
                 None => ok = false,
             }
         }
-        ok.then_some(opts)
+        let mut friction = DEFAULT_FRICTION;
+        if let Some(f) = &c.friction {
+            match self.range(f, "friction", "-", FRICTION_RANGE, false) {
+                Some(x) => friction = x,
+                None => ok = false,
+            }
+        }
+        if let Some(f) = &c.creep_coefficient_n {
+            if opts.model != ContactModelKind::Linear {
+                self.err(
+                    &f.span(),
+                    "contact.creep_coefficient_n",
+                    format!(
+                        "[contact] creep_coefficient_n applies only to model = \"linear\", found model = \"{}\"",
+                        opts.model.name()
+                    ),
+                );
+                ok = false;
+            } else {
+                match self.range(
+                    f,
+                    "creep_coefficient_n",
+                    "N",
+                    CREEP_COEFFICIENT_RANGE_N,
+                    false,
+                ) {
+                    Some(x) => opts.linear_creep = Some(x),
+                    None => ok = false,
+                }
+            }
+        }
+        ok.then_some((opts, friction))
     }
 
     fn integrator(&mut self, i: Option<&Spanned<IntegratorSpec>>) -> Option<Method> {

@@ -95,12 +95,19 @@ pub struct SpeedProfileSpec {
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
-    /// `"polach"`, `"fastsim"`, `"stripes"` or `"halfspace"` (required in the table).
+    /// `"linear"`, `"polach"`, `"fastsim"`, `"stripes"` or `"halfspace"` (required in the table).
     #[serde(default)]
     pub model: Option<Spanned<String>>,
     /// \[mm\] arc-length step of the contact search near contact; default 0.5.
     #[serde(default)]
     pub step_mm: Option<Spanned<f64>>,
+    /// \[-\] Coulomb friction coefficient of every wheel/rail pair; default 0.3.
+    #[serde(default)]
+    pub friction: Option<Spanned<f64>>,
+    /// \[N\] `linear` model only: constant creep coefficient f11 = f22 (no spin terms); without
+    /// it the `linear` model uses Kalker's coefficients.
+    #[serde(default)]
+    pub creep_coefficient_n: Option<Spanned<f64>>,
 }
 
 /// `[integrator]`.

@@ -309,7 +309,7 @@ fn bad_contact_model_lists_the_valid_names() {
         &[
             "unknown contact model 'stripse'",
             "did you mean 'stripes'",
-            "polach, fastsim, stripes, halfspace",
+            "linear, polach, fastsim, stripes, halfspace",
         ],
     );
 }

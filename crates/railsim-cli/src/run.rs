@@ -1,0 +1,162 @@
+//! `railsim run [SCENE]`: simulate a scene with a progress line, an MCAP log and a summary.
+
+use std::collections::BTreeMap;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::Args;
+
+use railsim_sim::{RunOptions, RunSummary, Scene, Simulation};
+
+/// The built-in default scene, from the repository this binary was built in.
+pub const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/default.toml");
+
+#[derive(Args)]
+pub struct RunArgs {
+    /// Scene file (TOML, docs/formats/scene.md); default: the built-in scene
+    /// (scenes/default.toml).
+    pub scene: Option<PathBuf>,
+    /// Write the log here instead of the scene's [log] path.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write no log.
+    #[arg(long)]
+    pub no_log: bool,
+    /// Stop after this much simulated time [s] instead of the scene's end.
+    #[arg(long)]
+    pub duration_s: Option<f64>,
+    /// Measure and print the cost split (contact, suspension, integrator, logging).
+    #[arg(long)]
+    pub timing: bool,
+    /// No progress line.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// The texts a log stores so that it describes itself and can be re-run: the scene, vehicle
+/// and track files.
+pub fn sources(scene_path: &Path, scene: &Scene) -> BTreeMap<String, String> {
+    let mut m = BTreeMap::new();
+    for (key, path) in [
+        ("scene", scene_path),
+        ("vehicle", scene.vehicle_file.as_path()),
+        ("track", scene.track_file.as_path()),
+    ] {
+        if let Ok(text) = std::fs::read_to_string(path) {
+            m.insert(key.to_owned(), text);
+            m.insert(format!("{key}_path"), path.display().to_string());
+        }
+    }
+    m
+}
+
+pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
+    let path = a
+        .scene
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENE));
+    if let Some(d) = a.duration_s
+        && !(d.is_finite() && d > 0.0)
+    {
+        anyhow::bail!("--duration-s: expected a positive number of seconds, found {d}");
+    }
+    let scene = Scene::from_file(&path)?;
+    let mut sim = Simulation::new(&scene)?;
+    let opts = RunOptions {
+        log_path: a.out.clone(),
+        no_log: a.no_log,
+        t_end: a.duration_s,
+        timing: a.timing,
+        sources: sources(&path, &scene),
+    };
+    let t_end = a
+        .duration_s
+        .unwrap_or(scene.duration())
+        .min(scene.duration());
+    eprintln!(
+        "railsim run: {} ({} m/s, {:.2} s, contact model {}, {} states)",
+        scene.name,
+        scene.speed.speed_at(0.0),
+        t_end,
+        scene.contact.model.name(),
+        sim.model().dim()
+    );
+    let wall = Instant::now();
+    let mut last = 0.0f64;
+    let quiet = a.quiet;
+    let mut progress = |t: f64, t_end: f64| {
+        let w = wall.elapsed().as_secs_f64();
+        if !quiet && (w - last > 0.5 || t >= t_end) {
+            last = w;
+            let frac = (t / t_end).clamp(0.0, 1.0);
+            let n = (frac * 30.0).round() as usize;
+            eprint!(
+                "\r[{}{}] t = {t:7.3} / {t_end:.3} s   real {w:7.1} s   {:.2}× real time ",
+                "#".repeat(n),
+                ".".repeat(30 - n),
+                t / w.max(1e-9)
+            );
+            let _ = std::io::stderr().flush();
+        }
+    };
+    let result = sim.run(&scene, &opts, &mut progress, &mut |_| {});
+    if !quiet {
+        eprintln!();
+    }
+    let summary = result.context("railsim run")?;
+    print_summary(&summary, a.timing);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_summary(s: &RunSummary, timing: bool) {
+    println!(
+        "simulated {:.3} s in {:.2} s: real-time factor {:.3}",
+        s.t_end,
+        s.wall,
+        s.real_time_factor()
+    );
+    for (i, y) in s.max_lateral.iter().enumerate() {
+        println!("wheelset {i}: max |lateral displacement| {:.2} mm", y * 1e3);
+    }
+    let side = |x: railsim_contact::Side| x.name();
+    println!(
+        "max Y/Q {:.3} (wheelset {}, {} wheel); max Q {:.1} kN (wheelset {}, {} wheel)",
+        s.max_y_over_q.0,
+        s.max_y_over_q.1,
+        side(s.max_y_over_q.2),
+        s.max_q.0 * 1e-3,
+        s.max_q.1,
+        side(s.max_q.2)
+    );
+    let st = &s.stats;
+    println!(
+        "integrator: {} steps, {} rejected, {} right-hand sides, {} Jacobians, {} LU",
+        st.steps, st.rejected, st.rhs_evals, st.jacobians, st.lu_factorizations
+    );
+    println!("samples {}; state digest {:016x}", s.samples, s.digest);
+    if timing {
+        let c = &s.cost;
+        let other = (s.wall - c.rhs - s.logging).max(0.0);
+        println!(
+            "cost: contact {:.2} s ({:.0} %), suspension {:.2} s ({:.0} %), rest of rhs {:.2} s, integrator and loop {:.2} s, logging {:.2} s",
+            c.contact,
+            100.0 * c.contact / s.wall,
+            c.suspension,
+            100.0 * c.suspension / s.wall,
+            c.rhs - c.contact - c.suspension,
+            other,
+            s.logging
+        );
+    }
+    if let Some(log) = &s.log {
+        println!(
+            "log: {} ({} messages, {:.1} MB)",
+            log.path.display(),
+            log.messages,
+            log.bytes as f64 / 1e6
+        );
+    }
+}

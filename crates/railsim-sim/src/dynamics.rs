@@ -1,0 +1,525 @@
+//! The equations of motion: one right-hand-side evaluation with its stages in order.
+//!
+//! 1. **motion**: distance run s(t), speed V and its rate from the scene's speed profile;
+//! 2. **frames**: each member has its own track-following frame at s + x₀ (x₀ its nominal x),
+//!    from the track geometry: origin, orientation, angular velocity V·k and acceleration;
+//! 3. **kinematics**: each member's centre of gravity, orientation and velocities from its
+//!    coordinates relative to its frame;
+//! 4. **force elements**: deflections between attachment points (in body 1's axes), laws,
+//!    forces and moments on both members, internal-state rates;
+//! 5. **contact**: each wheel calls the contact crate online with its pose and velocities
+//!    relative to its rail (irregularities move the rails), forces back to the wheelset;
+//! 6. **equations of motion** in each member's frame, with the frame's inertial terms.
+//!
+//! The derivation and its approximations are in `docs/models/dynamics.md`.
+
+use std::time::Instant;
+
+use railsim_contact::{ContactWorkspace, PatchResult, Side, WheelsetPose, WheelsetVelocity};
+use railsim_ode::{OdeSystem, RhsError};
+use railsim_vehicle::model::{Axis, ForceLaw, series_force, series_state_rate};
+
+use crate::math::{
+    M3, V3, add, cross, mat_mul, mat_t_mul, mul, mul_t, rot_x, rot_y, rot_z, rotation_rpy, scale,
+    small_rotation, sub,
+};
+use crate::model::{End, MemberKind, SimModel};
+
+/// A member's frame and kinematics at one evaluation (global components unless noted).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct MemberKin {
+    /// Orientation of the member's track frame (columns: its axes).
+    pub frame: M3,
+    /// \[m\] origin of the track frame (centre line, plane of the rail tops).
+    pub origin: V3,
+    /// \[1/m\] Darboux vector of the track at the frame: its angular velocity per metre run.
+    pub darboux: V3,
+    /// \[rad/s\] angular velocity of the frame.
+    pub omega_frame: V3,
+    /// \[rad/s²\] its angular acceleration.
+    pub alpha_frame: V3,
+    /// \[m/s²\] acceleration of the frame origin.
+    pub accel_origin: V3,
+    /// \[m/s\] velocity of the frame origin.
+    pub vel_origin: V3,
+    /// \[m, m, m, rad, rad, rad\] coordinates relative to the frame (pitch 0 for wheelsets).
+    pub q: [f64; 6],
+    /// Their rates (a wheelset's spin rate at index 4).
+    pub qd: [f64; 6],
+    /// \[m\] centre of gravity relative to the frame origin, frame components.
+    pub r_local: V3,
+    /// \[m\] centre of gravity.
+    pub cog: V3,
+    /// \[m/s\] its velocity.
+    pub vel: V3,
+    /// Orientation of the body (a wheelset's non-spinning axle frame).
+    pub orient: M3,
+    /// \[rad/s\] angular velocity (a wheelset's without its spin).
+    pub omega: V3,
+    /// \[N\] sum of the forces on the member.
+    pub force: V3,
+    /// \[N m\] sum of the moments about its centre of gravity.
+    pub moment: V3,
+}
+
+/// One patch as the simulation saw it, for logs and summaries.
+#[derive(Debug, Clone, Copy)]
+pub struct PatchRecord {
+    /// Index into [`SimModel::wheels`].
+    pub wheel: usize,
+    /// The contact crate's result (in the rail's frame when the track has irregularities).
+    pub result: PatchResult,
+    /// \[N\] force on the wheel in the wheelset's track frame.
+    pub force_frame: V3,
+}
+
+/// Time spent per stage, accumulated over evaluations.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CostSplit {
+    /// \[s\] contact evaluations.
+    pub contact: f64,
+    /// \[s\] force elements (suspension).
+    pub suspension: f64,
+    /// \[s\] everything in the right-hand side (frames, kinematics, equations of motion too).
+    pub rhs: f64,
+    /// Right-hand-side evaluations.
+    pub evaluations: u64,
+}
+
+/// Reusable buffers of the right-hand side: nothing is allocated per evaluation once they have
+/// grown.
+pub struct Workspace {
+    /// Per member.
+    pub kin: Vec<MemberKin>,
+    /// The contact crate's workspace.
+    pub contact: ContactWorkspace,
+    /// Patches of the last evaluation, filled only when `record` is set.
+    pub patches: Vec<PatchRecord>,
+    /// \[N\] per wheel: force on the wheel in its wheelset's track frame, summed over patches.
+    pub wheel_force: Vec<V3>,
+    /// Keep the patches of each evaluation in `patches` (for outputs).
+    pub record: bool,
+    /// Measure the cost of the stages.
+    pub timing: bool,
+    /// Accumulated cost.
+    pub cost: CostSplit,
+    /// \[m\] axial deflection of each series spring-damper (0 for other elements).
+    pub series_delta: Vec<f64>,
+}
+
+impl Workspace {
+    /// Buffers for `model`.
+    pub fn new(model: &SimModel) -> Workspace {
+        Workspace {
+            kin: vec![MemberKin::default(); model.members.len()],
+            contact: ContactWorkspace::new(),
+            patches: Vec::with_capacity(4 * model.wheels.len()),
+            wheel_force: vec![[0.0; 3]; model.wheels.len()],
+            record: false,
+            timing: false,
+            cost: CostSplit::default(),
+            series_delta: vec![0.0; model.elements.len()],
+        }
+    }
+}
+
+/// Where one rail is, moved by the track irregularities: origin in the y–z plane of the
+/// wheelset's track frame and roll about its x-axis.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RailFrame {
+    /// \[m\] (y, z) of the rail frame's origin.
+    pub origin: [f64; 2],
+    /// \[rad\] roll of the rail frame (cross level over the cant base).
+    pub roll: f64,
+}
+
+/// Express a wheelset's contact pose and velocities relative to the rail of `side` at track
+/// position `s` (in place), the rails being moved by the track's irregularities: lateral
+/// alignment and vertical level move both rails, half the gauge deviation moves each rail
+/// outward, and cross level rolls the rail pair about the centre line. Returns the rail frame
+/// (identity on a track without irregularities, which are then not evaluated).
+pub fn rail_frame(
+    m: &SimModel,
+    side: Side,
+    s: f64,
+    v: f64,
+    radius: f64,
+    pose: &mut WheelsetPose,
+    vel: &mut WheelsetVelocity,
+) -> RailFrame {
+    let Some(irr) = m.track.irregularities() else {
+        return RailFrame::default();
+    };
+    let ir = irr.at(s);
+    let sg = if side == Side::Left { 1.0 } else { -1.0 };
+    let o = [ir.lateral + 0.5 * sg * ir.gauge, ir.vertical];
+    let od = [
+        v * (ir.dlateral_ds + 0.5 * sg * ir.dgauge_ds),
+        v * ir.dvertical_ds,
+    ];
+    let delta = ir.cross_level / m.cant_base;
+    let ddelta = v * ir.dcross_level_ds / m.cant_base;
+    // Axle centre relative to the rail frame's origin, rotated by −δ.
+    let c = [pose.y - o[0], pose.z + radius - o[1]];
+    let (sd, cd) = delta.sin_cos();
+    let cr = [cd * c[0] + sd * c[1], -sd * c[0] + cd * c[1]];
+    // Velocity relative to the moving, rolling rail frame.
+    let vr = [
+        vel.vy - od[0] + ddelta * c[1],
+        vel.vz - od[1] - ddelta * c[0],
+    ];
+    pose.y = cr[0];
+    pose.z = cr[1] - radius;
+    pose.roll -= delta;
+    vel.vy = cd * vr[0] + sd * vr[1];
+    vel.vz = -sd * vr[0] + cd * vr[1];
+    vel.roll_rate -= ddelta;
+    RailFrame {
+        origin: o,
+        roll: delta,
+    }
+}
+
+/// The model with its workspace: an [`OdeSystem`].
+pub struct Dynamics<'m> {
+    /// The model.
+    pub model: &'m SimModel,
+    /// The workspace.
+    pub ws: Workspace,
+}
+
+/// Orientation of a track frame: `Rz(heading) · Ry(−atan(gradient)) · Rx(roll)`.
+fn track_orientation(heading: f64, gradient: f64, roll: f64) -> M3 {
+    mat_mul(
+        &mat_mul(&rot_z(heading), &rot_y(-gradient.atan())),
+        &rot_x(roll),
+    )
+}
+
+impl Dynamics<'_> {
+    /// Stages 1–3: frames and kinematics of every member.
+    fn kinematics(&mut self, t: f64, x: &[f64]) {
+        let m = self.model;
+        let (d, v, vdot) = m.motion(t);
+        let s = m.start + d;
+        for (i, mm) in m.members.iter().enumerate() {
+            let tf = m.track.frame_at(s + mm.p0[0]);
+            let frame = track_orientation(tf.heading, tf.gradient, tf.roll);
+            let tangent = [frame[0][0], frame[1][0], frame[2][0]];
+            // Darboux vector: κ about the vertical, the gradient's rate about the heading's
+            // lateral axis, the roll's rate about the tangent.
+            let rz = rot_z(tf.heading);
+            let lateral = [rz[0][1], rz[1][1], rz[2][1]];
+            let dalpha = tf.vertical_curvature / (1.0 + tf.gradient * tf.gradient);
+            let darboux = add(
+                add([0.0, 0.0, tf.curvature], scale(-dalpha, lateral)),
+                scale(tf.droll_ds, tangent),
+            );
+            let omega_frame = scale(v, darboux);
+            let alpha_frame = add(scale(vdot, darboux), [0.0, 0.0, v * v * tf.dcurvature_ds]);
+            let vel_origin = scale(v, tangent);
+            let accel_origin = add(scale(vdot, tangent), scale(v * v, cross(darboux, tangent)));
+            let mut q = [0.0; 6];
+            let mut qd = [0.0; 6];
+            for k in 0..6 {
+                q[k] = m.coord(i, k, x);
+                qd[k] = m.coord_rate(i, k, x, v);
+            }
+            let wheelset = mm.is_wheelset();
+            if wheelset {
+                q[4] = 0.0;
+            }
+            let r_local = [q[0], mm.p0[1] + q[1], mm.p0[2] + q[2]];
+            let cog = add(tf.position_g, mul(&frame, r_local));
+            let rel_vel = [qd[0], qd[1], qd[2]];
+            let vel = add(
+                add(vel_origin, cross(omega_frame, mul(&frame, r_local))),
+                mul(&frame, rel_vel),
+            );
+            let orient = mat_mul(&frame, &rotation_rpy(q[3], q[4], q[5]));
+            let rel_rate = [qd[3], if wheelset { 0.0 } else { qd[4] }, qd[5]];
+            let omega = add(omega_frame, mul(&frame, rel_rate));
+            self.ws.kin[i] = MemberKin {
+                frame,
+                origin: tf.position_g,
+                darboux,
+                omega_frame,
+                alpha_frame,
+                accel_origin,
+                vel_origin,
+                q,
+                qd,
+                r_local,
+                cog,
+                vel,
+                orient,
+                omega,
+                force: [0.0; 3],
+                moment: [0.0; 3],
+            };
+        }
+    }
+
+    /// Position, velocity, orientation and angular velocity of an element's end `e` at vehicle
+    /// point `a`; a track end uses the frame of the member at the other end.
+    fn end_state(&self, e: End, other: End, a: V3) -> (V3, V3, M3, V3) {
+        match (e, other) {
+            (End::Member(i), _) => {
+                let k = &self.ws.kin[i.0];
+                let arm = mul(&k.orient, sub(a, self.model.members[i.0].p0));
+                (
+                    add(k.cog, arm),
+                    add(k.vel, cross(k.omega, arm)),
+                    k.orient,
+                    k.omega,
+                )
+            }
+            (End::Track, End::Member(j)) => {
+                let k = &self.ws.kin[j.0];
+                let p0 = self.model.members[j.0].p0;
+                let arm = mul(&k.frame, [a[0] - p0[0], a[1], a[2]]);
+                (
+                    add(k.origin, arm),
+                    add(k.vel_origin, cross(k.omega_frame, arm)),
+                    k.frame,
+                    k.omega_frame,
+                )
+            }
+            (End::Track, End::Track) => unreachable!("rejected when the model is built"),
+        }
+    }
+
+    /// Stage 4: force elements. Writes the internal-state rates into `dx`.
+    fn elements(&mut self, x: &[f64], dx: &mut [f64]) {
+        for (ei, el) in self.model.elements.iter().enumerate() {
+            let (p1, v1, q1, w1) = self.end_state(el.ends[0], el.ends[1], el.points[0]);
+            let (p2, v2, q2, w2) = self.end_state(el.ends[1], el.ends[0], el.points[1]);
+            let dp = sub(p2, p1);
+            // Deflections in body 1's axes, then the element's local axes.
+            let e = &el.axes;
+            let lin = mul_t(e, sub(mul_t(&q1, dp), sub(el.points[1], el.points[0])));
+            let lin_rate = mul_t(e, mul_t(&q1, sub(sub(v2, v1), cross(w1, dp))));
+            let rot = mul_t(e, small_rotation(&mat_t_mul(&q1, &q2)));
+            let rot_rate = mul_t(e, mul_t(&q1, sub(w2, w1)));
+            let mut f = [0.0; 3];
+            let mut mo = [0.0; 3];
+            match &el.law {
+                ForceLaw::Bushing { stiffness, damping } => {
+                    for k in 0..3 {
+                        f[k] = -stiffness[k] * lin[k] - damping[k] * lin_rate[k];
+                        mo[k] = -stiffness[3 + k] * rot[k] - damping[3 + k] * rot_rate[k];
+                    }
+                }
+                ForceLaw::Table { axis, table } => {
+                    let k = axis.index();
+                    f[k] = -table.force(lin[k]);
+                }
+                ForceLaw::SeriesSpringDamper {
+                    axis,
+                    stiffness,
+                    damping,
+                } => {
+                    let k = axis.index();
+                    let i = el.internal.expect("series elements carry a state");
+                    let s = x[i];
+                    f[k] = series_force(*stiffness, lin[k], s);
+                    dx[i] = series_state_rate(*stiffness, *damping, lin[k], s);
+                    self.ws.series_delta[ei] = lin[k];
+                }
+                ForceLaw::AntiRollBar { stiffness } => {
+                    mo[Axis::X.index()] = -stiffness * rot[0];
+                }
+            }
+            let force = mul(&q1, mul(e, f));
+            let moment = mul(&q1, mul(e, mo));
+            if let End::Member(i) = el.ends[1] {
+                let k = &mut self.ws.kin[i.0];
+                k.force = add(k.force, force);
+                k.moment = add(add(k.moment, cross(sub(p2, k.cog), force)), moment);
+            }
+            if let End::Member(i) = el.ends[0] {
+                let k = &mut self.ws.kin[i.0];
+                k.force = sub(k.force, force);
+                k.moment = sub(sub(k.moment, cross(sub(p1, k.cog), force)), moment);
+            }
+        }
+    }
+
+    /// Stage 5: contact of every wheel.
+    fn contact(&mut self, t: f64) -> Result<(), RhsError> {
+        let m = self.model;
+        let (d, v, _) = m.motion(t);
+        let s = m.start + d;
+        self.ws.patches.clear();
+        for (wi, wheel) in m.wheels.iter().enumerate() {
+            let mi = wheel.member.0;
+            let mm = &m.members[mi];
+            let radius = match mm.kind {
+                MemberKind::Wheelset { radius, .. } => radius,
+                MemberKind::Body => unreachable!("wheels belong to wheelsets"),
+            };
+            let k = self.ws.kin[mi];
+            // Frame components: axle centre, its absolute velocity and the carrier's angular
+            // velocity (the spin separately).
+            let omega_l = mul_t(&k.frame, k.omega_frame);
+            let r = k.r_local;
+            let v_l = add(
+                add([v, 0.0, 0.0], cross(omega_l, r)),
+                [k.qd[0], k.qd[1], k.qd[2]],
+            );
+            let mut pose = WheelsetPose {
+                y: r[1],
+                z: r[2] - radius,
+                roll: k.q[3],
+                yaw: k.q[5],
+            };
+            let mut vel = WheelsetVelocity {
+                vx: v_l[0],
+                vy: v_l[1],
+                vz: v_l[2],
+                roll_rate: omega_l[0] + k.qd[3],
+                yaw_rate: omega_l[2] + k.qd[5],
+                spin: omega_l[1] + k.qd[4],
+            };
+            let rail = rail_frame(m, wheel.side, s + mm.p0[0], v, radius, &mut pose, &mut vel);
+            let timer = self.ws.timing.then(Instant::now);
+            let res = wheel
+                .contact
+                .evaluate(wheel.side, &pose, &vel, &mut self.ws.contact);
+            if let Some(t0) = timer {
+                self.ws.cost.contact += t0.elapsed().as_secs_f64();
+            }
+            res.map_err(|e| {
+                RhsError(format!(
+                    "t = {t:.6} s: wheelset '{}', {} wheel: {e}",
+                    mm.name,
+                    wheel.side.name()
+                ))
+            })?;
+            let RailFrame {
+                origin: o,
+                roll: delta,
+            } = rail;
+            let (sd, cd) = delta.sin_cos();
+            let back = |p: [f64; 3]| [p[0], cd * p[1] - sd * p[2], sd * p[1] + cd * p[2]];
+            let mut total = [0.0; 3];
+            let mut force_g = [0.0; 3];
+            let mut moment_g = [0.0; 3];
+            for p in &self.ws.contact.patches {
+                let pt = add(back(p.point_track), [0.0, o[0], o[1]]);
+                let f = back(p.force_track);
+                let mo = back(p.moment_track);
+                let arm = [pt[0], pt[1] - r[1], pt[2] - r[2]];
+                total = add(total, f);
+                force_g = add(force_g, mul(&k.frame, f));
+                moment_g = add(moment_g, mul(&k.frame, add(cross(arm, f), mo)));
+                if self.ws.record {
+                    self.ws.patches.push(PatchRecord {
+                        wheel: wi,
+                        result: *p,
+                        force_frame: f,
+                    });
+                }
+            }
+            self.ws.wheel_force[wi] = total;
+            let kk = &mut self.ws.kin[mi];
+            kk.force = add(kk.force, force_g);
+            kk.moment = add(kk.moment, moment_g);
+        }
+        Ok(())
+    }
+
+    /// Stage 6: accelerations in each member's frame.
+    fn equations(&mut self, dx: &mut [f64]) {
+        let m = self.model;
+        for (i, mm) in m.members.iter().enumerate() {
+            let k = &self.ws.kin[i];
+            let fr = &k.frame;
+            let g_l = mul_t(fr, [0.0, 0.0, -m.gravity * mm.mass]);
+            let f_l = add(mul_t(fr, k.force), g_l);
+            let m_l = mul_t(fr, k.moment);
+            let w = mul_t(fr, k.omega_frame);
+            let wd = mul_t(fr, k.alpha_frame);
+            let r = k.r_local;
+            let rd = [k.qd[0], k.qd[1], k.qd[2]];
+            // Acceleration of a point fixed at r in the moving frame, plus Coriolis.
+            let a_frame = add(
+                add(mul_t(fr, k.accel_origin), cross(wd, r)),
+                add(cross(w, cross(w, r)), scale(2.0, cross(w, rd))),
+            );
+            let mut acc = [0.0; 6];
+            for j in 0..3 {
+                acc[j] = f_l[j] / mm.mass - a_frame[j];
+            }
+            match mm.kind {
+                MemberKind::Body => {
+                    let om = add(w, [k.qd[3], k.qd[4], k.qd[5]]);
+                    let h = mul(&mm.inertia, om);
+                    let od = mul(&mm.inertia_inv, sub(m_l, cross(om, h)));
+                    for j in 0..3 {
+                        acc[3 + j] = od[j] - wd[j];
+                    }
+                }
+                MemberKind::Wheelset { .. } => {
+                    // Axisymmetric rotor in its non-spinning axle frame (carrier ω_c):
+                    // dh/dt + ω_c × h = M, h = (Ix ωx, Iy Ω_abs, Iz ωz).
+                    let ii = [mm.inertia[0][0], mm.inertia[1][1], mm.inertia[2][2]];
+                    let wc = [w[0] + k.qd[3], w[1], w[2] + k.qd[5]];
+                    let spin_abs = w[1] + k.qd[4];
+                    let h = [ii[0] * wc[0], ii[1] * spin_abs, ii[2] * wc[2]];
+                    let rhs = sub(m_l, cross(wc, h));
+                    for j in 0..3 {
+                        acc[3 + j] = rhs[j] / ii[j] - wd[j];
+                    }
+                }
+            }
+            for j in 0..6 {
+                if let Some(ix) = mm.rate[j] {
+                    dx[ix] = acc[j];
+                }
+                if let Some(ix) = mm.pos[j] {
+                    dx[ix] = k.qd[j];
+                }
+            }
+        }
+    }
+}
+
+impl OdeSystem for Dynamics<'_> {
+    fn dim(&self) -> usize {
+        self.model.dim()
+    }
+
+    fn rhs(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), RhsError> {
+        let t0 = self.ws.timing.then(Instant::now);
+        self.kinematics(t, x);
+        let ts = self.ws.timing.then(Instant::now);
+        self.elements(x, dx);
+        if let Some(ts) = ts {
+            self.ws.cost.suspension += ts.elapsed().as_secs_f64();
+        }
+        self.contact(t)?;
+        self.equations(dx);
+        if let Some(t0) = t0 {
+            self.ws.cost.rhs += t0.elapsed().as_secs_f64();
+        }
+        self.ws.cost.evaluations += 1;
+        Ok(())
+    }
+
+    fn abs_tol_scale(&self, i: usize) -> f64 {
+        let m = self.model;
+        if i < m.n_pos {
+            1.0
+        } else if i < m.n_pos + m.n_rate {
+            // Rates: 10 × the positions' scale; spin rates (~100 rad/s) 1000.
+            let is_spin = m
+                .members
+                .iter()
+                .any(|mm| mm.is_wheelset() && mm.rate[4] == Some(i));
+            if is_spin { 1000.0 } else { 10.0 }
+        } else {
+            1.0
+        }
+    }
+}

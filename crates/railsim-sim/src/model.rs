@@ -1,0 +1,392 @@
+//! The simulation model compiled from a [`Scene`]: members (bodies and wheelsets) with their
+//! state indices, force elements, one contact pair per wheel, and the state layout.
+//!
+//! Model only what the scene requires: only the degrees of freedom the scene leaves free get
+//! state variables, a wheelset's spin angle is never a state (wheelsets are axisymmetric), only
+//! series spring-dampers carry internal states, and irregularities are evaluated only when the
+//! track has them.
+
+use railsim_contact::{
+    ContactOptions, PairSpec, Side, WheelRailContact, WheelRailPair, WheelsetPose,
+};
+use railsim_elastic::Material;
+use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
+use railsim_track::{RailProfile, TrackModel};
+use railsim_vehicle::model::{Endpoint, ForceLaw, Member, WheelProfile};
+use railsim_vehicle::{DofKind, VehicleModel};
+
+use crate::error::SimError;
+use crate::math::{M3, V3, inverse};
+use crate::scene::{Scene, SpeedProfile};
+
+/// \[Pa\] combined shear modulus of wheel and rail steel (CONTACT's benchmark value).
+pub const STEEL_SHEAR_MODULUS: f64 = 82e9;
+/// \[-\] Poisson's ratio of wheel and rail steel.
+pub const STEEL_POISSON: f64 = 0.28;
+
+/// A typed index into [`SimModel::members`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct MemberIx(pub usize);
+
+/// What a member is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MemberKind {
+    /// A rigid body (carbody, bogie frame).
+    Body,
+    /// A wheelset: its rotation about y is the spin, with no angle state.
+    Wheelset {
+        /// Index of its first wheel in [`SimModel::wheels`] (left, then right).
+        first_wheel: usize,
+        /// \[m\] nominal rolling radius.
+        radius: f64,
+    },
+}
+
+/// A body or wheelset, with where its coordinates live in the state vector.
+#[derive(Debug, Clone)]
+pub struct MemberModel {
+    /// Name, as in the vehicle file.
+    pub name: String,
+    /// Body or wheelset.
+    pub kind: MemberKind,
+    /// \[kg\]
+    pub mass: f64,
+    /// \[kg m²\] inertia about the centre of gravity, body axes.
+    pub inertia: M3,
+    /// Its inverse.
+    pub inertia_inv: M3,
+    /// \[m\] nominal centre of gravity in the vehicle frame; its x places the member's own
+    /// track-following frame at s + x.
+    pub p0: V3,
+    /// Index of each coordinate (x, y, z, roll, pitch, yaw) in the state, `None` if frozen (a
+    /// wheelset's pitch never has one).
+    pub pos: [Option<usize>; 6],
+    /// Index of each rate in the state, `None` if frozen. A frozen wheelset spin rolls at V/r0.
+    pub rate: [Option<usize>; 6],
+}
+
+impl MemberModel {
+    /// Whether this member is a wheelset.
+    pub fn is_wheelset(&self) -> bool {
+        matches!(self.kind, MemberKind::Wheelset { .. })
+    }
+}
+
+/// One end of a force element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum End {
+    /// The track-following frame of the other end's member.
+    Track,
+    /// A member.
+    Member(MemberIx),
+}
+
+/// A force element, with its ends resolved to members.
+#[derive(Debug, Clone)]
+pub struct ElementModel {
+    /// Name as in the vehicle file.
+    pub name: String,
+    /// Body 1 and body 2.
+    pub ends: [End; 2],
+    /// \[m\] attachment points, vehicle frame (nominal).
+    pub points: [V3; 2],
+    /// Columns: local axes in the vehicle frame.
+    pub axes: M3,
+    /// The law.
+    pub law: ForceLaw,
+    /// Index of the internal state (series spring-damper).
+    pub internal: Option<usize>,
+}
+
+/// One wheel: a contact pair evaluated online.
+#[derive(Debug, Clone)]
+pub struct WheelModel {
+    /// The wheelset.
+    pub member: MemberIx,
+    /// Wheelset number counted from the front of the vehicle, from 0.
+    pub wheelset_number: u32,
+    /// Left or right.
+    pub side: Side,
+    /// Wheel profile on rail profile, evaluated with the scene's contact model.
+    pub contact: WheelRailContact,
+}
+
+/// The immutable simulation model.
+#[derive(Debug, Clone)]
+pub struct SimModel {
+    /// Bodies first (file order), then wheelsets.
+    pub members: Vec<MemberModel>,
+    /// Force elements, in file order.
+    pub elements: Vec<ElementModel>,
+    /// Two per wheelset, left then right.
+    pub wheels: Vec<WheelModel>,
+    /// The track.
+    pub track: TrackModel,
+    /// Speed against distance run.
+    pub speed: SpeedProfile,
+    /// \[m\] track position of the vehicle reference point at t = 0.
+    pub start: f64,
+    /// \[m/s²\]
+    pub gravity: f64,
+    /// \[m\] cant base (distance between the rail contact points that cant is measured over).
+    pub cant_base: f64,
+    /// Number of position states (first in the state vector).
+    pub n_pos: usize,
+    /// Number of rate states (after the positions).
+    pub n_rate: usize,
+    /// Number of internal states (last).
+    pub n_internal: usize,
+    /// Names of the state variables, for messages.
+    pub state_names: Vec<String>,
+}
+
+impl SimModel {
+    /// Build the model of a compiled scene: the state layout from its free degrees of freedom,
+    /// one contact pair per wheel (wheel profile of the vehicle, rail profile of the track).
+    pub fn new(scene: &Scene) -> Result<SimModel, SimError> {
+        let v: &VehicleModel = &scene.vehicle;
+        let free = scene.dofs();
+        let mut members = Vec::new();
+        for b in v.bodies() {
+            members.push(MemberModel {
+                name: b.name.clone(),
+                kind: MemberKind::Body,
+                mass: b.mass,
+                inertia: b.inertia,
+                inertia_inv: inverse(&b.inertia).ok_or_else(|| SimError::Model {
+                    message: format!("body '{}': inertia matrix is singular", b.name),
+                })?,
+                p0: b.position,
+                pos: [None; 6],
+                rate: [None; 6],
+            });
+        }
+        let nb = members.len();
+        // Wheelsets numbered from the front (largest x) as in the logs.
+        let mut order: Vec<usize> = (0..v.wheelsets().len()).collect();
+        order.sort_by(|&a, &b| {
+            v.wheelsets()[b].position[0].total_cmp(&v.wheelsets()[a].position[0])
+        });
+        let mut number = vec![0u32; order.len()];
+        for (k, &i) in order.iter().enumerate() {
+            number[i] = k as u32;
+        }
+        let mut wheels = Vec::new();
+        let material =
+            Material::new(STEEL_SHEAR_MODULUS, STEEL_POISSON).map_err(|e| SimError::Model {
+                message: e.to_string(),
+            })?;
+        let options: ContactOptions = scene.contact;
+        for (i, w) in v.wheelsets().iter().enumerate() {
+            let first_wheel = wheels.len();
+            for side in [Side::Left, Side::Right] {
+                let k = usize::from(side == Side::Right);
+                let wheel = wheel_profile(&w.profiles[k], w.running_circle_from_back)?;
+                let rail = rail_profile(&scene.track.rail_profiles()[k])?;
+                let inclination = scene.track.rail_inclination();
+                let pair = WheelRailPair::new(&PairSpec {
+                    wheel,
+                    rail,
+                    r0: w.nominal_radius,
+                    flange_back_distance: w.back_to_back,
+                    flange_back_y: -w.running_circle_from_back,
+                    gauge: scene.track.gauge(),
+                    gauge_depth: 0.014,
+                    inclination,
+                    material,
+                    mu: scene.friction,
+                    curve_ds: 5e-5,
+                    smoothing: 0.0,
+                })
+                .map_err(|e| SimError::Model {
+                    message: format!("wheelset '{}', {} wheel: {e}", w.name, side.name()),
+                })?;
+                let contact =
+                    WheelRailContact::new(pair, options).map_err(|e| SimError::Model {
+                        message: format!("wheelset '{}': {e}", w.name),
+                    })?;
+                wheels.push(WheelModel {
+                    member: MemberIx(nb + i),
+                    wheelset_number: number[i],
+                    side,
+                    contact,
+                });
+            }
+            members.push(MemberModel {
+                name: w.name.clone(),
+                kind: MemberKind::Wheelset {
+                    first_wheel,
+                    radius: w.nominal_radius,
+                },
+                mass: w.mass,
+                inertia: w.inertia,
+                inertia_inv: inverse(&w.inertia).ok_or_else(|| SimError::Model {
+                    message: format!("wheelset '{}': inertia matrix is singular", w.name),
+                })?,
+                p0: w.position,
+                pos: [None; 6],
+                rate: [None; 6],
+            });
+        }
+        // State layout: positions, rates, internal states.
+        let index = |m: Member| match m {
+            Member::Body(b) => b.index(),
+            Member::Wheelset(w) => nb + w.index(),
+        };
+        let mut state_names = Vec::new();
+        let mut n_pos = 0;
+        for d in &free {
+            let m = &mut members[index(d.member)];
+            if m.is_wheelset() && d.kind == DofKind::Pitch {
+                continue;
+            }
+            m.pos[d.kind.index()] = Some(n_pos);
+            state_names.push(v.dof_name(*d));
+            n_pos += 1;
+        }
+        let mut n_rate = 0;
+        for d in &free {
+            members[index(d.member)].rate[d.kind.index()] = Some(n_pos + n_rate);
+            state_names.push(format!("d/dt {}", v.dof_name(*d)));
+            n_rate += 1;
+        }
+        let mut elements = Vec::new();
+        let mut n_internal = 0;
+        let end = |e: Endpoint| match e {
+            Endpoint::Track => End::Track,
+            Endpoint::Member(m) => End::Member(MemberIx(index(m))),
+        };
+        for f in v.forces() {
+            let internal = (f.law.internal_states() > 0).then(|| {
+                n_internal += 1;
+                n_pos + n_rate + n_internal - 1
+            });
+            if internal.is_some() {
+                state_names.push(format!("{} damper elongation", f.name));
+            }
+            elements.push(ElementModel {
+                name: f.name.clone(),
+                ends: [end(f.body1), end(f.body2)],
+                points: [f.point1, f.point2],
+                axes: f.axes,
+                law: f.law.clone(),
+                internal,
+            });
+        }
+        if elements.iter().any(|e| e.ends == [End::Track, End::Track]) {
+            return Err(SimError::Model {
+                message: "a force element joins the track to the track".into(),
+            });
+        }
+        Ok(SimModel {
+            members,
+            elements,
+            wheels,
+            track: scene.track.clone(),
+            speed: scene.speed.clone(),
+            start: scene.start,
+            gravity: v.gravity(),
+            cant_base: scene.track.cant_base(),
+            n_pos,
+            n_rate,
+            n_internal,
+            state_names,
+        })
+    }
+
+    /// Length of the state vector.
+    pub fn dim(&self) -> usize {
+        self.n_pos + self.n_rate + self.n_internal
+    }
+
+    /// \[m, m/s, m/s²\] distance run, speed and its time derivative at time `t`.
+    pub fn motion(&self, t: f64) -> (f64, f64, f64) {
+        let d = self.speed.distance_at(t);
+        let v = self.speed.speed_at(d);
+        let h = 0.01;
+        let dv_dd = (self.speed.speed_at(d + h) - self.speed.speed_at((d - h).max(0.0)))
+            / (d + h - (d - h).max(0.0));
+        (d, v, v * dv_dd)
+    }
+
+    /// A member's coordinate `k` (0..6) in state `x` (0 when frozen).
+    pub fn coord(&self, m: usize, k: usize, x: &[f64]) -> f64 {
+        self.members[m].pos[k].map_or(0.0, |i| x[i])
+    }
+
+    /// A member's rate `k` in state `x`; a frozen wheelset spin rolls at `v / r0`.
+    pub fn coord_rate(&self, m: usize, k: usize, x: &[f64], v: f64) -> f64 {
+        let mm = &self.members[m];
+        match (mm.rate[k], mm.kind) {
+            (Some(i), _) => x[i],
+            (None, MemberKind::Wheelset { radius, .. }) if k == 4 => v / radius,
+            (None, _) => 0.0,
+        }
+    }
+
+    /// The contact pose of a wheelset's axle relative to the local track (no irregularity).
+    pub fn wheelset_pose(&self, m: usize, x: &[f64]) -> WheelsetPose {
+        let mm = &self.members[m];
+        let radius = match mm.kind {
+            MemberKind::Wheelset { radius, .. } => radius,
+            MemberKind::Body => 0.0,
+        };
+        WheelsetPose {
+            y: mm.p0[1] + self.coord(m, 1, x),
+            z: mm.p0[2] + self.coord(m, 2, x) - radius,
+            roll: self.coord(m, 3, x),
+            yaw: self.coord(m, 5, x),
+        }
+    }
+}
+
+fn wheel_profile(p: &WheelProfile, running_circle_from_back: f64) -> Result<Profile, SimError> {
+    let err = |e: railsim_profile::ProfileError| SimError::Model {
+        message: e.to_string(),
+    };
+    match p {
+        WheelProfile::S1002 => Ok(analytic::s1002()),
+        WheelProfile::Cone { conicity } => cone(*conicity, running_circle_from_back),
+        WheelProfile::File(path) => read_profile(path, ProfileKind::Wheel).map_err(err),
+    }
+}
+
+/// A pure cone through the running circle: radius r0 − λ·y from the flange back to 60 mm on the
+/// field side, no flange (Klingel and Wickens checks).
+fn cone(conicity: f64, running_circle_from_back: f64) -> Result<Profile, SimError> {
+    let y0 = -running_circle_from_back + 0.005;
+    let n = ((0.06 - y0) / 0.0005).ceil() as usize;
+    let points: Vec<[f64; 2]> = (0..=n)
+        .map(|i| {
+            let y = y0 + i as f64 * 0.0005;
+            [y, conicity * y]
+        })
+        .collect();
+    Profile::new(format!("cone:{conicity}"), ProfileKind::Wheel, points).map_err(|e| {
+        SimError::Model {
+            message: e.to_string(),
+        }
+    })
+}
+
+fn rail_profile(p: &RailProfile) -> Result<Profile, SimError> {
+    match p {
+        RailProfile::Uic60 => Ok(analytic::uic60()),
+        RailProfile::File(path) => {
+            read_profile(path, ProfileKind::Rail).map_err(|e| SimError::Model {
+                message: e.to_string(),
+            })
+        }
+    }
+}
+
+/// SIMPACK `.prw`/`.prr` files by extension, else a y–z table in mm.
+fn read_profile(
+    path: &std::path::Path,
+    kind: ProfileKind,
+) -> Result<Profile, railsim_profile::ProfileError> {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("prw" | "prr") => read_simpack(path, kind),
+        _ => read_table_mm(path, kind),
+    }
+}

@@ -1,0 +1,749 @@
+//! Running a scene: the initial state, the step loop, samples at the log rate, blow-up checks,
+//! the MCAP log and the run summary.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use railsim_contact::{Side, WheelsetPose, WheelsetVelocity};
+use railsim_log::messages::{
+    BodyState, Creepages as LogCreepages, FrameTransform, PatchMessage, Quaternion,
+    Side as LogSide, WheelsetMessage, topics, wear_number,
+};
+use railsim_log::{Channel, LogHeader, LogStats, LogWriter, WriterOptions, step_time_ns};
+use railsim_ode::{Integrator, Method, OdeSystem, Stats, StepOutcome, StopReason};
+
+use crate::dynamics::{CostSplit, Dynamics, Workspace, rail_frame};
+use crate::error::SimError;
+use crate::math::{mul_t, quaternion, rotation_rpy};
+use crate::model::{MemberKind, SimModel};
+use crate::scene::{Scene, Topic};
+
+/// \[m\] wheelset lateral displacement relative to the track beyond which a run stops as a
+/// derailment (the flange has climbed the rail: flange-way clearance ≈ 8 mm, flange height
+/// 28 mm).
+pub const DERAILMENT_LATERAL: f64 = 0.040;
+/// \[m\] wheelset lift above its nominal height beyond which a run stops as a derailment.
+pub const DERAILMENT_LIFT: f64 = 0.025;
+/// \[m\] body displacement from its nominal position beyond which a run stops as unstable.
+pub const BODY_DISPLACEMENT_LIMIT: f64 = 0.5;
+/// \[rad\] body rotation beyond which a run stops as unstable.
+pub const BODY_ROTATION_LIMIT: f64 = 0.3;
+/// \[s\] first step size of the adaptive integrators when the scene gives none: the first
+/// stages must stay near the contact equilibrium.
+pub const FIRST_STEP: f64 = 1e-5;
+/// \[s\] largest step of the adaptive integrators when the scene gives none: contact
+/// stiffness and creep damping set the stability limit of explicit methods near 4 ms.
+pub const DEFAULT_MAX_STEP: f64 = 2e-3;
+
+/// A simulation of one scene: model, state, workspace and integrator.
+pub struct Simulation {
+    model: SimModel,
+    ws: Option<Workspace>,
+    integ: Integrator,
+    x0: Vec<f64>,
+    t_end: f64,
+    /// Wheel loads of the static solution, per wheelset \[left, right\].
+    static_loads: Vec<[f64; 2]>,
+}
+
+/// One sampled instant: time, state and the outputs derived from it.
+#[derive(Debug, Clone)]
+pub struct Sample {
+    /// \[s\]
+    pub t: f64,
+    /// \[ns\] log time of the sample (sample index × log period).
+    pub t_ns: u64,
+    /// The state vector.
+    pub x: Vec<f64>,
+    /// Per wheelset (numbered from the front): Y, Q per wheel, angle of attack, lateral
+    /// displacement.
+    pub wheelsets: Vec<WheelsetMessage>,
+    /// \[m\] per wheelset: lateral displacement relative to the track centre line.
+    pub lateral: Vec<f64>,
+}
+
+/// What a finished run reports.
+#[derive(Debug, Clone)]
+pub struct RunSummary {
+    /// \[s\] simulated time.
+    pub t_end: f64,
+    /// \[s\] wall-clock time of the step loop.
+    pub wall: f64,
+    /// \[m\] per wheelset (numbered from the front): largest |lateral displacement|.
+    pub max_lateral: Vec<f64>,
+    /// \[-\] largest Y/Q of any wheel, with its wheelset and side.
+    pub max_y_over_q: (f64, u32, Side),
+    /// \[N\] largest Q of any wheel, with its wheelset and side.
+    pub max_q: (f64, u32, Side),
+    /// Integrator statistics.
+    pub stats: Stats,
+    /// Samples taken (at the log rate).
+    pub samples: u64,
+    /// FNV-1a digest of the bits of every sampled state: equal digests mean identical runs.
+    pub digest: u64,
+    /// Cost of the right-hand side's stages.
+    pub cost: CostSplit,
+    /// \[s\] time spent writing the log.
+    pub logging: f64,
+    /// The log, if one was written.
+    pub log: Option<LogStats>,
+}
+
+impl RunSummary {
+    /// Simulated time over wall-clock time.
+    pub fn real_time_factor(&self) -> f64 {
+        self.t_end / self.wall.max(1e-12)
+    }
+}
+
+/// Options of a run that are not part of the scene.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Write the log here instead of the scene's path; `None` keeps the scene's.
+    pub log_path: Option<PathBuf>,
+    /// Write no log at all.
+    pub no_log: bool,
+    /// Stop at this time instead of the scene's end.
+    pub t_end: Option<f64>,
+    /// Measure the cost split (adds two clock reads per stage).
+    pub timing: bool,
+    /// Source texts to store in the log (name → text), so that a log describes itself.
+    pub sources: BTreeMap<String, String>,
+}
+
+fn fnv1a(h: &mut u64, x: f64) {
+    for b in x.to_bits().to_le_bytes() {
+        *h ^= u64::from(b);
+        *h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+}
+
+impl Simulation {
+    /// Build the model and the initial state of `scene`: the static equilibrium of the vehicle
+    /// on level track, each wheelset settled on its rails under its static load with the scene's
+    /// initial disturbance, spin at pure rolling, series dampers relaxed.
+    pub fn new(scene: &Scene) -> Result<Simulation, SimError> {
+        let model = SimModel::new(scene)?;
+        let method = with_step_defaults(scene.integrator);
+        let integ = Integrator::new(method, model.dim())?;
+        let stat = scene
+            .vehicle
+            .static_equilibrium()
+            .map_err(|e| SimError::Initial {
+                message: e.to_string(),
+            })?;
+        let mut x0 = vec![0.0; model.dim()];
+        let nb = scene.vehicle.bodies().len();
+        let (_, v0, _) = model.motion(0.0);
+        for (i, mm) in model.members.iter().enumerate() {
+            let disp = if i < nb {
+                stat.body_displacement[i]
+            } else {
+                stat.wheelset_displacement[i - nb]
+            };
+            for k in 0..6 {
+                if let Some(ix) = mm.pos[k] {
+                    x0[ix] = disp[k];
+                }
+            }
+        }
+        let mut ws = Workspace::new(&model);
+        let mut sink = 0.0;
+        for (wi, mm) in model.members.iter().enumerate().skip(nb) {
+            let MemberKind::Wheelset {
+                first_wheel,
+                radius,
+            } = mm.kind
+            else {
+                continue;
+            };
+            let w = wi - nb;
+            let load = stat.wheel_loads[w][0] + stat.wheel_loads[w][1];
+            let (mut y, mut yaw) = (0.0, 0.0);
+            if w == scene.initial.wheelset.index() {
+                y = scene.initial.lateral_offset;
+                yaw = scene.initial.yaw;
+            }
+            let pose = WheelsetPose {
+                y: mm.p0[1] + y,
+                z: mm.p0[2] - radius,
+                roll: 0.0,
+                yaw,
+            };
+            let s_w = model.start + mm.p0[0];
+            let (z, roll) = settle(&model, first_wheel, s_w, pose, v0, radius, load, &mut ws)
+                .map_err(|message| SimError::Initial {
+                    message: format!("wheelset '{}': {message}", mm.name),
+                })?;
+            sink += z - (mm.p0[2] - radius) - stat.wheelset_displacement[w][2];
+            let set = |x: &mut Vec<f64>, k: usize, val: f64| {
+                if let Some(ix) = mm.pos[k] {
+                    x[ix] = val;
+                }
+            };
+            set(&mut x0, 1, y);
+            set(&mut x0, 2, z + radius - mm.p0[2]);
+            set(&mut x0, 3, roll);
+            set(&mut x0, 5, yaw);
+            if let Some(ix) = mm.rate[4] {
+                x0[ix] = v0 / radius;
+            }
+        }
+        // Bodies follow the mean contact sink of the wheelsets beyond the static solve's.
+        let nw = scene.vehicle.wheelsets().len().max(1) as f64;
+        for mm in model.members.iter().take(nb) {
+            if let Some(ix) = mm.pos[2] {
+                x0[ix] += sink / nw;
+            }
+        }
+        // Series dampers start relaxed.
+        let mut dx = vec![0.0; model.dim()];
+        {
+            let mut d = Dynamics { model: &model, ws };
+            d.rhs(0.0, &x0, &mut dx)
+                .map_err(|e| SimError::Initial { message: e.0 })?;
+            for (ei, el) in model.elements.iter().enumerate() {
+                if let Some(ix) = el.internal {
+                    x0[ix] = d.ws.series_delta[ei];
+                }
+            }
+            ws = d.ws;
+        }
+        Ok(Simulation {
+            model,
+            ws: Some(ws),
+            integ,
+            x0,
+            t_end: scene.duration(),
+            static_loads: stat.wheel_loads,
+        })
+    }
+
+    /// The model.
+    pub fn model(&self) -> &SimModel {
+        &self.model
+    }
+
+    /// The initial state.
+    pub fn initial_state(&self) -> &[f64] {
+        &self.x0
+    }
+
+    /// \[N\] static wheel loads per wheelset (file order), `[left, right]`.
+    pub fn static_loads(&self) -> &[[f64; 2]] {
+        &self.static_loads
+    }
+
+    /// Run to the end (or `opts.t_end`), calling `progress(t, t_end)` after each accepted step
+    /// and `on_sample` at every sample (at the log rate). Writes the log when the scene asks
+    /// for one and `opts.no_log` is unset.
+    pub fn run(
+        &mut self,
+        scene: &Scene,
+        opts: &RunOptions,
+        progress: &mut dyn FnMut(f64, f64),
+        on_sample: &mut dyn FnMut(&Sample),
+    ) -> Result<RunSummary, SimError> {
+        let t_end = opts.t_end.unwrap_or(self.t_end).min(self.t_end);
+        let log_path = opts
+            .log_path
+            .clone()
+            .unwrap_or_else(|| scene.log.path.clone());
+        let mut recorder = if opts.no_log || scene.log.topics.is_empty() {
+            None
+        } else {
+            Some(Recorder::create(
+                &log_path,
+                scene,
+                &self.model,
+                &opts.sources,
+            )?)
+        };
+        let mut dynamics = Dynamics {
+            model: &self.model,
+            ws: self.ws.take().expect("workspace present"),
+        };
+        dynamics.ws.timing = opts.timing;
+        dynamics.ws.cost = CostSplit::default();
+        let dt_ns = (1e9 / scene.log.rate_hz).round().max(1.0) as u64;
+        let n = self.model.dim();
+        let mut xs = vec![0.0; n];
+        let mut dxs = vec![0.0; n];
+        let mut state = LoopState::new(&self.model);
+        let wall = Instant::now();
+        let mut logging = 0.0;
+        let mut next = 0usize;
+        let result: Result<(), SimError> = (|| {
+            self.integ.start(&dynamics, 0.0, &self.x0, t_end)?;
+            loop {
+                // Samples up to the integrator's time.
+                loop {
+                    let t_ns = step_time_ns(next as u64, dt_ns)?;
+                    let ts = t_ns as f64 * 1e-9;
+                    if ts > self.integ.t() + 1e-12 || ts > t_end + 1e-12 {
+                        break;
+                    }
+                    if next == 0 {
+                        xs.copy_from_slice(&self.x0);
+                    } else {
+                        self.integ.dense(ts, &mut xs)?;
+                    }
+                    dynamics.ws.record = true;
+                    let r = dynamics.rhs(ts, &xs, &mut dxs);
+                    dynamics.ws.record = false;
+                    r.map_err(|e| stopped_rhs(ts, &e.0))?;
+                    let sample = state.sample(&self.model, &dynamics.ws, ts, t_ns, &xs);
+                    check_limits(&self.model, &sample)?;
+                    on_sample(&sample);
+                    if let Some(rec) = recorder.as_mut() {
+                        let t0 = Instant::now();
+                        rec.write(&self.model, &dynamics.ws, &sample, &scene.log.topics)?;
+                        logging += t0.elapsed().as_secs_f64();
+                    }
+                    next += 1;
+                }
+                if self.integ.is_finished() {
+                    return Ok(());
+                }
+                match self.integ.step(&mut dynamics) {
+                    StepOutcome::Accepted { t } => progress(t, t_end),
+                    StepOutcome::Stop(StopReason::Reached) => {}
+                    StepOutcome::Stop(reason) => {
+                        return Err(stopped_integrator(&self.model, reason));
+                    }
+                }
+            }
+        })();
+        let stats = self.integ.stats();
+        let cost = dynamics.ws.cost;
+        self.ws = Some(dynamics.ws);
+        let log = match recorder {
+            Some(rec) => Some(rec.finish(state.digest)?),
+            None => None,
+        };
+        if let Err(mut e) = result {
+            if let SimError::Stopped { log: l, .. } = &mut e {
+                *l = log.map(|s| s.path);
+            }
+            return Err(e);
+        }
+        Ok(RunSummary {
+            t_end: self.integ.t(),
+            wall: wall.elapsed().as_secs_f64(),
+            max_lateral: state.max_lateral,
+            max_y_over_q: state.max_yq,
+            max_q: state.max_q,
+            stats,
+            samples: next as u64,
+            digest: state.digest,
+            cost,
+            logging,
+            log,
+        })
+    }
+}
+
+/// The scene's integrator with the defaults of contact-coupled runs: a small first step and a
+/// step limit for the adaptive methods when the scene sets none.
+fn with_step_defaults(m: Method) -> Method {
+    match m {
+        Method::DormandPrince {
+            rtol,
+            atol,
+            h0,
+            h_max,
+        } => Method::DormandPrince {
+            rtol,
+            atol,
+            h0: h0.or(Some(FIRST_STEP)),
+            h_max: if h_max.is_finite() {
+                h_max
+            } else {
+                DEFAULT_MAX_STEP
+            },
+        },
+        other => other,
+    }
+}
+
+fn stopped_rhs(t: f64, msg: &str) -> SimError {
+    SimError::Stopped {
+        t,
+        body: "contact".into(),
+        quantity: msg.to_owned(),
+        log: None,
+    }
+}
+
+fn stopped_integrator(model: &SimModel, reason: StopReason) -> SimError {
+    let (t, body, quantity) = match reason {
+        StopReason::RhsFailed { t, msg } => (t, "contact".to_owned(), msg),
+        StopReason::NonFinite { t, index } => (
+            t,
+            model
+                .state_names
+                .get(index)
+                .cloned()
+                .unwrap_or_else(|| format!("state {index}")),
+            "became NaN or infinite".to_owned(),
+        ),
+        StopReason::StepTooSmall { t, h } => (
+            t,
+            "integrator".into(),
+            format!("step size {h:.3e} s too small (the motion is too violent to follow)"),
+        ),
+        other => (f64::NAN, "integrator".into(), format!("{other:?}")),
+    };
+    SimError::Stopped {
+        t,
+        body,
+        quantity,
+        log: None,
+    }
+}
+
+/// Stop on derailment or a runaway body.
+fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
+    let stop = |body: &str, quantity: String| SimError::Stopped {
+        t: s.t,
+        body: body.to_owned(),
+        quantity,
+        log: None,
+    };
+    for (i, mm) in model.members.iter().enumerate() {
+        let q = |k: usize| model.coord(i, k, &s.x);
+        match mm.kind {
+            MemberKind::Wheelset { .. } => {
+                if q(1).abs() > DERAILMENT_LATERAL {
+                    return Err(stop(
+                        &mm.name,
+                        format!(
+                            "lateral displacement {:.1} mm exceeds {:.0} mm (derailment)",
+                            q(1) * 1e3,
+                            DERAILMENT_LATERAL * 1e3
+                        ),
+                    ));
+                }
+                if q(2) > DERAILMENT_LIFT {
+                    return Err(stop(
+                        &mm.name,
+                        format!(
+                            "lift {:.1} mm exceeds {:.0} mm (derailment)",
+                            q(2) * 1e3,
+                            DERAILMENT_LIFT * 1e3
+                        ),
+                    ));
+                }
+            }
+            MemberKind::Body => {
+                for k in 0..3 {
+                    if q(k).abs() > BODY_DISPLACEMENT_LIMIT {
+                        return Err(stop(
+                            &mm.name,
+                            format!(
+                                "displacement {} = {:.3} m exceeds {BODY_DISPLACEMENT_LIMIT} m (unstable)",
+                                ["x", "y", "z"][k],
+                                q(k)
+                            ),
+                        ));
+                    }
+                    if q(3 + k).abs() > BODY_ROTATION_LIMIT {
+                        return Err(stop(
+                            &mm.name,
+                            format!(
+                                "{} = {:.3} rad exceeds {BODY_ROTATION_LIMIT} rad (unstable)",
+                                ["roll", "pitch", "yaw"][k],
+                                q(3 + k)
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Settle a wheelset on its rails at the lateral position and yaw of `pose`: find the height
+/// and roll at which each wheel carries half of `load`. Each wheel's height comes from the
+/// contact crate's load control; the roll is corrected by the difference of the two heights over
+/// the wheel spacing until they agree to 1e-9 m (a fixed point: roll moves the contact points
+/// on the profiles only to second order).
+fn settle(
+    model: &SimModel,
+    first_wheel: usize,
+    s: f64,
+    pose: WheelsetPose,
+    v: f64,
+    radius: f64,
+    load: f64,
+    ws: &mut Workspace,
+) -> Result<(f64, f64), String> {
+    let vel = WheelsetVelocity {
+        vx: v.max(1e-3),
+        spin: v.max(1e-3) / radius,
+        ..Default::default()
+    };
+    let mut p = pose;
+    let mut spacing = 1.5;
+    for _ in 0..50 {
+        let mut z = [0.0; 2];
+        let mut y_contact = [0.0; 2];
+        for (k, wheel) in model.wheels[first_wheel..first_wheel + 2]
+            .iter()
+            .enumerate()
+        {
+            // Relative to this wheel's rail (moved by irregularities): find the rail-frame
+            // height that carries the load, then the track-frame height that gives it.
+            let (mut pr, mut vr) = (p, vel);
+            let rail = rail_frame(model, wheel.side, s, vel.vx, radius, &mut pr, &mut vr);
+            let sol = wheel
+                .contact
+                .evaluate_with_load(wheel.side, &pr, &vr, 0.5 * load, 1e-10, &mut ws.contact)
+                .map_err(|e| e.to_string())?;
+            let (sd, cd) = rail.roll.sin_cos();
+            z[k] = (sol.z + radius + sd * (p.y - rail.origin[0])) / cd + rail.origin[1] - radius;
+            y_contact[k] = ws.contact.patches.first().map_or(0.0, |q| q.point_track[1]);
+        }
+        if y_contact[0] > y_contact[1] {
+            spacing = y_contact[0] - y_contact[1];
+        }
+        let dz = z[0] - z[1];
+        p.z = 0.5 * (z[0] + z[1]);
+        if dz.abs() < 1e-9 {
+            return Ok((p.z, p.roll));
+        }
+        p.roll += dz / spacing;
+    }
+    Err(format!(
+        "no equilibrium on the rails within 50 iterations (load {:.1} kN)",
+        load * 1e-3
+    ))
+}
+
+/// Maxima and digest carried through the loop.
+struct LoopState {
+    max_lateral: Vec<f64>,
+    max_yq: (f64, u32, Side),
+    max_q: (f64, u32, Side),
+    digest: u64,
+}
+
+impl LoopState {
+    fn new(model: &SimModel) -> LoopState {
+        LoopState {
+            max_lateral: vec![0.0; model.wheels.len() / 2],
+            max_yq: (0.0, 0, Side::Left),
+            max_q: (0.0, 0, Side::Left),
+            digest: 0xcbf2_9ce4_8422_2325,
+        }
+    }
+
+    fn sample(&mut self, model: &SimModel, ws: &Workspace, t: f64, t_ns: u64, x: &[f64]) -> Sample {
+        for &xi in x {
+            fnv1a(&mut self.digest, xi);
+        }
+        let nws = model.wheels.len() / 2;
+        let mut wheelsets = Vec::with_capacity(nws);
+        let mut lateral = vec![0.0; nws];
+        for pair in model.wheels.chunks(2) {
+            let number = pair[0].wheelset_number;
+            let m = pair[0].member.0;
+            let first = m - (model.members.len() - nws);
+            let fl = ws.wheel_force[2 * first];
+            let fr = ws.wheel_force[2 * first + 1];
+            // Y on the rail toward its field side; Q on the rail downward.
+            let (yl, ql, yr, qr) = (-fl[1], fl[2], fr[1], fr[2]);
+            let yq = |y: f64, q: f64| if q > 0.0 { y / q } else { 0.0 };
+            let msg = WheelsetMessage {
+                t_s: t,
+                wheelset: number,
+                y_left_n: yl,
+                q_left_n: ql,
+                y_right_n: yr,
+                q_right_n: qr,
+                y_over_q_left: yq(yl, ql),
+                y_over_q_right: yq(yr, qr),
+                angle_of_attack_rad: model.coord(m, 5, x),
+            };
+            let y = model.wheelset_pose(m, x).y;
+            lateral[number as usize] = y;
+            let ml = &mut self.max_lateral[number as usize];
+            *ml = ml.max(y.abs());
+            for (side, yqv, q) in [
+                (Side::Left, msg.y_over_q_left, ql),
+                (Side::Right, msg.y_over_q_right, qr),
+            ] {
+                if yqv > self.max_yq.0 {
+                    self.max_yq = (yqv, number, side);
+                }
+                if q > self.max_q.0 {
+                    self.max_q = (q, number, side);
+                }
+            }
+            wheelsets.push(msg);
+        }
+        wheelsets.sort_by_key(|w| w.wheelset);
+        Sample {
+            t,
+            t_ns,
+            x: x.to_vec(),
+            wheelsets,
+            lateral,
+        }
+    }
+}
+
+/// The MCAP log of a run.
+struct Recorder {
+    writer: LogWriter,
+    bodies: Vec<Channel<BodyState>>,
+    contact: Vec<Channel<PatchMessage>>,
+    wheelsets: Vec<Channel<WheelsetMessage>>,
+    tf: Channel<FrameTransform>,
+}
+
+impl Recorder {
+    fn create(
+        path: &Path,
+        scene: &Scene,
+        model: &SimModel,
+        sources: &BTreeMap<String, String>,
+    ) -> Result<Recorder, SimError> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| SimError::Model {
+                message: format!("cannot create the log directory {}: {e}", dir.display()),
+            })?;
+        }
+        let mut header = LogHeader::new()
+            .scene_entry("name", scene.name.clone())
+            .scene_entry("source", scene.source.clone())
+            .scene_entry("vehicle", scene.vehicle_file.display().to_string())
+            .scene_entry("track", scene.track_file.display().to_string())
+            .scene_entry("speed_m_s", format!("{}", scene.speed.speed_at(0.0)))
+            .scene_entry("duration_s", format!("{}", scene.duration()))
+            .scene_entry("contact_model", scene.contact.model.name())
+            .scene_entry("integrator", format!("{:?}", scene.integrator))
+            .scene_entry("log_rate_hz", format!("{}", scene.log.rate_hz))
+            .scene_entry("state_dim", format!("{}", model.dim()));
+        if let Some(text) = sources.get("scene") {
+            header = header.scene_toml(text.clone());
+        }
+        if !sources.is_empty() {
+            header = header.metadata("railsim_sources", sources.clone());
+        }
+        let mut writer = LogWriter::create(path, &header, WriterOptions::default())?;
+        let mut bodies = Vec::new();
+        for mm in &model.members {
+            bodies.push(writer.channel::<BodyState>(&topics::body(&mm.name))?);
+        }
+        let mut contact = Vec::new();
+        for w in &model.wheels {
+            let side = match w.side {
+                Side::Left => LogSide::Left,
+                Side::Right => LogSide::Right,
+            };
+            contact
+                .push(writer.channel::<PatchMessage>(&topics::contact(w.wheelset_number, side))?);
+        }
+        let mut wheelsets = Vec::new();
+        for n in 0..model.wheels.len() / 2 {
+            wheelsets.push(writer.channel::<WheelsetMessage>(&topics::wheelset(n as u32))?);
+        }
+        let tf = writer.channel::<FrameTransform>(topics::TF)?;
+        Ok(Recorder {
+            writer,
+            bodies,
+            contact,
+            wheelsets,
+            tf,
+        })
+    }
+
+    fn write(
+        &mut self,
+        model: &SimModel,
+        ws: &Workspace,
+        s: &Sample,
+        topics_wanted: &[Topic],
+    ) -> Result<(), SimError> {
+        let t_ns = s.t_ns;
+        let want = |t: Topic| topics_wanted.contains(&t);
+        if want(Topic::Bodies) || want(Topic::Tf) {
+            for (i, mm) in model.members.iter().enumerate() {
+                let k = &ws.kin[i];
+                let q = k.q;
+                let position = [mm.p0[0] + q[0], mm.p0[1] + q[1], mm.p0[2] + q[2]];
+                let quat = quaternion(&rotation_rpy(q[3], q[4], q[5]));
+                let msg = BodyState {
+                    t_s: s.t,
+                    name: mm.name.clone(),
+                    position,
+                    orientation: Quaternion {
+                        x: quat[0],
+                        y: quat[1],
+                        z: quat[2],
+                        w: quat[3],
+                    },
+                    velocity: mul_t(&k.frame, k.vel),
+                    angular_velocity: mul_t(&k.frame, k.omega),
+                };
+                if want(Topic::Bodies) {
+                    self.writer.write(&self.bodies[i], t_ns, &msg)?;
+                }
+                if want(Topic::Tf) {
+                    let tf = FrameTransform::from_body(t_ns, "track", &msg);
+                    self.writer.write(&self.tf, t_ns, &tf)?;
+                }
+            }
+        }
+        if want(Topic::Contact) {
+            let mut count = vec![0u32; model.wheels.len()];
+            for p in &ws.patches {
+                let w = &model.wheels[p.wheel];
+                let r = &p.result;
+                let c = LogCreepages {
+                    xi: r.creepages.xi,
+                    eta: r.creepages.eta,
+                    phi_per_m: r.creepages.phi,
+                };
+                let msg = PatchMessage {
+                    t_s: s.t,
+                    wheelset: w.wheelset_number,
+                    side: match w.side {
+                        Side::Left => LogSide::Left,
+                        Side::Right => LogSide::Right,
+                    },
+                    patch: count[p.wheel],
+                    y_rail_m: r.y_rail_profile,
+                    y_wheel_m: r.y_wheel_profile,
+                    contact_angle_rad: r.contact_angle,
+                    penetration_m: r.penetration,
+                    creepages: c,
+                    fn_n: r.forces.fn_,
+                    fx_n: r.forces.fx,
+                    fy_n: r.forces.fs,
+                    mz_nm: r.forces.mz,
+                    wear_number_n: wear_number(r.forces.fx, r.forces.fs, &c),
+                };
+                count[p.wheel] += 1;
+                self.writer.write(&self.contact[p.wheel], t_ns, &msg)?;
+            }
+        }
+        if want(Topic::Wheelsets) {
+            for msg in &s.wheelsets {
+                self.writer
+                    .write(&self.wheelsets[msg.wheelset as usize], t_ns, msg)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn finish(mut self, digest: u64) -> Result<LogStats, SimError> {
+        let mut m = BTreeMap::new();
+        m.insert("state_digest".to_owned(), format!("{digest:016x}"));
+        self.writer.write_metadata("railsim_result", m)?;
+        Ok(self.writer.finish()?)
+    }
+}
