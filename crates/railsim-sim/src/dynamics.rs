@@ -46,7 +46,8 @@ pub struct MemberKin {
     pub q: [f64; 6],
     /// Their rates (a wheelset's spin rate at index 4).
     pub qd: [f64; 6],
-    /// \[m\] centre of gravity relative to the frame origin, frame components.
+    /// \[m\] centre of gravity relative to the frame origin, frame components (x is always 0:
+    /// the frame follows the member along the track).
     pub r_local: V3,
     /// \[m\] centre of gravity.
     pub cog: V3,
@@ -203,7 +204,17 @@ impl Dynamics<'_> {
         let (d, v, vdot) = m.motion(t);
         let s = m.start + d;
         for (i, mm) in m.members.iter().enumerate() {
-            let tf = m.track.frame_at(s + mm.p0[0]);
+            let mut q = [0.0; 6];
+            let mut qd = [0.0; 6];
+            for k in 0..6 {
+                q[k] = m.coord(i, k, x);
+                qd[k] = m.coord_rate(i, k, x, v);
+            }
+            // The member's frame follows the track at the member's own position s + x0 + x,
+            // moving at V + ẋ: its coordinate x is the frame's lead, so the contact always sees
+            // the track where the member is.
+            let tf = m.track.frame_at(s + mm.p0[0] + q[0]);
+            let speed = v + qd[0];
             let frame = track_orientation(tf.heading, tf.gradient, tf.roll);
             let tangent = [frame[0][0], frame[1][0], frame[2][0]];
             // Darboux vector: κ about the vertical, the gradient's rate about the heading's
@@ -215,23 +226,24 @@ impl Dynamics<'_> {
                 add([0.0, 0.0, tf.curvature], scale(-dalpha, lateral)),
                 scale(tf.droll_ds, tangent),
             );
-            let omega_frame = scale(v, darboux);
-            let alpha_frame = add(scale(vdot, darboux), [0.0, 0.0, v * v * tf.dcurvature_ds]);
-            let vel_origin = scale(v, tangent);
-            let accel_origin = add(scale(vdot, tangent), scale(v * v, cross(darboux, tangent)));
-            let mut q = [0.0; 6];
-            let mut qd = [0.0; 6];
-            for k in 0..6 {
-                q[k] = m.coord(i, k, x);
-                qd[k] = m.coord_rate(i, k, x, v);
-            }
+            let omega_frame = scale(speed, darboux);
+            let alpha_frame = add(
+                scale(vdot, darboux),
+                [0.0, 0.0, speed * speed * tf.dcurvature_ds],
+            );
+            let vel_origin = scale(speed, tangent);
+            // The frame's own ẍ·t is the member's longitudinal acceleration, left out here.
+            let accel_origin = add(
+                scale(vdot, tangent),
+                scale(speed * speed, cross(darboux, tangent)),
+            );
             let wheelset = mm.is_wheelset();
             if wheelset {
                 q[4] = 0.0;
             }
-            let r_local = [q[0], mm.p0[1] + q[1], mm.p0[2] + q[2]];
+            let r_local = [0.0, mm.p0[1] + q[1], mm.p0[2] + q[2]];
             let cog = add(tf.position_g, mul(&frame, r_local));
-            let rel_vel = [qd[0], qd[1], qd[2]];
+            let rel_vel = [0.0, qd[1], qd[2]];
             let vel = add(
                 add(vel_origin, cross(omega_frame, mul(&frame, r_local))),
                 mul(&frame, rel_vel),
@@ -277,10 +289,16 @@ impl Dynamics<'_> {
             (End::Track, End::Member(j)) => {
                 let k = &self.ws.kin[j.0];
                 let p0 = self.model.members[j.0].p0;
-                let arm = mul(&k.frame, [a[0] - p0[0], a[1], a[2]]);
+                // A point fixed to the track-following frame at s + a_x (not moving with the
+                // member's lead x): it moves at V, not V + ẋ.
+                let arm = mul(&k.frame, [a[0] - p0[0] - k.q[0], a[1], a[2]]);
+                let tangent = [k.frame[0][0], k.frame[1][0], k.frame[2][0]];
                 (
                     add(k.origin, arm),
-                    add(k.vel_origin, cross(k.omega_frame, arm)),
+                    sub(
+                        add(k.vel_origin, cross(k.omega_frame, arm)),
+                        scale(k.qd[0], tangent),
+                    ),
                     k.frame,
                     k.omega_frame,
                 )
@@ -364,8 +382,8 @@ impl Dynamics<'_> {
             let omega_l = mul_t(&k.frame, k.omega_frame);
             let r = k.r_local;
             let v_l = add(
-                add([v, 0.0, 0.0], cross(omega_l, r)),
-                [k.qd[0], k.qd[1], k.qd[2]],
+                add([v + k.qd[0], 0.0, 0.0], cross(omega_l, r)),
+                [0.0, k.qd[1], k.qd[2]],
             );
             let mut pose = WheelsetPose {
                 y: r[1],
@@ -381,7 +399,15 @@ impl Dynamics<'_> {
                 yaw_rate: omega_l[2] + k.qd[5],
                 spin: omega_l[1] + k.qd[4],
             };
-            let rail = rail_frame(m, wheel.side, s + mm.p0[0], v, radius, &mut pose, &mut vel);
+            let rail = rail_frame(
+                m,
+                wheel.side,
+                s + mm.p0[0] + k.q[0],
+                v,
+                radius,
+                &mut pose,
+                &mut vel,
+            );
             let timer = self.ws.timing.then(Instant::now);
             let res = wheel
                 .contact
@@ -441,7 +467,7 @@ impl Dynamics<'_> {
             let w = mul_t(fr, k.omega_frame);
             let wd = mul_t(fr, k.alpha_frame);
             let r = k.r_local;
-            let rd = [k.qd[0], k.qd[1], k.qd[2]];
+            let rd = [0.0, k.qd[1], k.qd[2]];
             // Acceleration of a point fixed at r in the moving frame, plus Coriolis.
             let a_frame = add(
                 add(mul_t(fr, k.accel_origin), cross(wd, r)),

@@ -220,9 +220,13 @@ mod tests {
                 assert!((p[i][j] - e).abs() < 1e-14);
             }
         }
+        // About one axis: sin of the angle, exactly.
+        let w = small_rotation(&rot_z(-3e-4));
+        assert!((w[2] - (-3e-4f64).sin()).abs() < 1e-18 && w[0] == 0.0);
+        // Composed: roll, pitch, yaw up to products of the angles (second order, ≤ 1e-7 here).
         let w = small_rotation(&rotation_rpy(1e-4, 2e-4, -3e-4));
-        assert!((w[0] - 1e-4).abs() < 1e-10 && (w[1] - 2e-4).abs() < 1e-10);
-        assert!((w[2] + 3e-4).abs() < 1e-10);
+        assert!((w[0] - 1e-4).abs() < 1e-7 && (w[1] - 2e-4).abs() < 1e-7);
+        assert!((w[2] + 3e-4).abs() < 1e-7);
         assert!(inverse(&[[0.0; 3]; 3]).is_none());
     }
 }

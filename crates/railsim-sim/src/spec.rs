@@ -179,7 +179,7 @@ pub const ROOT_KEYS: &[&str] = &[
 /// Keys of `[speed_profile]`.
 pub const SPEED_PROFILE_KEYS: &[&str] = &["distance_m", "speed_kmh"];
 /// Keys of `[contact]`.
-pub const CONTACT_KEYS: &[&str] = &["model", "step_mm"];
+pub const CONTACT_KEYS: &[&str] = &["model", "step_mm", "friction", "creep_coefficient_n"];
 /// Keys of `[integrator]`.
 pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_step_s"];
 /// Keys of `[log]`.
