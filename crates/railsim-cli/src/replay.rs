@@ -60,6 +60,63 @@ pub struct ReplayArgs {
     /// The PNG file the plot is written to.
     #[arg(long, requires = "plot")]
     png: Option<PathBuf>,
+    /// Re-run the scene stored in the log (its scene, vehicle and track files must be unchanged
+    /// on disk) and report whether the re-run's state digest equals the logged one (exit 1 if
+    /// not).
+    #[arg(long)]
+    rerun: bool,
+}
+
+/// Re-run the scene a log stores and compare state digests.
+fn rerun(reader: &railsim_log::LogReader) -> Result<ExitCode> {
+    let meta = reader.metadata();
+    let sources = meta.get("railsim_sources").ok_or_else(|| {
+        anyhow::anyhow!("the log stores no scene sources (not written by `railsim run`)")
+    })?;
+    let logged = meta
+        .get("railsim_result")
+        .and_then(|m| m.get("state_digest"))
+        .ok_or_else(|| anyhow::anyhow!("the log has no state digest (the run did not finish)"))?;
+    for key in ["scene", "vehicle", "track"] {
+        let (Some(path), Some(text)) = (sources.get(&format!("{key}_path")), sources.get(key))
+        else {
+            anyhow::bail!("the log does not store the {key} file");
+        };
+        let now = std::fs::read_to_string(path)
+            .with_context(|| format!("reading the {key} file {path} named in the log"))?;
+        if &now != text {
+            anyhow::bail!(
+                "the {key} file {path} changed since the log was written; cannot re-run it as logged"
+            );
+        }
+    }
+    let scene_path = PathBuf::from(&sources["scene_path"]);
+    let scene = railsim_sim::Scene::from_file(&scene_path)?;
+    let duration = reader
+        .metadata()
+        .get("railsim_result")
+        .and_then(|m| m.get("t_end_s"))
+        .and_then(|t| t.parse::<f64>().ok());
+    let mut sim = railsim_sim::Simulation::new(&scene)?;
+    let opts = railsim_sim::RunOptions {
+        no_log: true,
+        t_end: duration,
+        ..Default::default()
+    };
+    let summary = sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {})?;
+    let digest = format!("{:016x}", summary.digest);
+    println!(
+        "re-ran {} ({:.3} s simulated): state digest {digest}, logged {logged}",
+        scene_path.display(),
+        summary.t_end
+    );
+    if &digest == logged {
+        println!("the re-run agrees with the log: identical states at every sample");
+        Ok(ExitCode::SUCCESS)
+    } else {
+        println!("the re-run DIFFERS from the log");
+        Ok(ExitCode::from(1))
+    }
 }
 
 pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
@@ -78,6 +135,9 @@ pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
     query.end_ns = range.1;
 
     let mut did_something = false;
+    if a.rerun {
+        return rerun(&reader);
+    }
     if let Some(out) = &a.csv {
         write_csv(&reader, &query, out)?;
         did_something = true;

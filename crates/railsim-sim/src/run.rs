@@ -319,7 +319,7 @@ impl Simulation {
         let cost = dynamics.ws.cost;
         self.ws = Some(dynamics.ws);
         let log = match recorder {
-            Some(rec) => Some(rec.finish(state.digest)?),
+            Some(rec) => Some(rec.finish(state.digest, self.integ.t())?),
             None => None,
         };
         if let Err(mut e) = result {
@@ -740,9 +740,10 @@ impl Recorder {
         Ok(())
     }
 
-    fn finish(mut self, digest: u64) -> Result<LogStats, SimError> {
+    fn finish(mut self, digest: u64, t_end: f64) -> Result<LogStats, SimError> {
         let mut m = BTreeMap::new();
         m.insert("state_digest".to_owned(), format!("{digest:016x}"));
+        m.insert("t_end_s".to_owned(), format!("{t_end:?}"));
         self.writer.write_metadata("railsim_result", m)?;
         Ok(self.writer.finish()?)
     }

@@ -406,3 +406,43 @@ fn two_runs_of_a_scene_give_identical_states() {
     let (_, _, sc) = run(&s2);
     assert_ne!(sa.digest, sc.digest);
 }
+
+#[test]
+fn a_run_that_derails_stops_with_time_body_and_quantity_and_keeps_its_log() {
+    // A free wheelset on flangeless cones is dynamically unstable; at 40 m/s it runs off.
+    let dir = std::env::temp_dir().join(format!("railsim-derail-{}", std::process::id()));
+    let log = dir.join("derail.mcap");
+    let s = scene(
+        r#"
+        vehicle = "scenes/vehicles/wheelset_free_cone.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 144
+        duration_s = 20
+        [initial]
+        lateral_offset_mm = 2
+        [log]
+        rate_hz = 200
+        topics = ["bodies", "wheelsets"]
+        "#,
+    );
+    let mut sim = Simulation::new(&s).unwrap();
+    let opts = RunOptions {
+        log_path: Some(log.clone()),
+        ..Default::default()
+    };
+    let err = sim
+        .run(&s, &opts, &mut |_, _| {}, &mut |_| {})
+        .expect_err("the run must stop");
+    let msg = err.to_string();
+    eprintln!("{msg}");
+    assert!(msg.contains("simulation stopped at t = "), "{msg}");
+    assert!(msg.contains("'ws'") || msg.contains("ws:"), "{msg}");
+    assert!(
+        msg.contains("derailment") || msg.contains("penetration"),
+        "{msg}"
+    );
+    assert!(msg.contains(&log.display().to_string()), "{msg}");
+    let reader = railsim_log::LogReader::open(&log).unwrap();
+    assert!(reader.message_count() > 10);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -1,0 +1,76 @@
+#!/usr/bin/env python3
+"""Independent check of a log written by `railsim run`, with the Python `mcap` package.
+
+Usage: check_run_log.py LOG.mcap
+
+Checks that the log has a summary whose per-channel message counts equal the messages actually
+read, that the four kinds of topics are there (/bodies/*, /contact/*, /wheelsets/*, /tf), that
+every message decodes as JSON with its own time equal to the log time, that no number is NaN or
+infinite, and that the `scene` and `railsim_result` metadata (with the state digest) are present.
+Exits 1 on any mismatch.
+"""
+
+import json
+import math
+import sys
+
+from mcap.reader import make_reader
+
+
+def finite(v):
+    if isinstance(v, float):
+        return math.isfinite(v)
+    if isinstance(v, dict):
+        return all(finite(x) for x in v.values())
+    if isinstance(v, list):
+        return all(finite(x) for x in v)
+    return True
+
+
+def main():
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    failures = []
+    counts = {}
+    with open(sys.argv[1], "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        if summary is None or summary.statistics is None:
+            print("check_run_log: the log has no summary statistics")
+            return 1
+        for schema, channel, message in reader.iter_messages():
+            counts[channel.topic] = counts.get(channel.topic, 0) + 1
+            body = json.loads(message.data)
+            if not finite(body):
+                failures.append(f"{channel.topic}: non-finite number at {message.log_time}")
+            if schema.name == "foxglove.FrameTransform":
+                st = body["timestamp"]
+                ok = st["sec"] * 1_000_000_000 + st["nsec"] == message.log_time
+            else:
+                ok = abs(body["t_s"] - message.log_time * 1e-9) <= 1e-9
+            if not ok:
+                failures.append(f"{channel.topic}: message time differs from log time")
+        stated = {summary.channels[cid].topic: n
+                  for cid, n in summary.statistics.channel_message_counts.items()}
+        for topic, n in stated.items():
+            if counts.get(topic, 0) != n:
+                failures.append(f"{topic}: summary says {n} messages, read {counts.get(topic, 0)}")
+        for prefix in ("/bodies/", "/contact/", "/wheelsets/", "/tf"):
+            if not any(t.startswith(prefix) for t in counts):
+                failures.append(f"no topic {prefix}*")
+        f.seek(0)
+        names = {m.name: m.metadata for m in make_reader(f).iter_metadata()}
+        if "scene" not in names:
+            failures.append("no scene metadata")
+        if len(names.get("railsim_result", {}).get("state_digest", "")) != 16:
+            failures.append("no state digest in railsim_result metadata")
+    for msg in failures[:20]:
+        print("check_run_log:", msg)
+    print(f"check_run_log: {sum(counts.values())} messages on {len(counts)} topics, "
+          f"{len(failures)} problems")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
