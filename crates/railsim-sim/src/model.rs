@@ -61,8 +61,12 @@ pub struct MemberModel {
     /// Index of each coordinate (x, y, z, roll, pitch, yaw) in the state, `None` if frozen (a
     /// wheelset's pitch never has one).
     pub pos: [Option<usize>; 6],
-    /// Index of each rate in the state, `None` if frozen. A frozen wheelset spin rolls at V/r0.
+    /// Index of each rate in the state, `None` if frozen. A frozen wheelset spin rolls at
+    /// V / `rolling_radius`.
     pub rate: [Option<usize>; 6],
+    /// \[m\] a wheelset's rolling radius in its initial position on the rails (the mean of its
+    /// two wheels, from the contact); the nominal radius until the initial state is found.
+    pub rolling_radius: f64,
 }
 
 impl MemberModel {
@@ -159,6 +163,7 @@ impl SimModel {
                 p0: b.position,
                 pos: [None; 6],
                 rate: [None; 6],
+                rolling_radius: 0.0,
             });
         }
         let nb = members.len();
@@ -226,6 +231,7 @@ impl SimModel {
                 p0: w.position,
                 pos: [None; 6],
                 rate: [None; 6],
+                rolling_radius: w.nominal_radius,
             });
         }
         // State layout: positions, rates, internal states.
@@ -314,12 +320,13 @@ impl SimModel {
         self.members[m].pos[k].map_or(0.0, |i| x[i])
     }
 
-    /// A member's rate `k` in state `x`; a frozen wheelset spin rolls at `v / r0`.
+    /// A member's rate `k` in state `x`; a frozen wheelset spin rolls at `v / r`, r its
+    /// initial rolling radius.
     pub fn coord_rate(&self, m: usize, k: usize, x: &[f64], v: f64) -> f64 {
         let mm = &self.members[m];
         match (mm.rate[k], mm.kind) {
             (Some(i), _) => x[i],
-            (None, MemberKind::Wheelset { radius, .. }) if k == 4 => v / radius,
+            (None, MemberKind::Wheelset { .. }) if k == 4 => v / mm.rolling_radius,
             (None, _) => 0.0,
         }
     }

@@ -124,7 +124,7 @@ impl Simulation {
     /// on level track, each wheelset settled on its rails under its static load with the scene's
     /// initial disturbance, spin at pure rolling, series dampers relaxed.
     pub fn new(scene: &Scene) -> Result<Simulation, SimError> {
-        let model = SimModel::new(scene)?;
+        let mut model = SimModel::new(scene)?;
         let method = with_step_defaults(scene.integrator);
         let integ = Integrator::new(method, model.dim())?;
         let stat = scene
@@ -150,6 +150,7 @@ impl Simulation {
         }
         let mut ws = Workspace::new(&model);
         let mut sink = 0.0;
+        let mut rolling = vec![0.0; model.members.len()];
         for (wi, mm) in model.members.iter().enumerate().skip(nb) {
             let MemberKind::Wheelset {
                 first_wheel,
@@ -172,10 +173,12 @@ impl Simulation {
                 yaw,
             };
             let s_w = model.start + mm.p0[0];
-            let (z, roll) = settle(&model, first_wheel, s_w, pose, v0, radius, load, &mut ws)
-                .map_err(|message| SimError::Initial {
-                    message: format!("wheelset '{}': {message}", mm.name),
-                })?;
+            let (z, roll, r_roll) =
+                settle(&model, first_wheel, s_w, pose, v0, radius, load, &mut ws).map_err(
+                    |message| SimError::Initial {
+                        message: format!("wheelset '{}': {message}", mm.name),
+                    },
+                )?;
             sink += z - (mm.p0[2] - radius) - stat.wheelset_displacement[w][2];
             let set = |x: &mut Vec<f64>, k: usize, val: f64| {
                 if let Some(ix) = mm.pos[k] {
@@ -187,7 +190,13 @@ impl Simulation {
             set(&mut x0, 3, roll);
             set(&mut x0, 5, yaw);
             if let Some(ix) = mm.rate[4] {
-                x0[ix] = v0 / radius;
+                x0[ix] = v0 / r_roll;
+            }
+            rolling[wi] = r_roll;
+        }
+        for (mm, r) in model.members.iter_mut().zip(&rolling) {
+            if mm.is_wheelset() {
+                mm.rolling_radius = *r;
             }
         }
         // Bodies follow the mean contact sink of the wheelsets beyond the static solve's.
@@ -466,7 +475,7 @@ fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
 }
 
 /// Settle a wheelset on its rails at the lateral position and yaw of `pose`: find the height
-/// and roll at which each wheel carries half of `load`. Each wheel's height comes from the
+/// and roll at which each wheel carries half of `load`; also returns the mean rolling radius. Each wheel's height comes from the
 /// contact crate's load control; the roll is corrected by the difference of the two heights over
 /// the wheel spacing until they agree to 1e-9 m (a fixed point: roll moves the contact points
 /// on the profiles only to second order).
@@ -479,7 +488,7 @@ fn settle(
     radius: f64,
     load: f64,
     ws: &mut Workspace,
-) -> Result<(f64, f64), String> {
+) -> Result<(f64, f64, f64), String> {
     let vel = WheelsetVelocity {
         vx: v.max(1e-3),
         spin: v.max(1e-3) / radius,
@@ -490,6 +499,7 @@ fn settle(
     for _ in 0..50 {
         let mut z = [0.0; 2];
         let mut y_contact = [0.0; 2];
+        let mut r_roll = 0.0;
         for (k, wheel) in model.wheels[first_wheel..first_wheel + 2]
             .iter()
             .enumerate()
@@ -505,6 +515,11 @@ fn settle(
             let (sd, cd) = rail.roll.sin_cos();
             z[k] = (sol.z + radius + sd * (p.y - rail.origin[0])) / cd + rail.origin[1] - radius;
             y_contact[k] = ws.contact.patches.first().map_or(0.0, |q| q.point_track[1]);
+            r_roll += 0.5
+                * ws.contact
+                    .patches
+                    .first()
+                    .map_or(radius, |q| q.rolling_radius);
         }
         if y_contact[0] > y_contact[1] {
             spacing = y_contact[0] - y_contact[1];
@@ -512,7 +527,7 @@ fn settle(
         let dz = z[0] - z[1];
         p.z = 0.5 * (z[0] + z[1]);
         if dz.abs() < 1e-9 {
-            return Ok((p.z, p.roll));
+            return Ok((p.z, p.roll, r_roll));
         }
         p.roll += dz / spacing;
     }
