@@ -463,7 +463,9 @@ impl Dynamics<'_> {
             let fr = &k.frame;
             let g_l = mul_t(fr, [0.0, 0.0, -m.gravity * mm.mass]);
             let f_l = add(mul_t(fr, k.force), g_l);
-            let m_l = mul_t(fr, k.moment);
+            let mut m_l = mul_t(fr, k.moment);
+            // Traction or brake torque about the axle (its reaction is outside the model).
+            m_l[1] += mm.torque;
             let w = mul_t(fr, k.omega_frame);
             let wd = mul_t(fr, k.alpha_frame);
             let r = k.r_local;

@@ -64,6 +64,9 @@ pub struct MemberModel {
     /// Index of each rate in the state, `None` if frozen. A frozen wheelset spin rolls at
     /// V / `rolling_radius`.
     pub rate: [Option<usize>; 6],
+    /// \[N m\] a wheelset's constant traction (> 0) or brake (< 0) torque about its axle (the
+    /// reaction is not applied to any modelled body).
+    pub torque: f64,
     /// \[m\] a wheelset's rolling radius in its initial position on the rails (the mean of its
     /// two wheels, from the contact); the nominal radius until the initial state is found.
     pub rolling_radius: f64,
@@ -163,6 +166,7 @@ impl SimModel {
                 p0: b.position,
                 pos: [None; 6],
                 rate: [None; 6],
+                torque: 0.0,
                 rolling_radius: 0.0,
             });
         }
@@ -231,6 +235,7 @@ impl SimModel {
                 p0: w.position,
                 pos: [None; 6],
                 rate: [None; 6],
+                torque: w.torque,
                 rolling_radius: w.nominal_radius,
             });
         }

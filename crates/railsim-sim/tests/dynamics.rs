@@ -483,3 +483,46 @@ fn a_run_that_derails_stops_with_time_body_and_quantity_and_keeps_its_log() {
     assert!(reader.message_count() > 10);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
+    // A free S1002 wheelset held longitudinally by the frame (x frozen) with 2 kN·m of traction:
+    // in the steady state the creep forces on the wheels push forward with torque / r.
+    use railsim_ode::OdeSystem;
+    use railsim_sim::dynamics::{Dynamics, Workspace};
+    let dir = std::env::temp_dir().join(format!("railsim-torque-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(root().join("vehicles/wheelset_free.toml")).unwrap();
+    let vehicle = dir.join("driven.toml");
+    std::fs::write(
+        &vehicle,
+        text.replace("wheel_profile = {", "torque_nm = 2000\nwheel_profile = {"),
+    )
+    .unwrap();
+    let s = scene(&format!(
+        r#"
+        vehicle = "{}"
+        track = "tracks/straight.toml"
+        speed_kmh = 72
+        duration_s = 1
+        freeze = ["ws.x"]
+        [log]
+        rate_hz = 100
+        "#,
+        vehicle.display()
+    ));
+    let (sim, samples, _) = run(&s);
+    let m = sim.model();
+    let last = samples.last().unwrap();
+    let mut d = Dynamics {
+        model: m,
+        ws: Workspace::new(m),
+    };
+    let mut dx = vec![0.0; m.dim()];
+    d.rhs(last.t, &last.x, &mut dx).unwrap();
+    let fx: f64 = d.ws.wheel_force.iter().map(|f| f[0]).sum();
+    let r = m.members[0].rolling_radius;
+    eprintln!("traction: sum Fx {fx:.1} N, torque / r {:.1} N", 2000.0 / r);
+    std::fs::remove_dir_all(&dir).ok();
+    assert!((fx / (2000.0 / r) - 1.0).abs() < 0.01);
+}

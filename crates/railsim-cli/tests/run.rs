@@ -1,0 +1,121 @@
+//! `railsim run`: a scene end to end through the binary, its log read back, re-run from the log,
+//! a run killed with SIGKILL, and bad scenes.
+
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn root() -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+}
+
+fn railsim(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_railsim"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("railsim-run-{}-{name}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
+    let dir = temp_dir("klingel");
+    let log = dir.join("k.mcap");
+    let log_s = log.to_str().unwrap();
+    let (code, out, err) = railsim(&[
+        "run",
+        "scenes/free_wheelset_klingel.toml",
+        "--duration-s",
+        "0.5",
+        "--out",
+        log_s,
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for key in [
+        "real-time factor",
+        "max |lateral displacement|",
+        "max Y/Q",
+        "integrator:",
+        "state digest",
+    ] {
+        assert!(out.contains(key), "summary lacks '{key}':\n{out}");
+    }
+    let reader = railsim_log::LogReader::open(&log).unwrap();
+    assert!(reader.is_complete());
+    // 0.5 s at 200 Hz: 101 samples on each of the scene's three topic kinds.
+    assert_eq!(reader.channel("/bodies/ws").unwrap().message_count, 101);
+    assert_eq!(reader.channel("/wheelsets/0").unwrap().message_count, 101);
+    assert!(reader.metadata().contains_key("railsim_sources"));
+    let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("agrees"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_run_killed_with_sigkill_leaves_a_readable_log() {
+    let dir = temp_dir("kill");
+    let log = dir.join("killed.mcap");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_railsim"))
+        .args(["run", "--quiet", "--out", log.to_str().unwrap()])
+        .current_dir(root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // Wait until complete chunks (or a flush, every 4096 messages) have reached the file, then
+    // kill.
+    let start = Instant::now();
+    while std::fs::metadata(&log).map_or(0, |m| m.len()) < 200_000 {
+        assert!(start.elapsed() < Duration::from_secs(300), "no log growth");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    child.kill().unwrap(); // SIGKILL on Unix
+    child.wait().unwrap();
+    let reader = railsim_log::LogReader::open(&log).unwrap();
+    assert!(!reader.is_complete());
+    assert!(reader.message_count() > 100, "{}", reader.message_count());
+    let (t0, t1) = reader.time_range().unwrap();
+    assert!(t1 > t0);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_scenes_exit_2_with_located_messages() {
+    let dir = temp_dir("bad");
+    let scene = dir.join("bad.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "vehicle = \"{}\"\ntrack = \"{}\"\nspeed_kmh = -5\nduration_s = 1\nbogus = 1\n",
+            root().join("vehicles/wheelset_free.toml").display(),
+            root().join("tracks/straight.toml").display()
+        ),
+    )
+    .unwrap();
+    let (code, _, err) = railsim(&["run", scene.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("bad.toml:3:"), "{err}");
+    assert!(err.contains("speed_kmh"), "{err}");
+    assert!(
+        err.contains("bad.toml:5:") && err.contains("bogus"),
+        "{err}"
+    );
+    let (code, _, err) = railsim(&["run", "no/such/scene.toml"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no/such/scene.toml"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
