@@ -123,10 +123,13 @@ fn print_summary(s: &RunSummary, timing: bool) {
     }
     let side = |x: railsim_contact::Side| x.name();
     println!(
-        "max Y/Q {:.3} (wheelset {}, {} wheel); max Q {:.1} kN (wheelset {}, {} wheel)",
+        "max Y/Q {:.3} at a sample (wheelset {}, {} wheel), {:.3} as a 2 m sliding mean (wheelset {}, {} wheel); max Q {:.1} kN (wheelset {}, {} wheel)",
         s.max_y_over_q.0,
         s.max_y_over_q.1,
         side(s.max_y_over_q.2),
+        s.max_y_over_q_2m.0,
+        s.max_y_over_q_2m.1,
+        side(s.max_y_over_q_2m.2),
         s.max_q.0 * 1e-3,
         s.max_q.1,
         side(s.max_q.2)

@@ -72,8 +72,10 @@ pub struct RunSummary {
     pub wall: f64,
     /// \[m\] per wheelset (numbered from the front): largest |lateral displacement|.
     pub max_lateral: Vec<f64>,
-    /// \[-\] largest Y/Q of any wheel, with its wheelset and side.
+    /// \[-\] largest Y/Q of any wheel at a sample, with its wheelset and side.
     pub max_y_over_q: (f64, u32, Side),
+    /// \[-\] largest 2 m sliding mean of Y/Q of any wheel (EN 14363), with wheelset and side.
+    pub max_y_over_q_2m: (f64, u32, Side),
     /// \[N\] largest Q of any wheel, with its wheelset and side.
     pub max_q: (f64, u32, Side),
     /// Integrator statistics.
@@ -319,7 +321,7 @@ impl Simulation {
                     StepOutcome::Accepted { t } => progress(t, t_end),
                     StepOutcome::Stop(StopReason::Reached) => {}
                     StepOutcome::Stop(reason) => {
-                        return Err(stopped_integrator(&self.model, reason));
+                        return Err(stopped_integrator(&self.model, reason, self.integ.t()));
                     }
                 }
             }
@@ -342,6 +344,7 @@ impl Simulation {
             wall: wall.elapsed().as_secs_f64(),
             max_lateral: state.max_lateral,
             max_y_over_q: state.max_yq,
+            max_y_over_q_2m: state.max_yq_2m,
             max_q: state.max_q,
             stats,
             samples: next as u64,
@@ -385,7 +388,7 @@ fn stopped_rhs(t: f64, msg: &str) -> SimError {
     }
 }
 
-fn stopped_integrator(model: &SimModel, reason: StopReason) -> SimError {
+fn stopped_integrator(model: &SimModel, reason: StopReason, t_now: f64) -> SimError {
     let (t, body, quantity) = match reason {
         StopReason::RhsFailed { t, msg } => (t, "contact".to_owned(), msg),
         StopReason::NonFinite { t, index } => (
@@ -402,7 +405,7 @@ fn stopped_integrator(model: &SimModel, reason: StopReason) -> SimError {
             "integrator".into(),
             format!("step size {h:.3e} s too small (the motion is too violent to follow)"),
         ),
-        other => (f64::NAN, "integrator".into(), format!("{other:?}")),
+        other => (t_now, "integrator".into(), format!("{other:?}")),
     };
     SimError::Stopped {
         t,
@@ -537,11 +540,18 @@ fn settle(
     ))
 }
 
+/// \[m\] length of the sliding mean of Y/Q (EN 14363's running-safety evaluation of the
+/// derailment quotient uses a 2 m sliding mean).
+pub const Y_OVER_Q_WINDOW: f64 = 2.0;
+
 /// Maxima and digest carried through the loop.
 struct LoopState {
     max_lateral: Vec<f64>,
     max_yq: (f64, u32, Side),
+    max_yq_2m: (f64, u32, Side),
     max_q: (f64, u32, Side),
+    /// Per wheel (2 × wheelset number + side): (distance, Y/Q) samples of the last 2 m and their sum.
+    window: Vec<(std::collections::VecDeque<(f64, f64)>, f64)>,
     digest: u64,
 }
 
@@ -550,7 +560,9 @@ impl LoopState {
         LoopState {
             max_lateral: vec![0.0; model.wheels.len() / 2],
             max_yq: (0.0, 0, Side::Left),
+            max_yq_2m: (0.0, 0, Side::Left),
             max_q: (0.0, 0, Side::Left),
+            window: vec![(std::collections::VecDeque::new(), 0.0); model.wheels.len()],
             digest: 0xcbf2_9ce4_8422_2325,
         }
     }
@@ -586,12 +598,33 @@ impl LoopState {
             lateral[number as usize] = y;
             let ml = &mut self.max_lateral[number as usize];
             *ml = ml.max(y.abs());
-            for (side, yqv, q) in [
+            let dist = model.motion(t).0;
+            for (k, (side, yqv, q)) in [
                 (Side::Left, msg.y_over_q_left, ql),
                 (Side::Right, msg.y_over_q_right, qr),
-            ] {
+            ]
+            .into_iter()
+            .enumerate()
+            {
                 if yqv > self.max_yq.0 {
                     self.max_yq = (yqv, number, side);
+                }
+                let (buf, sum) = &mut self.window[2 * number as usize + k];
+                buf.push_back((dist, yqv));
+                *sum += yqv;
+                while buf
+                    .front()
+                    .is_some_and(|&(d0, _)| d0 < dist - Y_OVER_Q_WINDOW)
+                {
+                    *sum -= buf.pop_front().map_or(0.0, |(_, v)| v);
+                }
+                // Only full windows count.
+                let full = buf
+                    .front()
+                    .is_some_and(|&(d0, _)| dist - d0 >= 0.95 * Y_OVER_Q_WINDOW);
+                let mean = *sum / buf.len() as f64;
+                if full && mean > self.max_yq_2m.0 {
+                    self.max_yq_2m = (mean, number, side);
                 }
                 if q > self.max_q.0 {
                     self.max_q = (q, number, side);
