@@ -19,13 +19,13 @@ pub struct RunArgs {
     /// Scene file (TOML, docs/formats/scene.md); default: the built-in scene
     /// (scenes/default.toml).
     pub scene: Option<PathBuf>,
-    /// Write the log here instead of the scene's [log] path.
+    /// Write the log here instead of the scene's `[log]` path.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Write no log.
     #[arg(long)]
     pub no_log: bool,
-    /// Stop after this much simulated time [s] instead of the scene's end.
+    /// Stop after this much simulated time, in seconds, instead of the scene's end.
     #[arg(long)]
     pub duration_s: Option<f64>,
     /// Measure and print the cost split (contact, suspension, integrator, logging).
