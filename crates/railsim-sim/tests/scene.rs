@@ -112,17 +112,21 @@ fn default_scene_is_the_issue_default() {
 #[test]
 fn other_scenes_carry_their_choices() {
     let w = Scene::from_file(scenes_dir().join("wheelset_springs_critical.toml")).unwrap();
-    assert!((w.speed.speed_at(0.0) - 289.5).abs() < 1e-9);
-    assert_eq!(w.contact.model, ContactModelKind::Polach);
-    let ws = Member::Wheelset(w.vehicle.wheelset_id("ws").unwrap());
-    let spin = Dof {
-        member: ws,
-        kind: DofKind::Pitch,
+    assert!((w.speed.speed_at(0.0) - 1096.1 / 3.6).abs() < 1e-9);
+    assert_eq!(w.contact.model, ContactModelKind::Linear);
+    assert_eq!(w.contact.linear_creep, Some(1e8));
+    assert_eq!(w.dofs().len(), 6);
+    assert!((w.initial.lateral_offset - 0.02e-3).abs() < 1e-15);
+
+    // The default scene holds the carbody's longitudinal position to the frame.
+    let d = Scene::from_file(scenes_dir().join("default.toml")).unwrap();
+    let x = Dof {
+        member: Member::Body(d.vehicle.body_id("carbody").unwrap()),
+        kind: DofKind::X,
     };
-    assert!(w.is_frozen(spin));
-    assert!(!w.dofs().contains(&spin));
-    assert_eq!(w.dofs().len(), 4);
-    assert!((w.initial.lateral_offset - 1e-3).abs() < 1e-15);
+    assert!(d.is_frozen(x));
+    assert!(!d.dofs().contains(&x));
+    assert_eq!(d.dofs().len(), d.vehicle.dofs().len() - 1);
 
     let k = Scene::from_file(scenes_dir().join("free_wheelset_klingel.toml")).unwrap();
     assert!((k.speed.speed_at(0.0) - 10.0).abs() < 1e-12);
