@@ -59,9 +59,15 @@ pub enum SimError {
     /// Writing the log failed.
     #[error(transparent)]
     Log(#[from] railsim_log::LogError),
-    /// Invalid integrator settings.
+    /// Invalid integrator settings or a dense-output request outside the last step.
     #[error("integrator: {0}")]
-    Ode(#[from] railsim_ode::OdeError),
+    Ode(railsim_ode::OdeError),
+}
+
+impl From<railsim_ode::OdeError> for SimError {
+    fn from(e: railsim_ode::OdeError) -> Self {
+        SimError::Ode(e)
+    }
 }
 
 fn log_note(log: &Option<std::path::PathBuf>) -> String {

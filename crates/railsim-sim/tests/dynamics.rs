@@ -526,3 +526,26 @@ fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
     std::fs::remove_dir_all(&dir).ok();
     assert!((fx / (2000.0 / r) - 1.0).abs() < 0.01);
 }
+
+#[test]
+fn fixed_step_runs_sample_at_every_log_instant() {
+    // RK4's time is a sum of steps and lags the sample times by rounding; every sample must
+    // still be taken (0.3 s at 200 Hz: 61 samples), the last one at the end.
+    let s = scene(
+        r#"
+        vehicle = "vehicles/wheelset_free.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 72
+        duration_s = 0.3
+        [integrator]
+        method = "rk4"
+        step_s = 1e-3
+        [log]
+        rate_hz = 200
+        "#,
+    );
+    let (_, samples, summary) = run(&s);
+    assert_eq!(samples.len(), 61);
+    assert_eq!(summary.stats.steps, 300);
+    assert!((samples.last().unwrap().t - 0.3).abs() < 1e-9);
+}
