@@ -130,6 +130,34 @@ impl Integrator {
                 let tab: &'static ButcherTableau = &tableau::DOPRI5;
                 (Work::Erk(ErkWork::new(tab, true, dim)), h_max)
             }
+            Method::AdaptiveExplicit {
+                tableau,
+                rtol,
+                atol,
+                h0,
+                h_max,
+            } => {
+                if !(rtol.is_finite() && rtol >= 0.0) {
+                    return Err(OdeError::InvalidParameter {
+                        name: "rtol",
+                        value: rtol,
+                        expected: "a finite number >= 0",
+                    });
+                }
+                check_pos("atol", atol)?;
+                if let Some(h0) = h0 {
+                    check_pos("h0", h0)?;
+                }
+                check_h_max(h_max)?;
+                if tableau.e.is_none() || !tableau.fsal || tableau.embedded_order == 0 {
+                    return Err(OdeError::InvalidParameter {
+                        name: "tableau",
+                        value: f64::NAN,
+                        expected: "an FSAL tableau with an embedded error estimate",
+                    });
+                }
+                (Work::Erk(ErkWork::new(tableau, true, dim)), h_max)
+            }
             Method::Radau5 {
                 rtol,
                 atol,
@@ -279,7 +307,8 @@ impl Integrator {
         }
         let (rtol, atol, h0) = match self.method {
             Method::Rk4 { h } | Method::ExplicitFixed { h, .. } => (0.0, 1.0, Some(h)),
-            Method::DormandPrince { rtol, atol, h0, .. } => (rtol, atol, h0),
+            Method::DormandPrince { rtol, atol, h0, .. }
+            | Method::AdaptiveExplicit { rtol, atol, h0, .. } => (rtol, atol, h0),
             Method::Radau5 { rtol, atol, h0, .. } => {
                 // Hairer & Wanner's RADAU5 tolerance mapping.
                 let r = 0.1 * rtol.powf(2.0 / 3.0);

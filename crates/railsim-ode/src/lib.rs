@@ -136,6 +136,21 @@ pub enum Method {
         /// \[s\] largest step allowed; finite and positive, or `f64::INFINITY`.
         h_max: f64,
     },
+    /// Any explicit tableau with an embedded error estimate (e.g. [`tableau::BS3`]), adaptive
+    /// with the same PI step-size control as `DormandPrince`; dense output by the tableau's
+    /// continuous extension if it has one, else cubic Hermite (needs `fsal`).
+    AdaptiveExplicit {
+        /// The method; must have error weights `e` and be FSAL.
+        tableau: &'static tableau::ButcherTableau,
+        /// \[-\] relative tolerance; finite, ≥ 0.
+        rtol: f64,
+        /// \[units of x\] absolute tolerance, scaled per component as for `DormandPrince`.
+        atol: f64,
+        /// \[s\] initial step; `None` picks one from the problem.
+        h0: Option<f64>,
+        /// \[s\] largest step allowed; finite and positive, or `f64::INFINITY`.
+        h_max: f64,
+    },
     /// Radau IIA of order 5 (three-stage collocation, L-stable), the method of Hairer &
     /// Wanner's RADAU5, for stiff systems.
     ///

@@ -57,6 +57,36 @@ pub const RK4: ButcherTableau = ButcherTableau {
     fsal: false,
 };
 
+/// Bogacki–Shampine 3(2), four stages with FSAL (three evaluations per step), third-order
+/// solution with a second-order embedded estimate. Cheap per step for right-hand sides whose
+/// cost dominates and whose accuracy needs are modest; its stability region reaches about
+/// ±1.7i on the imaginary axis and −2.5 on the real axis.
+///
+/// P. Bogacki and L. F. Shampine, "A 3(2) pair of Runge–Kutta formulas", Appl. Math. Lett.
+/// 2(4) (1989) 321–325 (the method of MATLAB's `ode23`).
+pub const BS3: ButcherTableau = ButcherTableau {
+    name: "BS3",
+    order: 3,
+    embedded_order: 2,
+    c: &[0.0, 0.5, 0.75, 1.0],
+    a: &[
+        &[],
+        &[0.5],
+        &[0.0, 0.75],
+        &[2.0 / 9.0, 1.0 / 3.0, 4.0 / 9.0],
+    ],
+    b: &[2.0 / 9.0, 1.0 / 3.0, 4.0 / 9.0, 0.0],
+    // b − b̂ with b̂ = (7/24, 1/4, 1/3, 1/8).
+    e: Some(&[
+        2.0 / 9.0 - 7.0 / 24.0,
+        1.0 / 3.0 - 1.0 / 4.0,
+        4.0 / 9.0 - 1.0 / 3.0,
+        -1.0 / 8.0,
+    ]),
+    dense: None,
+    fsal: true,
+};
+
 /// Dormand–Prince 5(4), seven stages with FSAL, fifth-order solution (local extrapolation).
 ///
 /// J. R. Dormand & P. J. Prince, "A family of embedded Runge–Kutta formulae",

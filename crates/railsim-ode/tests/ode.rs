@@ -6,7 +6,7 @@
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
 
-use railsim_ode::tableau::{DOPRI5, RK4};
+use railsim_ode::tableau::{BS3, DOPRI5, RK4};
 use railsim_ode::{
     Integrator, Method, OdeError, OdeSystem, RhsError, Stats, StepOutcome, StopReason,
 };
@@ -808,4 +808,54 @@ fn step_interface_matches_integrate() {
     assert_eq!(integ.x(), &x_a[..]);
     assert_eq!(n, s_a.steps);
     assert_eq!(integ.stats(), s_a);
+}
+
+#[test]
+fn bogacki_shampine_has_order_three_and_controls_its_error() {
+    // Fixed step: observed order 3.
+    let hs = [0.1, 0.05, 0.025, 0.0125];
+    let errs: Vec<f64> = hs
+        .iter()
+        .map(|&h| osc_error(Method::ExplicitFixed { tableau: &BS3, h }, 4.0).0)
+        .collect();
+    let p = slope(&hs, &errs);
+    eprintln!(
+        "BS3 fixed-step errors {}, observed order {p:.3}",
+        fmt_e(&errs)
+    );
+    assert!((p - 3.0).abs() < 0.2, "order {p}");
+    // Adaptive: the error follows the tolerance, three evaluations per step (FSAL).
+    let adaptive = |tol: f64| {
+        osc_error(
+            Method::AdaptiveExplicit {
+                tableau: &BS3,
+                rtol: tol,
+                atol: tol,
+                h0: None,
+                h_max: f64::INFINITY,
+            },
+            4.0,
+        )
+    };
+    let (e1, s1) = adaptive(1e-5);
+    let (e2, s2) = adaptive(1e-8);
+    eprintln!("BS3 adaptive: tol 1e-5 error {e1:.2e} ({s1:?}); tol 1e-8 error {e2:.2e}");
+    assert!(e1 < 1e-3 && e2 < 1e-6 && e2 < e1 / 100.0);
+    assert!(s2.steps > s1.steps);
+    let attempts = s1.steps + s1.rejected;
+    assert!(s1.rhs_evals <= 3 * attempts + 3, "{s1:?}");
+    // A tableau without an error estimate is refused.
+    assert!(
+        Integrator::new(
+            Method::AdaptiveExplicit {
+                tableau: &RK4,
+                rtol: 1e-6,
+                atol: 1e-6,
+                h0: None,
+                h_max: f64::INFINITY,
+            },
+            2
+        )
+        .is_err()
+    );
 }

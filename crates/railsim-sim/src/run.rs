@@ -378,6 +378,23 @@ fn with_step_defaults(m: Method) -> Method {
                 DEFAULT_MAX_STEP
             },
         },
+        Method::AdaptiveExplicit {
+            tableau,
+            rtol,
+            atol,
+            h0,
+            h_max,
+        } => Method::AdaptiveExplicit {
+            tableau,
+            rtol,
+            atol,
+            h0: h0.or(Some(FIRST_STEP)),
+            h_max: if h_max.is_finite() {
+                h_max
+            } else {
+                DEFAULT_MAX_STEP
+            },
+        },
         other => other,
     }
 }

@@ -51,7 +51,7 @@ pub const MAX_INITIAL_OFFSET_MM: f64 = 10.0;
 /// \[mrad\] largest |yaw_mrad| of the initial disturbance.
 pub const MAX_INITIAL_YAW_MRAD: f64 = 20.0;
 /// Integrator names accepted in `[integrator] method`.
-pub const INTEGRATOR_NAMES: [&str; 3] = ["dopri5", "rk4", "radau5"];
+pub const INTEGRATOR_NAMES: [&str; 4] = ["dopri5", "bs3", "rk4", "radau5"];
 
 /// What a run logs (`[log] topics`); the topic names are those of `railsim-log`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -1081,7 +1081,7 @@ impl Compiler<'_> {
                     .any(|v| v.is_some());
                 (!bad).then_some(Method::Rk4 { h })
             }
-            "dopri5" | "radau5" => {
+            "dopri5" | "bs3" | "radau5" => {
                 let takes = "rtol, atol, max_step_s";
                 not_for(self, &i.step_s, "step_s", takes);
                 let rtol = match &i.rtol {
@@ -1102,6 +1102,14 @@ impl Compiler<'_> {
                 }
                 Some(if name == "dopri5" {
                     Method::DormandPrince {
+                        rtol,
+                        atol,
+                        h0: None,
+                        h_max,
+                    }
+                } else if name == "bs3" {
+                    Method::AdaptiveExplicit {
+                        tableau: &railsim_ode::tableau::BS3,
                         rtol,
                         atol,
                         h0: None,

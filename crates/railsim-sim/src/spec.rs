@@ -117,16 +117,16 @@ pub struct IntegratorSpec {
     /// `"dopri5"`, `"rk4"` or `"radau5"` (required in the table).
     #[serde(default)]
     pub method: Option<Spanned<String>>,
-    /// \[-\] relative tolerance (`dopri5`, `radau5`); default 1e-6.
+    /// \[-\] relative tolerance (`dopri5`, `bs3`, `radau5`); default 1e-6.
     #[serde(default)]
     pub rtol: Option<Spanned<f64>>,
-    /// \[SI units of the state\] absolute tolerance (`dopri5`, `radau5`); default 1e-8.
+    /// \[SI units of the state\] absolute tolerance (`dopri5`, `bs3`, `radau5`); default 1e-8.
     #[serde(default)]
     pub atol: Option<Spanned<f64>>,
     /// \[s\] fixed step (`rk4`, required there).
     #[serde(default)]
     pub step_s: Option<Spanned<f64>>,
-    /// \[s\] largest step (`dopri5`, `radau5`); default unlimited.
+    /// \[s\] largest step (`dopri5`, `bs3`, `radau5`); default unlimited.
     #[serde(default)]
     pub max_step_s: Option<Spanned<f64>>,
 }
