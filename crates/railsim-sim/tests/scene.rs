@@ -324,7 +324,7 @@ fn bad_integrator_and_tolerances_are_rejected() {
     expect(
         &p,
         6,
-        &["unknown integrator 'dopri45'", "dopri5, rk4, radau5"],
+        &["unknown integrator 'dopri45'", "dopri5, bs3, rk4, radau5"],
     );
     let p = problems(&format!(
         "{GOOD}[integrator]\nmethod = \"dopri5\"\nrtol = 0.5\natol = -1\nstep_s = 1e-4\n"
