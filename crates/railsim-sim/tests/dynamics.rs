@@ -549,3 +549,47 @@ fn fixed_step_runs_sample_at_every_log_instant() {
     assert_eq!(summary.stats.steps, 300);
     assert!((samples.last().unwrap().t - 0.3).abs() < 1e-9);
 }
+
+#[test]
+fn a_speed_profile_accelerates_the_frame_and_the_wheels_follow() {
+    // 10 → 20 m/s over the first 60 m, then constant; the wheelset is held longitudinally by
+    // its frame (x frozen), its spin is free: the creep forces spin it up so that it keeps
+    // rolling, and the frame's acceleration enters through the inertial terms.
+    let s = scene(
+        r#"
+        vehicle = "vehicles/wheelset_free.toml"
+        track = "tracks/straight.toml"
+        distance_m = 100
+        freeze = ["ws.x"]
+        [speed_profile]
+        distance_m = [0, 60, 100]
+        speed_kmh = [36, 72, 72]
+        [integrator]
+        method = "dopri5"
+        rtol = 1e-6
+        atol = 1e-8
+        [log]
+        rate_hz = 50
+        "#,
+    );
+    let (sim, samples, summary) = run(&s);
+    let m = sim.model();
+    let spin_ix = m.members[0].rate[4].expect("spin is free");
+    let r = m.members[0].rolling_radius;
+    let mid = samples.iter().find(|x| x.t >= 3.0).unwrap();
+    let (d_mid, v_mid, _) = m.motion(mid.t);
+    let last = samples.last().unwrap();
+    let (_, v_end, _) = m.motion(last.t);
+    let slip_mid = mid.x[spin_ix] * r / v_mid - 1.0;
+    let slip_end = last.x[spin_ix] * r / v_end - 1.0;
+    eprintln!(
+        "speed profile: at {:.1} m, V = {v_mid:.3} m/s, Ω r / V − 1 = {slip_mid:.2e}; at the end V = {v_end:.3} m/s, {slip_end:.2e}; max lateral {:.2e} m",
+        d_mid, summary.max_lateral[0]
+    );
+    assert!((v_end - 20.0).abs() < 1e-9);
+    assert!(v_mid > 12.0 && v_mid < 19.0, "mid speed {v_mid}");
+    // Spinning up needs a small creepage, the wheel lagging (Ω r < V): below 0.2 %.
+    assert!(slip_mid.abs() < 2e-3, "{slip_mid}");
+    assert!(slip_end.abs() < 1e-4, "{slip_end}");
+    assert!(summary.max_lateral[0] < 1e-4);
+}
