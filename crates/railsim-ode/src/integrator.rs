@@ -26,6 +26,37 @@ pub(crate) enum Work {
     Radau(Box<RadauWork>),
 }
 
+/// Check the settings of an adaptive explicit method and allocate its work space.
+fn adaptive_explicit(
+    tableau: &'static ButcherTableau,
+    rtol: f64,
+    atol: f64,
+    h0: Option<f64>,
+    h_max: f64,
+    dim: usize,
+) -> Result<(Work, f64), OdeError> {
+    if !(rtol.is_finite() && rtol >= 0.0) {
+        return Err(OdeError::InvalidParameter {
+            name: "rtol",
+            value: rtol,
+            expected: "a finite number >= 0",
+        });
+    }
+    check_pos("atol", atol)?;
+    if let Some(h0) = h0 {
+        check_pos("h0", h0)?;
+    }
+    check_h_max(h_max)?;
+    if tableau.e.is_none() || !tableau.fsal || tableau.embedded_order == 0 {
+        return Err(OdeError::InvalidParameter {
+            name: "tableau",
+            value: f64::NAN,
+            expected: "an FSAL tableau with an embedded error estimate",
+        });
+    }
+    Ok((Work::Erk(ErkWork::new(tableau, true, dim)), h_max))
+}
+
 /// A reusable integrator holding the method, the run state and every buffer.
 ///
 /// All memory is allocated in [`Integrator::new`]; [`Integrator::start`],
@@ -114,50 +145,14 @@ impl Integrator {
                 atol,
                 h0,
                 h_max,
-            } => {
-                if !(rtol.is_finite() && rtol >= 0.0) {
-                    return Err(OdeError::InvalidParameter {
-                        name: "rtol",
-                        value: rtol,
-                        expected: "a finite number >= 0",
-                    });
-                }
-                check_pos("atol", atol)?;
-                if let Some(h0) = h0 {
-                    check_pos("h0", h0)?;
-                }
-                check_h_max(h_max)?;
-                let tab: &'static ButcherTableau = &tableau::DOPRI5;
-                (Work::Erk(ErkWork::new(tab, true, dim)), h_max)
-            }
+            } => adaptive_explicit(&tableau::DOPRI5, rtol, atol, h0, h_max, dim)?,
             Method::AdaptiveExplicit {
                 tableau,
                 rtol,
                 atol,
                 h0,
                 h_max,
-            } => {
-                if !(rtol.is_finite() && rtol >= 0.0) {
-                    return Err(OdeError::InvalidParameter {
-                        name: "rtol",
-                        value: rtol,
-                        expected: "a finite number >= 0",
-                    });
-                }
-                check_pos("atol", atol)?;
-                if let Some(h0) = h0 {
-                    check_pos("h0", h0)?;
-                }
-                check_h_max(h_max)?;
-                if tableau.e.is_none() || !tableau.fsal || tableau.embedded_order == 0 {
-                    return Err(OdeError::InvalidParameter {
-                        name: "tableau",
-                        value: f64::NAN,
-                        expected: "an FSAL tableau with an embedded error estimate",
-                    });
-                }
-                (Work::Erk(ErkWork::new(tableau, true, dim)), h_max)
-            }
+            } => adaptive_explicit(tableau, rtol, atol, h0, h_max, dim)?,
             Method::Radau5 {
                 rtol,
                 atol,
