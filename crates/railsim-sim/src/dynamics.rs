@@ -92,6 +92,10 @@ pub struct CostSplit {
 pub struct Workspace {
     /// Per member.
     pub kin: Vec<MemberKin>,
+    /// \[m\] track position of the vehicle reference at the current evaluation.
+    pub track_position: f64,
+    /// \[m/s\] speed at the current evaluation.
+    pub speed: f64,
     /// The contact crate's workspace.
     pub contact: ContactWorkspace,
     /// Patches of the last evaluation, filled only when `record` is set.
@@ -113,6 +117,8 @@ impl Workspace {
     pub fn new(model: &SimModel) -> Workspace {
         Workspace {
             kin: vec![MemberKin::default(); model.members.len()],
+            track_position: model.start,
+            speed: 0.0,
             contact: ContactWorkspace::new(),
             patches: Vec::with_capacity(4 * model.wheels.len()),
             wheel_force: vec![[0.0; 3]; model.wheels.len()],
@@ -203,6 +209,8 @@ impl Dynamics<'_> {
         let m = self.model;
         let (d, v, vdot) = m.motion(t);
         let s = m.start + d;
+        self.ws.track_position = s;
+        self.ws.speed = v;
         for (i, mm) in m.members.iter().enumerate() {
             let mut q = [0.0; 6];
             let mut qd = [0.0; 6];
@@ -366,8 +374,8 @@ impl Dynamics<'_> {
     /// Stage 5: contact of every wheel.
     fn contact(&mut self, t: f64) -> Result<(), RhsError> {
         let m = self.model;
-        let (d, v, _) = m.motion(t);
-        let s = m.start + d;
+        // Set by `kinematics` for this evaluation.
+        let (s, v) = (self.ws.track_position, self.ws.speed);
         self.ws.patches.clear();
         for (wi, wheel) in m.wheels.iter().enumerate() {
             let mi = wheel.member.0;

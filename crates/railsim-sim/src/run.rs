@@ -307,12 +307,13 @@ impl Simulation {
                     let r = dynamics.rhs(ts, &xs, &mut dxs);
                     dynamics.ws.record = false;
                     r.map_err(|e| stopped_rhs(ts, &e.0))?;
-                    let sample = state.sample(&self.model, &dynamics.ws, ts, t_ns, &xs);
-                    check_limits(&self.model, &sample)?;
-                    on_sample(&sample);
+                    state.sample(&self.model, &dynamics.ws, ts, t_ns, &xs);
+                    let sample = &state.sample;
+                    check_limits(&self.model, sample)?;
+                    on_sample(sample);
                     if let Some(rec) = recorder.as_mut() {
                         let t0 = Instant::now();
-                        rec.write(&self.model, &dynamics.ws, &sample, &scene.log.topics)?;
+                        rec.write(&self.model, &dynamics.ws, sample, &scene.log.topics)?;
                         logging += t0.elapsed().as_secs_f64();
                     }
                     next += 1;
@@ -361,42 +362,16 @@ impl Simulation {
 
 /// The scene's integrator with the defaults of contact-coupled runs: a small first step and a
 /// step limit for the adaptive methods when the scene sets none.
-fn with_step_defaults(m: Method) -> Method {
-    match m {
-        Method::DormandPrince {
-            rtol,
-            atol,
-            h0,
-            h_max,
-        } => Method::DormandPrince {
-            rtol,
-            atol,
-            h0: h0.or(Some(FIRST_STEP)),
-            h_max: if h_max.is_finite() {
-                h_max
-            } else {
-                DEFAULT_MAX_STEP
-            },
-        },
-        Method::AdaptiveExplicit {
-            tableau,
-            rtol,
-            atol,
-            h0,
-            h_max,
-        } => Method::AdaptiveExplicit {
-            tableau,
-            rtol,
-            atol,
-            h0: h0.or(Some(FIRST_STEP)),
-            h_max: if h_max.is_finite() {
-                h_max
-            } else {
-                DEFAULT_MAX_STEP
-            },
-        },
-        other => other,
+fn with_step_defaults(mut m: Method) -> Method {
+    if let Method::DormandPrince { h0, h_max, .. } | Method::AdaptiveExplicit { h0, h_max, .. } =
+        &mut m
+    {
+        h0.get_or_insert(FIRST_STEP);
+        if !h_max.is_finite() {
+            *h_max = DEFAULT_MAX_STEP;
+        }
     }
+    m
 }
 
 fn stopped_rhs(t: f64, msg: &str) -> SimError {
@@ -573,6 +548,8 @@ struct LoopState {
     /// Per wheel (2 × wheelset number + side): (distance, Y/Q) samples of the last 2 m and their sum.
     window: Vec<(std::collections::VecDeque<(f64, f64)>, f64)>,
     digest: u64,
+    /// The current sample, updated in place.
+    sample: Sample,
 }
 
 impl LoopState {
@@ -584,22 +561,44 @@ impl LoopState {
             max_q: (0.0, 0, Side::Left),
             window: vec![(std::collections::VecDeque::new(), 0.0); model.wheels.len()],
             digest: 0xcbf2_9ce4_8422_2325,
+            sample: Sample {
+                t: 0.0,
+                t_ns: 0,
+                x: vec![0.0; model.dim()],
+                wheelsets: (0..model.wheels.len() / 2)
+                    .map(|n| WheelsetMessage {
+                        t_s: 0.0,
+                        wheelset: n as u32,
+                        y_left_n: 0.0,
+                        q_left_n: 0.0,
+                        y_right_n: 0.0,
+                        q_right_n: 0.0,
+                        y_over_q_left: 0.0,
+                        y_over_q_right: 0.0,
+                        angle_of_attack_rad: 0.0,
+                    })
+                    .collect(),
+                lateral: vec![0.0; model.wheels.len() / 2],
+            },
         }
     }
 
-    fn sample(&mut self, model: &SimModel, ws: &Workspace, t: f64, t_ns: u64, x: &[f64]) -> Sample {
+    /// Update the sample in place from the state `x` and the recording evaluation `ws` at `t`
+    /// (nothing allocated once the Y/Q windows have grown), fold it into the maxima and digest.
+    fn sample(&mut self, model: &SimModel, ws: &Workspace, t: f64, t_ns: u64, x: &[f64]) {
         for &xi in x {
             fnv1a(&mut self.digest, xi);
         }
-        let nws = model.wheels.len() / 2;
-        let mut wheelsets = Vec::with_capacity(nws);
-        let mut lateral = vec![0.0; nws];
-        for pair in model.wheels.chunks(2) {
+        let dist = ws.track_position - model.start;
+        let smp = &mut self.sample;
+        smp.t = t;
+        smp.t_ns = t_ns;
+        smp.x.copy_from_slice(x);
+        for (i, pair) in model.wheels.chunks(2).enumerate() {
             let number = pair[0].wheelset_number;
             let m = pair[0].member.0;
-            let first = m - (model.members.len() - nws);
-            let fl = ws.wheel_force[2 * first];
-            let fr = ws.wheel_force[2 * first + 1];
+            let fl = ws.wheel_force[2 * i];
+            let fr = ws.wheel_force[2 * i + 1];
             // Y on the rail toward its field side; Q on the rail downward.
             let (yl, ql, yr, qr) = (-fl[1], fl[2], fr[1], fr[2]);
             let yq = |y: f64, q: f64| if q > 0.0 { y / q } else { 0.0 };
@@ -615,10 +614,9 @@ impl LoopState {
                 angle_of_attack_rad: model.coord(m, 5, x),
             };
             let y = model.wheelset_pose(m, x).y;
-            lateral[number as usize] = y;
+            smp.lateral[number as usize] = y;
             let ml = &mut self.max_lateral[number as usize];
             *ml = ml.max(y.abs());
-            let dist = model.motion(t).0;
             for (k, (side, yqv, q)) in [
                 (Side::Left, msg.y_over_q_left, ql),
                 (Side::Right, msg.y_over_q_right, qr),
@@ -650,15 +648,7 @@ impl LoopState {
                     self.max_q = (q, number, side);
                 }
             }
-            wheelsets.push(msg);
-        }
-        wheelsets.sort_by_key(|w| w.wheelset);
-        Sample {
-            t,
-            t_ns,
-            x: x.to_vec(),
-            wheelsets,
-            lateral,
+            smp.wheelsets[number as usize] = msg;
         }
     }
 }
@@ -670,6 +660,8 @@ struct Recorder {
     contact: Vec<Channel<PatchMessage>>,
     wheelsets: Vec<Channel<WheelsetMessage>>,
     tf: Channel<FrameTransform>,
+    /// Patches written per wheel at the current sample.
+    patch_count: Vec<u32>,
 }
 
 impl Recorder {
@@ -726,6 +718,7 @@ impl Recorder {
             contact,
             wheelsets,
             tf,
+            patch_count: vec![0; model.wheels.len()],
         })
     }
 
@@ -767,7 +760,8 @@ impl Recorder {
             }
         }
         if want(Topic::Contact) {
-            let mut count = vec![0u32; model.wheels.len()];
+            let count = &mut self.patch_count;
+            count.fill(0);
             for p in &ws.patches {
                 let w = &model.wheels[p.wheel];
                 let r = &p.result;
