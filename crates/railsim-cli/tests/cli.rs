@@ -1,18 +1,7 @@
 //! The `railsim` command line: the README's main job, batch mode and exit codes.
 
-use std::process::Command;
-
-fn railsim(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_railsim"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::railsim;
 
 #[test]
 fn default_contact_job_runs() {
@@ -26,8 +15,7 @@ fn default_contact_job_runs() {
 
 #[test]
 fn batch_mode_writes_contact_columns() {
-    let dir = std::env::temp_dir().join(format!("railsim-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::temp_dir("cli", "batch");
     let cases = dir.join("cases.csv");
     std::fs::write(
         &cases,

@@ -1,8 +1,10 @@
 //! `railsim replay`: listing, CSV export, PNG plots, truncated logs and bad input, on a log
 //! written here with `railsim_log`'s own writer.
 
+mod common;
+use common::railsim;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use railsim_log::{
     BodyState, Creepages, LogHeader, LogWriter, PatchMessage, Quaternion, Side, WheelsetMessage,
@@ -12,23 +14,8 @@ use railsim_log::{
 /// Steps of 1 ms in the test log.
 const STEPS: u64 = 400;
 
-fn railsim(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_railsim"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("railsim-replay-{}-{name}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::temp_dir("replay", name)
 }
 
 /// Per step: `/bodies/wheelset_0` (1), `/contact/0/left` (2 patches), `/wheelsets/0` (1).

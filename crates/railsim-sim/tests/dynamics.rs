@@ -410,37 +410,28 @@ fn free_conical_wheelset_settles_at_the_pure_rolling_offset_in_a_curve() {
 
 #[test]
 fn two_runs_of_a_scene_give_identical_states() {
-    let s = scene(
-        r#"
-        vehicle = "vehicles/wheelset_free.toml"
-        track = "tracks/straight_irregular.toml"
-        speed_kmh = 72
-        duration_s = 0.5
-        [initial]
-        lateral_offset_mm = 1
-        [log]
-        rate_hz = 200
-        "#,
-    );
+    let with_offset = |mm: f64| {
+        scene(&format!(
+            r#"
+            vehicle = "vehicles/wheelset_free.toml"
+            track = "tracks/straight_irregular.toml"
+            speed_kmh = 72
+            duration_s = 0.5
+            [initial]
+            lateral_offset_mm = {mm}
+            [log]
+            rate_hz = 200
+            "#
+        ))
+    };
+    let s = with_offset(1.0);
     let (_, a, sa) = run(&s);
     let (_, b, sb) = run(&s);
     assert_eq!(sa.digest, sb.digest);
     assert_eq!(a.len(), b.len());
     assert!(a.iter().zip(&b).all(|(p, q)| p.x == q.x));
     // The digest sees the state: a different start gives a different digest.
-    let s2 = scene(
-        r#"
-        vehicle = "vehicles/wheelset_free.toml"
-        track = "tracks/straight_irregular.toml"
-        speed_kmh = 72
-        duration_s = 0.5
-        [initial]
-        lateral_offset_mm = 1.001
-        [log]
-        rate_hz = 200
-        "#,
-    );
-    let (_, _, sc) = run(&s2);
+    let (_, _, sc) = run(&with_offset(1.001));
     assert_ne!(sa.digest, sc.digest);
 }
 
