@@ -77,13 +77,7 @@ fn log_note(log: &Option<std::path::PathBuf>) -> String {
     }
 }
 
-fn list(problems: &[Problem]) -> String {
-    problems
-        .iter()
-        .map(|p| p.to_string())
-        .collect::<Vec<_>>()
-        .join("\n")
-}
+use railsim_spec::list_problems as list;
 
 impl SceneError {
     /// The located problems (empty for [`SceneError::Io`]).

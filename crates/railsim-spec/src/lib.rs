@@ -70,6 +70,15 @@ impl<'a> Sink<'a> {
     }
 }
 
+/// Problems one per line, in order: the text of an error that carries several.
+pub fn list_problems(problems: &[Problem]) -> String {
+    problems
+        .iter()
+        .map(|p| p.to_string())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
 /// Deserialize one table: report every unknown key (with a suggestion, and the list of
 /// `known` keys), then deserialize, dropping and reporting each wrongly typed value until the
 /// rest reads, so that one run reports every problem of the table. `prefix` starts every message

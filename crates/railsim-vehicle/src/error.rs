@@ -31,13 +31,7 @@ pub enum VehicleError {
     },
 }
 
-fn list(problems: &[Problem]) -> String {
-    problems
-        .iter()
-        .map(|p| p.to_string())
-        .collect::<Vec<_>>()
-        .join("\n")
-}
+use railsim_spec::list_problems as list;
 
 impl VehicleError {
     /// The located problems (empty for [`VehicleError::Io`] and [`VehicleError::Statics`]).
