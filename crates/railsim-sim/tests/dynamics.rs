@@ -520,14 +520,15 @@ fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
 
 #[test]
 fn fixed_step_runs_sample_at_every_log_instant() {
-    // RK4's time is a sum of steps and lags the sample times by rounding; every sample must
-    // still be taken (0.3 s at 200 Hz: 61 samples), the last one at the end.
+    // RK4's time is a sum of steps and lags the sample times by rounding (with 1 ms steps it
+    // first does at the sample at 1.025 s); every sample must still be taken (1.1 s at 200 Hz:
+    // 221 samples), the last one at the end.
     let s = scene(
         r#"
         vehicle = "vehicles/wheelset_free.toml"
         track = "tracks/straight.toml"
         speed_kmh = 72
-        duration_s = 0.3
+        duration_s = 1.1
         [integrator]
         method = "rk4"
         step_s = 1e-3
@@ -536,9 +537,9 @@ fn fixed_step_runs_sample_at_every_log_instant() {
         "#,
     );
     let (_, samples, summary) = run(&s);
-    assert_eq!(samples.len(), 61);
-    assert_eq!(summary.stats.steps, 300);
-    assert!((samples.last().unwrap().t - 0.3).abs() < 1e-9);
+    assert_eq!(samples.len(), 221);
+    assert_eq!(summary.stats.steps, 1100);
+    assert!((samples.last().unwrap().t - 1.1).abs() < 1e-9);
 }
 
 #[test]
