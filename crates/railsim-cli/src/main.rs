@@ -10,7 +10,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use railsim_contact::contact_format::{ContactRow, parse_cases_csv, solve_case};
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, PatchResult, Side,
+    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, PatchResult, Side, Tangential,
     WheelRailContact, WheelRailPair, WheelsetPose, WheelsetVelocity,
 };
 use railsim_elastic::Material;
@@ -53,6 +53,23 @@ enum ModelName {
     Fastsim,
     Stripes,
     Halfspace,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq, Eq)]
+enum TangentialName {
+    Fastrip,
+    Fastsim,
+    Exact,
+}
+
+impl From<TangentialName> for Tangential {
+    fn from(t: TangentialName) -> Self {
+        match t {
+            TangentialName::Fastrip => Tangential::Fastrip,
+            TangentialName::Fastsim => Tangential::Fastsim,
+            TangentialName::Exact => Tangential::Exact,
+        }
+    }
 }
 
 impl From<ModelName> for ContactModelKind {
@@ -116,6 +133,11 @@ struct ContactArgs {
     /// Contact model.
     #[arg(long, value_enum, default_value = "stripes")]
     model: ModelName,
+    /// Tangential solution of `stripes` (per strip: fastrip, fastsim; or exact: Kalker's
+    /// steady-rolling solution on a grid over the patch, the reference level, about a thousand
+    /// times slower) and `halfspace` (FASTSIM per grid row unless exact).
+    #[arg(long, value_enum, default_value = "fastrip")]
+    tangential: TangentialName,
     /// Travelling step of the isosceles pairs inside contact zones (mm); narrow zones are
     /// refined to at least 12 pairs whatever the step.
     #[arg(long, default_value_t = 0.5)]
@@ -278,6 +300,7 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
     let pair = build_pair(&a.pair)?;
     let mut opts = ContactOptions {
         model: a.model.into(),
+        tangential: a.tangential.into(),
         ..Default::default()
     };
     opts.travel.step = a.step_mm * 1e-3;

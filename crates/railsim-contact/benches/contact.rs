@@ -18,8 +18,8 @@ use railsim_contact::contact_format::{
     ContactCase, manchester_benchmark_pair, parse_cases_csv, solve_case,
 };
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact, WheelRailPair,
-    WheelsetPose, WheelsetVelocity,
+    ContactModelKind, ContactOptions, ContactWorkspace, Tangential, WheelRailContact,
+    WheelRailPair, WheelsetPose, WheelsetVelocity,
 };
 
 fn repo(rel: &str) -> PathBuf {
@@ -91,74 +91,96 @@ fn bench(c: &mut Criterion) {
     };
     let base = pair();
     println!(
-        "| model | step mm | max d ycp_r mm | max d angle rad | max d pen % | mean d pen % | max d Fx / Fn | max d Fs / Fn | median µs/case | max µs/case |"
+        "| model | tangential | step mm | max d ycp_r mm | max d angle rad | max d pen % | mean d pen % | max d Fx / Fn | max d Fs / Fn | median µs/case | max µs/case |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut group = c.benchmark_group("contact_42_cases");
     group.sample_size(20);
+    // Every model at three steps with its default tangential solution, plus Kalker's exact
+    // tangential solution on the `stripes` and `halfspace` patches at the default step.
+    let mut configs = Vec::new();
     for model in ContactModelKind::ALL {
         for step in [0.5e-3, 0.2e-3, 0.1e-3] {
             if model == ContactModelKind::Halfspace && step < 0.2e-3 {
                 continue;
             }
-            let mut opts = ContactOptions {
-                model,
-                ..Default::default()
-            };
-            opts.travel.step = step;
-            let contact = WheelRailContact::new(base.clone(), opts).unwrap();
-            let (e, poses) = errors(&contact, &cases, &reference);
-            // Per-case times (the median over the 42 cases is the acceptance figure): each case
-            // timed over repeated evaluations after a warm-up, the fastest of 5 rounds.
-            let mut ws = ContactWorkspace::new();
-            let reps = if model == ContactModelKind::Halfspace {
-                3
-            } else {
-                300
-            };
-            let mut per_case: Vec<f64> = poses
-                .iter()
-                .enumerate()
-                .map(|(i, (pose, vel))| {
-                    let side = cases[i].1.side;
-                    contact.evaluate(side, pose, vel, &mut ws).unwrap();
-                    (0..5)
-                        .map(|_| {
-                            let t = std::time::Instant::now();
-                            for _ in 0..reps {
-                                black_box(contact.evaluate(side, pose, vel, &mut ws).unwrap());
-                            }
-                            t.elapsed().as_secs_f64() / reps as f64
-                        })
-                        .fold(f64::INFINITY, f64::min)
-                })
-                .collect();
-            per_case.sort_by(f64::total_cmp);
-            println!(
-                "| {} | {} | {:.3} | {:.4} | {:.1} | {:.2} | {:.3} | {:.3} | {:.1} | {:.1} |",
-                model.name(),
-                step * 1e3,
-                e[0],
-                e[1],
-                100.0 * e[2],
-                100.0 * e[3],
-                e[4],
-                e[5],
-                per_case[per_case.len() / 2] * 1e6,
-                per_case[per_case.len() - 1] * 1e6
-            );
-            let mut ws = ContactWorkspace::new();
-            group.bench_function(format!("{}_step{}", model.name(), step * 1e3), |b| {
-                b.iter(|| {
-                    for (i, (pose, vel)) in poses.iter().enumerate() {
-                        let s = contact
-                            .evaluate(cases[i].1.side, pose, vel, &mut ws)
-                            .unwrap();
-                        black_box(s);
-                    }
-                })
-            });
+            configs.push((model, None, step));
         }
+    }
+    configs.push((ContactModelKind::Stripes, Some(Tangential::Exact), 0.5e-3));
+    configs.push((ContactModelKind::Halfspace, Some(Tangential::Exact), 0.5e-3));
+    for (model, tangential, step) in configs {
+        let mut opts = ContactOptions {
+            model,
+            ..Default::default()
+        };
+        opts.travel.step = step;
+        if let Some(t) = tangential {
+            opts.tangential = t;
+        }
+        let slow = model == ContactModelKind::Halfspace || tangential == Some(Tangential::Exact);
+        let tang_name = match (model, tangential) {
+            (_, Some(Tangential::Exact)) => "exact",
+            (ContactModelKind::Stripes, _) => "FaStrip per strip",
+            (ContactModelKind::Halfspace, _) => "FASTSIM per row",
+            (ContactModelKind::Polach, _) => "Polach",
+            (ContactModelKind::Linear, _) => "Kalker linear",
+            (ContactModelKind::Fastsim, _) => "FASTSIM",
+        };
+        let contact = WheelRailContact::new(base.clone(), opts).unwrap();
+        let (e, poses) = errors(&contact, &cases, &reference);
+        // Per-case times (the median over the 42 cases is the acceptance figure): each case
+        // timed over repeated evaluations after a warm-up, the fastest of 5 rounds.
+        let mut ws = ContactWorkspace::new();
+        let reps = if slow { 1 } else { 300 };
+        let mut per_case: Vec<f64> = poses
+            .iter()
+            .enumerate()
+            .map(|(i, (pose, vel))| {
+                let side = cases[i].1.side;
+                contact.evaluate(side, pose, vel, &mut ws).unwrap();
+                (0..5)
+                    .map(|_| {
+                        let t = std::time::Instant::now();
+                        for _ in 0..reps {
+                            black_box(contact.evaluate(side, pose, vel, &mut ws).unwrap());
+                        }
+                        t.elapsed().as_secs_f64() / reps as f64
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect();
+        per_case.sort_by(f64::total_cmp);
+        println!(
+            "| {} | {} | {} | {:.3} | {:.4} | {:.1} | {:.2} | {:.3} | {:.3} | {:.1} | {:.1} |",
+            model.name(),
+            tang_name,
+            step * 1e3,
+            e[0],
+            e[1],
+            100.0 * e[2],
+            100.0 * e[3],
+            e[4],
+            e[5],
+            per_case[per_case.len() / 2] * 1e6,
+            per_case[per_case.len() - 1] * 1e6
+        );
+        let mut ws = ContactWorkspace::new();
+        let name = match tangential {
+            Some(_) => format!("{}_exact_step{}", model.name(), step * 1e3),
+            None => format!("{}_step{}", model.name(), step * 1e3),
+        };
+        group.sample_size(if slow { 10 } else { 20 });
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                for (i, (pose, vel)) in poses.iter().enumerate() {
+                    let s = contact
+                        .evaluate(cases[i].1.side, pose, vel, &mut ws)
+                        .unwrap();
+                    black_box(s);
+                }
+            })
+        });
     }
     group.finish();
 }

@@ -31,3 +31,4 @@ pub use model::{
 };
 pub use pair::{PairSpec, WheelRailPair};
 pub use pose::{Side, WheelsetPose, WheelsetVelocity};
+pub use stripes::{StripesVariant, Tangential};

@@ -111,6 +111,9 @@ pub struct ContactOptions {
     pub bound: TractionBound,
     /// Half-space grid: cells along x and along the lateral coordinate.
     pub halfspace_cells: (usize, usize),
+    /// Grid of the exact tangential solution on a STRIPES patch ([`Tangential::Exact`]): cells
+    /// along x and along the lateral coordinate. (`halfspace` solves it on its own grid.)
+    pub exact_cells: (usize, usize),
     /// \[m\] interpenetration beyond which a pose is rejected as absurd
     pub max_penetration: f64,
     /// \[N\] `linear` model only: a constant creep coefficient f11 = f22 = f with
@@ -132,6 +135,7 @@ impl Default for ContactOptions {
             fastsim_ny: 16,
             bound: TractionBound::Elliptic,
             halfspace_cells: (48, 48),
+            exact_cells: (32, 32),
             max_penetration: 5e-3,
             linear_creep: None,
         }
@@ -267,6 +271,7 @@ pub struct ContactWorkspace {
     /// Strips of the last STRIPES patch.
     pub strips: Vec<Strip>,
     local: Vec<Local>,
+    exact: stripes::ExactScratch,
     /// Patch results of the last evaluation.
     pub patches: Vec<PatchResult>,
     halfspace: Option<HalfspaceScratch>,
@@ -307,6 +312,18 @@ impl WheelRailContact {
                 value: format!("{} x {}", opts.fastsim_nx, opts.fastsim_ny),
                 expected: "between 2 and 1000 cells each way".into(),
             });
+        }
+        for (name, (nx, ny)) in [
+            ("halfspace cells", opts.halfspace_cells),
+            ("exact cells", opts.exact_cells),
+        ] {
+            if !(2..=1024).contains(&nx) || !(2..=1024).contains(&ny) {
+                return Err(ContactError::BadOption {
+                    key: name,
+                    value: format!("{nx} x {ny}"),
+                    expected: "between 2 and 1024 cells each way".into(),
+                });
+            }
         }
         Ok(WheelRailContact { pair, opts })
     }
@@ -388,8 +405,10 @@ impl WheelRailContact {
                         self.opts.tangential,
                         self.opts.fastsim_nx,
                         self.opts.bound,
+                        self.opts.exact_cells,
                         &mut ws.strips,
                         &mut ws.local,
+                        &mut ws.exact,
                     )?,
                     frame.delta0,
                 ),
@@ -406,7 +425,7 @@ impl WheelRailContact {
                     frame.delta0,
                 ),
                 ContactModelKind::Halfspace => {
-                    let f = solve_halfspace(&input, &self.opts, &mut ws.halfspace)?;
+                    let f = solve_halfspace(&input, &self.opts, &mut ws.halfspace, &mut ws.exact)?;
                     (f, frame.delta0)
                 }
             };
@@ -704,6 +723,7 @@ fn solve_halfspace(
     input: &PatchInput<'_>,
     opts: &ContactOptions,
     scratch: &mut Option<HalfspaceScratch>,
+    exact: &mut stripes::ExactScratch,
 ) -> Result<PatchForces, ContactError> {
     let fr = &input.frame;
     let pairs = input.pairs;
@@ -836,6 +856,12 @@ fn solve_halfspace(
             &input.pair.material,
         )?
     };
+    if opts.tangential == Tangential::Exact {
+        // Kalker's exact solution on the half-space grid itself, with its pressure.
+        exact.prepare_with(grid, &input.pair.material, pr)?;
+        stripes::solve_exact(input, grid, exact, &mut f)?;
+        return Ok(f);
+    }
     let mut cursor = lo;
     let mut n_adh = 0;
     let mut n_cells = 0;

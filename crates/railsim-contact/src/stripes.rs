@@ -28,8 +28,8 @@
 //! (Kik & Piotrowski 2008, as CONTACT does).
 
 use railsim_elastic::{
-    Creepages, FastripPatch, TractionBound, blended_flexibilities, fastrip_strip, fastsim_strip,
-    hertz_coeffs_fast, kalker_coeffs, stripes_epsilon,
+    Creepages, FastripPatch, Grid, SteadyRollingSolver, TractionBound, blended_flexibilities,
+    fastrip_strip, fastsim_strip, hertz_coeffs_fast, kalker_coeffs, stripes_epsilon,
 };
 
 use crate::error::ContactError;
@@ -46,6 +46,196 @@ pub enum Tangential {
     /// linear theory, FASTSIM directions in slip and FASTSIM where strip theory breaks down.
     /// Semi-elliptic pressure (the traction-bound option does not apply).
     Fastrip,
+    /// Kalker's exact steady-rolling solution (the half-space tangential problem of CONTACT,
+    /// [`railsim_elastic::steady`]) on a grid over the patch, with the normal pressure of the
+    /// patch's normal solution and each row's own rigid slip. The reference level: about a
+    /// thousand times slower than FaStrip (docs/performance.md).
+    Exact,
+}
+
+/// Reusable buffers of the exact tangential solution.
+#[derive(Default)]
+pub struct ExactScratch {
+    solver: Option<SteadyRollingSolver>,
+    pn: Vec<f64>,
+    wx: Vec<f64>,
+    wy: Vec<f64>,
+}
+
+impl ExactScratch {
+    /// The solver set to `grid`, reusing the buffers, and zeroed cell arrays.
+    fn prepare(
+        &mut self,
+        grid: Grid,
+        mat: &railsim_elastic::Material,
+    ) -> Result<&mut SteadyRollingSolver, ContactError> {
+        for v in [&mut self.pn, &mut self.wx, &mut self.wy] {
+            v.clear();
+            v.resize(grid.len(), 0.0);
+        }
+        match &mut self.solver {
+            Some(s) => {
+                if *s.grid() != grid {
+                    s.set_grid(grid, mat)?;
+                }
+            }
+            None => self.solver = Some(SteadyRollingSolver::new(grid, mat)?),
+        }
+        Ok(self.solver.as_mut().expect("solver was just set"))
+    }
+
+    /// As [`Self::prepare`], with the pressure `pn` of the grid's cells.
+    pub(crate) fn prepare_with(
+        &mut self,
+        grid: Grid,
+        mat: &railsim_elastic::Material,
+        pn: &[f64],
+    ) -> Result<(), ContactError> {
+        self.prepare(grid, mat)?;
+        self.pn.copy_from_slice(pn);
+        Ok(())
+    }
+}
+
+/// Convergence tolerance of the exact tangential solution (largest traction change of a sweep
+/// relative to the largest traction).
+pub const EXACT_TOL: f64 = 1e-7;
+/// Sweep limit of the exact tangential solution.
+pub const EXACT_MAX_SWEEPS: usize = 1000;
+
+/// Kalker's exact steady-rolling solution for a patch whose normal pressure `scratch.pn` is
+/// given on `grid` (x along the track, y the lateral coordinate in the patch plane, both from the
+/// reference point). Sets `fx`, `fs`, `mz` (about the reference point) and the adhesion fraction.
+///
+/// The rigid slip is that of CONTACT's planar contact approach (D = 2, the reference's own
+/// definition): one contact plane per patch, the creepages of the reference point, and
+/// `w = (xi - phi y, eta + phi x)` over the plane (Kalker 1990; Vollebregt, VSD 60, 2022). The
+/// per-strip FASTSIM/FaStrip levels use each strip's own creepages instead; on the benchmark the
+/// two differ by up to 0.015 Fn in Fx on the 14 mm wide conformal patch (right wheel,
+/// y = 0.5 mm, docs/validation.md) and by much less elsewhere.
+pub(crate) fn solve_exact(
+    input: &PatchInput<'_>,
+    grid: Grid,
+    scratch: &mut ExactScratch,
+    f: &mut PatchForces,
+) -> Result<(), ContactError> {
+    let (nx, ny) = (grid.nx, grid.ny);
+    let c = input.creep;
+    for iy in 0..ny {
+        for ix in 0..nx {
+            let k = ix + nx * iy;
+            scratch.wx[k] = c.xi - c.phi * grid.y(iy);
+            scratch.wy[k] = c.eta + c.phi * grid.x(ix);
+        }
+    }
+    let ExactScratch {
+        solver, pn, wx, wy, ..
+    } = scratch;
+    let solver = solver.as_mut().expect("prepared");
+    let sol = solver.solve(
+        pn,
+        wx,
+        wy,
+        input.pair.mu,
+        EXACT_TOL,
+        EXACT_MAX_SWEEPS,
+        false,
+    )?;
+    f.fx = sol.fx;
+    f.fs = sol.fy;
+    f.mz = sol.mz;
+    f.adhesion_fraction = if sol.n_contact > 0 {
+        sol.n_adhesion as f64 / sol.n_contact as f64
+    } else {
+        0.0
+    };
+    Ok(())
+}
+
+/// Mean of `sqrt(1 - t^2)` (zero outside [-1, 1]) over `[t1, t2]`, times `t2 - t1`: the exact
+/// integral of the unit semi-ellipse over a cell.
+fn semi_ellipse_integral(t1: f64, t2: f64) -> f64 {
+    let prim = |t: f64| {
+        let t = t.clamp(-1.0, 1.0);
+        0.5 * (t * (1.0 - t * t).max(0.0).sqrt() + t.asin())
+    };
+    prim(t2) - prim(t1)
+}
+
+/// The exact tangential solution on the STRIPES pressure: the strips' semi-elliptic pressures
+/// interpolated linearly in the lateral coordinate onto `cells` rows (line load and half-length
+/// tapering to zero at the patch edges `l_min`, `l_max`), integrated exactly over each cell, and
+/// scaled to the patch's normal force.
+#[allow(clippy::too_many_arguments)]
+fn exact_on_strips(
+    input: &PatchInput<'_>,
+    strips: &[Strip],
+    l_min: f64,
+    l_max: f64,
+    cells: (usize, usize),
+    scratch: &mut ExactScratch,
+    f: &mut PatchForces,
+) -> Result<(), ContactError> {
+    let n = strips.len();
+    let asc = strips[n - 1].l >= strips[0].l;
+    let at = |k: usize| -> &Strip { if asc { &strips[k] } else { &strips[n - 1 - k] } };
+    let mut x_lo = f64::INFINITY;
+    let mut x_hi = f64::NEG_INFINITY;
+    for s in strips {
+        x_lo = x_lo.min(s.x - s.a);
+        x_hi = x_hi.max(s.x + s.a);
+    }
+    let margin = 0.02 * (x_hi - x_lo);
+    let (nx, ny) = cells;
+    let grid = Grid::covering(nx, ny, x_lo - margin, x_hi + margin, l_min, l_max)?;
+    scratch.prepare(grid, &input.pair.material)?;
+    // Row profile at lateral coordinate l: (line load, half-length, centre x).
+    let row = |l: f64| -> (f64, f64, f64) {
+        let first = at(0);
+        let last = at(n - 1);
+        if l <= first.l {
+            let r = ((l - l_min) / (first.l - l_min)).clamp(0.0, 1.0);
+            return (first.q * r, first.a * r.sqrt(), first.x);
+        }
+        if l >= last.l {
+            let r = ((l_max - l) / (l_max - last.l)).clamp(0.0, 1.0);
+            return (last.q * r, last.a * r.sqrt(), last.x);
+        }
+        let mut k = 0;
+        while k + 2 < n && at(k + 1).l < l {
+            k += 1;
+        }
+        let (s0, s1) = (at(k), at(k + 1));
+        let t = (l - s0.l) / (s1.l - s0.l);
+        let lerp = |a: f64, b: f64| a + t * (b - a);
+        (lerp(s0.q, s1.q), lerp(s0.a, s1.a), lerp(s0.x, s1.x))
+    };
+    let mut total = 0.0;
+    for iy in 0..ny {
+        let (q, a, xc) = row(grid.y(iy));
+        if q <= 0.0 || a <= 0.0 {
+            continue;
+        }
+        // line load q over [xc - a, xc + a] as a semi-ellipse: p = (2 q / (pi a)) sqrt(1 - t^2)
+        let p0 = 2.0 * q / (std::f64::consts::PI * a);
+        for ix in 0..nx {
+            let x = grid.x(ix);
+            let t1 = (x - 0.5 * grid.dx - xc) / a;
+            let t2 = (x + 0.5 * grid.dx - xc) / a;
+            let v = p0 * a * semi_ellipse_integral(t1, t2) / grid.dx;
+            scratch.pn[ix + nx * iy] = v;
+            total += v;
+        }
+    }
+    let total = total * grid.cell_area();
+    if total <= 0.0 {
+        return Ok(());
+    }
+    let scale = f.fn_ / total;
+    for v in scratch.pn.iter_mut() {
+        *v *= scale;
+    }
+    solve_exact(input, grid, scratch, f)
 }
 
 /// Which virtual-penetration ratio bounds the strips.
@@ -121,8 +311,10 @@ pub fn solve(
     tangential: Tangential,
     nx: usize,
     bound: TractionBound,
+    exact_cells: (usize, usize),
     strips: &mut Vec<Strip>,
     local: &mut Vec<Local>,
+    exact: &mut ExactScratch,
 ) -> Result<PatchForces, ContactError> {
     let fr = &input.frame;
     let pairs = input.pairs;
@@ -276,6 +468,10 @@ pub fn solve(
     f.length = 2.0 * a_max;
     f.area = area;
     f.n_elements = strips.len() as u32;
+    if tangential == Tangential::Exact {
+        exact_on_strips(input, strips, l_min, l_max, exact_cells, exact, &mut f)?;
+        return Ok(f);
+    }
     // Equivalent ellipse (area and aspect preserved) for the flexibilities.
     let len = f.length.max(1e-9);
     let wid = f.width.max(1e-9);
@@ -296,7 +492,7 @@ pub fn solve(
                 nu: mat.nu,
             })
         }
-        Tangential::Fastsim => None,
+        Tangential::Fastsim | Tangential::Exact => None,
     };
     let mut n_adh = 0u32;
     let mut n_cells = 0u32;

@@ -86,7 +86,7 @@ impl Grid {
         self.dx * self.dy
     }
 
-    fn check(&self) -> Result<(), ElasticError> {
+    pub(crate) fn check(&self) -> Result<(), ElasticError> {
         for (name, n) in [("grid.nx", self.nx), ("grid.ny", self.ny)] {
             if n == 0 || n > 1 << 14 {
                 return Err(ElasticError::InvalidSize {

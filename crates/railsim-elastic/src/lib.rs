@@ -11,7 +11,9 @@
 //! - [`fastsim`]: Kalker's simplified theory (FASTSIM), per strip and on a Hertz ellipse;
 //! - [`polach`](mod@polach): Polach's closed-form creep-force model;
 //! - [`halfspace`]: a Boussinesq–Love boundary-element solver for the normal problem, used as
-//!   the reference against which the fast models are measured.
+//!   the reference against which the fast models are measured;
+//! - [`steady`]: Kalker's exact steady-rolling tangential problem on the same kind of grid, the
+//!   reference for FASTSIM and FaStrip.
 //!
 //! It knows nothing of wheels and rails: everything is expressed in a contact frame with x the
 //! rolling direction, y lateral and z the common normal. Units are SI throughout (m, N, Pa,
@@ -28,6 +30,7 @@ pub mod hertz;
 pub mod kalker;
 pub mod material;
 pub mod polach;
+pub mod steady;
 
 pub use error::ElasticError;
 pub use fastrip::{FastripPatch, StripMethod, fastrip_strip};
@@ -43,3 +46,4 @@ pub use hertz::{
 pub use kalker::{Creepages, KalkerCoeffs, TangentialForces, kalker_coeffs, linear_kalker};
 pub use material::Material;
 pub use polach::{PolachParams, polach};
+pub use steady::{SteadyRollingSolver, SteadySolution, cerruti_influence};
