@@ -412,11 +412,7 @@ fn seed_wheel(pair: &WheelRailPair, ctx: &PoseCtx, s_r: f64, s_lo: f64) -> f64 {
 }
 
 fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
-    let mut tm = [e.a.t[0] + e.b.t[0], e.a.t[1] + e.b.t[1]];
-    let l = (tm[0] * tm[0] + tm[1] * tm[1]).sqrt().max(1e-300);
-    tm = [tm[0] / l, tm[1] / l];
-    let n = [-tm[1], tm[0]];
-    let gap = (e.a.p[1] - e.b.p[0]) * n[0] + (e.a.p[2] - e.b.p[1]) * n[1];
+    let (n, gap) = normal_and_gap(e);
     let cos_theta_c = match base_cosines(e) {
         Some((ca, cb)) => 0.5 * (ca + cb),
         None => 0.0,
@@ -472,12 +468,14 @@ pub fn travel(
         // Step size: base step near contact, larger outside (never past a possible zone).
         let g = rec.gap;
         let mut h = opts.step;
+        // kappa bound and curvature-safe step, when the base step was tried instead (below)
+        let mut fallback: Option<(f64, f64)> = None;
         if g > 0.0 {
             // No zone can be skipped: over a step D the gap falls by at most
             // |g'| D + kappa_b D^2 / 2, with g' the angle between the tangents (the gap's slope
             // per unit arc) and kappa_b a bound on the relative curvature over the window ahead;
             // the step keeps half of the gap.
-            let kb = pair.kappa_bound(s_w, s_r).max(1.0);
+            let kb = kb_at(pair, s_w, s_r);
             let gp = rec.tangent_sin.abs();
             let mut cand = (-gp + (gp * gp + kb * g).sqrt()) / kb;
             if let Some((g0, ds0)) = prev_gap
@@ -493,9 +491,26 @@ pub fn travel(
             // The base step is not a floor here: near a zone the safe step may be shorter, so
             // that no zone narrower than the base step is skipped (a small floor keeps progress).
             h = cand.clamp(opts.step.min(MIN_STEP), opts.max_step);
+            // Try a longer step first: the base step where the safe step is shorter (near a
+            // zone edge), twice the safe step elsewhere (far from contact). It is kept when no
+            // zone can hide between the two pairs, i.e. with |g''| <= kb the gap stays above
+            // min(g0, g1) - kb h^2 / 8 > 0, or, for the base step only, when it lands in a zone
+            // (whose edge then lies within one base step, the resolution inside zones).
+            // Otherwise the travelling steps back and takes the safe step. This avoids crawling
+            // toward every zone edge and halves the pairs far from contact.
+            let h_try = if h < opts.step {
+                opts.step
+            } else {
+                (2.0 * h).min(opts.max_step)
+            };
+            if h_try > h {
+                fallback = Some((kb, h));
+                h = h_try;
+            }
         }
         prev_gap = Some((g, h));
-        match advance(
+        let (s_w0, s_r0) = (s_w, s_r);
+        let mut stepped = advance(
             pair,
             &ctx,
             opts,
@@ -505,7 +520,31 @@ pub fn travel(
             h,
             g <= FAR_GAP,
             &mut stats,
-        ) {
+        );
+        if let (Some((kb, h_safe)), Some((next, _))) = (fallback, &stepped) {
+            let g1 = normal_and_gap(next).1;
+            let keep = if g1 > 0.0 {
+                g.min(g1) > 0.125 * kb * h * h
+            } else {
+                h <= opts.step
+            };
+            if !keep {
+                (s_w, s_r) = (s_w0, s_r0);
+                prev_gap = Some((g, h_safe));
+                stepped = advance(
+                    pair,
+                    &ctx,
+                    opts,
+                    &mut s_w,
+                    &mut s_r,
+                    &e,
+                    h_safe,
+                    g <= FAR_GAP,
+                    &mut stats,
+                );
+            }
+        }
+        match stepped {
             Some((next, next_err)) => {
                 e = next;
                 err = next_err;
@@ -514,6 +553,23 @@ pub fn travel(
         }
     }
     stats
+}
+
+/// \[1/m\] bound on the relative curvature of the profiles over the window ahead (at least 1).
+fn kb_at(pair: &WheelRailPair, s_w: f64, s_r: f64) -> f64 {
+    pair.kappa_bound(s_w, s_r).max(1.0)
+}
+
+/// The pair's normal (from the mean of the two tangents) and its signed gap \[m\] along it.
+fn normal_and_gap(e: &PairEval) -> ([f64; 2], f64) {
+    let mut tm = [e.a.t[0] + e.b.t[0], e.a.t[1] + e.b.t[1]];
+    let l = (tm[0] * tm[0] + tm[1] * tm[1]).sqrt().max(1e-300);
+    tm = [tm[0] / l, tm[1] / l];
+    let n = [-tm[1], tm[0]];
+    (
+        n,
+        (e.a.p[1] - e.b.p[0]) * n[0] + (e.a.p[2] - e.b.p[1]) * n[1],
+    )
 }
 
 /// One step of the travelling from the evaluated pair `e` at (`s_w`, `s_r`) by the arc `h`:

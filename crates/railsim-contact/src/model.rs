@@ -485,6 +485,7 @@ impl WheelRailContact {
         // interpenetrates any more, then the wheel is lowered onto the rail.
         let mut z_touch = pose.z;
         let mut found = false;
+        let mut prev_dz = 0.0;
         for _ in 0..20 {
             let mut q = *pose;
             q.z = z_touch;
@@ -506,10 +507,14 @@ impl WheelRailContact {
             // Far from contact the pairs are coarse and overestimate the distance, so the
             // estimate is repeated until it no longer moves the wheel.
             z_touch -= dz;
-            if dz.abs() < 1e-9 {
+            // Converged; or alternating at the sub-micrometre level, where the sampling of the
+            // pairs near the closest point flips between two patterns: either height is the
+            // first touch to within |dz|.
+            if dz.abs() < 1e-9 || (dz.abs() < 1e-6 && dz * prev_dz < 0.0) {
                 found = true;
                 break;
             }
+            prev_dz = dz;
         }
         if !found {
             return Err(ContactError::NoOverlap {

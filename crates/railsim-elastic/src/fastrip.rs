@@ -127,14 +127,19 @@ pub fn fastrip_strip(
         px -= step * gx;
         py -= step * (ey + sy * xm);
         let xr = x - xc;
-        let bound = k * (hl * hl - xr * xr).max(0.0).sqrt();
-        let mag = (px * px + py * py).sqrt();
-        if mag <= bound {
+        let outer = (hl * hl - xr * xr).max(0.0).sqrt();
+        let bound = k * outer;
+        let mag2 = px * px + py * py;
+        // |p| after the FASTSIM bound, for the slip direction below
+        let mag = if mag2 <= bound * bound {
             n_adh_fs += 1;
+            mag2.sqrt()
         } else {
-            px *= bound / mag;
-            py *= bound / mag;
-        }
+            let f = bound / mag2.sqrt();
+            px *= f;
+            py *= f;
+            bound
+        };
         fs[0] += px;
         fs[1] += py;
         fs[2] += x * py - y * px;
@@ -145,22 +150,20 @@ pub fn fastrip_strip(
         let (tx, ty) = if xr > 2.0 * d - hl {
             // adhesion: strip theory
             let inner = ((hl - d) * (hl - d) - (xr - d) * (xr - d)).max(0.0).sqrt();
-            let outer = (hl * hl - xr * xr).max(0.0).sqrt();
             let tx = k * (kap * outer - kap * inner);
             let ty = k * (lam * outer - lam2 * inner);
-            if (tx * tx + ty * ty).sqrt() > bound * (1.0 + 1e-9) + 1e-12 * k * hl {
+            let lim = bound * (1.0 + 1e-9) + 1e-12 * k * hl;
+            if tx * tx + ty * ty > lim * lim {
                 fallback = true;
             }
             n_adh_fr += 1;
             (tx, ty)
-        } else {
+        } else if mag > 0.0 {
             // slip: the bound, in FASTSIM's direction (or the adhesion edge direction)
-            let m = (px * px + py * py).sqrt();
-            if m > 0.0 {
-                (bound * px / m, bound * py / m)
-            } else {
-                (bound * kap, bound * lam)
-            }
+            let f = bound / mag;
+            (px * f, py * f)
+        } else {
+            (bound * kap, bound * lam)
         };
         fr[0] += tx;
         fr[1] += ty;
