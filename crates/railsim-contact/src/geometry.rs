@@ -461,6 +461,7 @@ pub fn travel(
     }
     let mut prev_gap: Option<(f64, f64)> = None;
     let mut err = -1.0;
+    let mut slope: Option<f64> = None;
     loop {
         let rec = record(&e, s_w, s_r, err);
         out.push(rec);
@@ -519,6 +520,7 @@ pub fn travel(
             &e,
             h,
             g <= FAR_GAP,
+            slope,
             &mut stats,
         );
         if let (Some((kb, h_safe)), Some((next, _))) = (fallback, &stepped) {
@@ -540,12 +542,16 @@ pub fn travel(
                     &e,
                     h_safe,
                     g <= FAR_GAP,
+                    slope,
                     &mut stats,
                 );
             }
         }
         match stepped {
             Some((next, next_err)) => {
+                // secant of the pair curve, for the next predictor (only between exact pairs)
+                slope = (g <= FAR_GAP && next_err >= 0.0 && s_r > s_r0)
+                    .then(|| (s_w - s_w0) / (s_r - s_r0));
                 e = next;
                 err = next_err;
             }
@@ -586,9 +592,17 @@ fn advance(
     e: &PairEval,
     h: f64,
     exact: bool,
+    slope: Option<f64>,
     stats: &mut TravelStats,
 ) -> Option<(PairEval, f64)> {
-    let s_w_new = *s_w + h / e.a.speed;
+    // Predictor: equal arcs on both curves (the seed's stepping), or the secant of the last two
+    // pairs (`slope` = ds_w/ds_r) where it is close to it, which leaves less to correct.
+    let equal = 1.0 / e.a.speed;
+    let ratio = match slope {
+        Some(k) if k > 0.5 * equal && k < 2.0 * equal => k,
+        _ => equal,
+    };
+    let s_w_new = *s_w + h * ratio;
     let s_r_new = *s_r + h;
     if s_w_new >= pair.wheel.length() || s_r_new >= pair.rail.length() {
         return None;
@@ -596,14 +610,17 @@ fn advance(
     *s_w = s_w_new;
     *s_r = s_r_new;
     let mut e = eval_pair(pair, ctx, *s_w, *s_r);
-    if !exact {
-        // Far from contact the pairs only steer the step size: a pair within 0.05 rad of
-        // isosceles measures the gap to a relative error below 0.1 %, so it is kept as it is.
-        let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
-        if e.f.abs() <= 0.05 * chord {
-            return Some((e, -1.0));
-        }
+    // Far from contact the pairs only steer the step size: a pair within 0.05 rad of isosceles
+    // measures the gap to a relative error below 0.1 %, so it is corrected only that far. Near
+    // contact the pairs are corrected to `angle_tol`; a predicted pair already within a tenth of
+    // it is kept as it is.
+    let tol = if exact { 0.1 * opts.angle_tol } else { 0.05 };
+    let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
+    if e.f.abs() <= tol * chord.max(1e-9) {
+        let err = if exact { travel_error(&e) } else { -1.0 };
+        return Some((e, err));
     }
+    let tol = if exact { opts.angle_tol } else { 0.05 };
     e = correct(pair, ctx, s_w, s_r, &e);
     stats.corrections += 1;
     // The travelling error is a diagnostic of the pairs near contact (seed Fig. 10).
@@ -615,7 +632,7 @@ fn advance(
     let mut k = 1;
     while k < opts.max_corrections {
         let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
-        if e.f.abs() <= opts.angle_tol * chord.max(1e-9) {
+        if e.f.abs() <= tol * chord.max(1e-9) {
             break;
         }
         e = correct(pair, ctx, s_w, s_r, &e);
@@ -666,7 +683,9 @@ pub fn refine_narrow_zones(
         let h = ((s_end - s_r) / (min_pairs + 1) as f64).max(1e-6);
         let mut e = eval_pair(pair, &ctx, s_w, s_r);
         while s_r + 1.5 * h < s_end {
-            match advance(pair, &ctx, opts, &mut s_w, &mut s_r, &e, h, true, stats) {
+            match advance(
+                pair, &ctx, opts, &mut s_w, &mut s_r, &e, h, true, None, stats,
+            ) {
                 Some((n, err)) => {
                     e = n;
                     scratch.push(record(&e, s_w, s_r, err));
