@@ -163,3 +163,69 @@ fn step_refinement_converges_like_seed_tables_1_2() {
     let tol = 1e-3 * tol_scale();
     assert!(pos_rel < tol && ang_rel < tol && fn_rel < tol);
 }
+
+/// The travelling tries longer steps than the safe step and keeps them only under the curvature
+/// certificate (docs/models/contact.md §3). Against a brute-force travelling (0.05 mm everywhere,
+/// no longer tries possible: the base step is the largest step), no patch carrying more than 1 %
+/// of the wheel load may be missed, over a sweep of lateral positions and yaw angles at 55 kN
+/// (wide patches, flange contact) on both wheels.
+#[test]
+fn longer_tried_steps_skip_no_patch() {
+    use railsim_contact::{WheelsetPose, WheelsetVelocity};
+    let fast = crate::common::mbench_contact(ContactModelKind::Stripes, 0.5e-3);
+    let mut brute = crate::common::mbench_contact(ContactModelKind::Stripes, 0.05e-3);
+    brute.opts.travel.max_step = 0.05e-3;
+    let mut ws = ContactWorkspace::new();
+    let vel = WheelsetVelocity {
+        vx: 30.0,
+        spin: 30.0 / 0.46,
+        ..Default::default()
+    };
+    let mut checked = 0;
+    let mut patches = 0;
+    for side in [Side::Left, Side::Right] {
+        for yaw in [0.0, 0.01] {
+            for k in 0..=28 {
+                let y = -5e-3 + k as f64 * 0.5e-3;
+                let pose = WheelsetPose {
+                    y,
+                    yaw,
+                    ..Default::default()
+                };
+                let s = brute
+                    .evaluate_with_load(side, &pose, &vel, 55e3, 1e-4, &mut ws)
+                    .unwrap();
+                let reference: Vec<(f64, f64)> = ws
+                    .patches
+                    .iter()
+                    .map(|p| (p.y_rail_profile, p.forces.fn_))
+                    .collect();
+                let total: f64 = reference.iter().map(|r| r.1).sum();
+                let at = WheelsetPose { z: s.z, ..pose };
+                fast.evaluate(side, &at, &vel, &mut ws).unwrap();
+                for &(yr, fn_) in &reference {
+                    if fn_ < 0.01 * total {
+                        continue;
+                    }
+                    patches += 1;
+                    let found = ws
+                        .patches
+                        .iter()
+                        .any(|p| (p.y_rail_profile - yr).abs() < 1.5e-3);
+                    assert!(
+                        found,
+                        "{side:?} y {:.1} mm yaw {yaw}: patch at {:.2} mm on the rail with {:.0} N \
+                         (of {:.0} N) missed by the default travelling",
+                        y * 1e3,
+                        yr * 1e3,
+                        fn_,
+                        total
+                    );
+                }
+                checked += 1;
+            }
+        }
+    }
+    eprintln!("{checked} poses, {patches} patches above 1 % of the load, none missed");
+    assert_eq!(checked, 116);
+}
