@@ -289,7 +289,10 @@ struct PairEval {
     a: Locus,
     b: railsim_profile::CurvePoint,
     f: f64,
+    /// df/de for the symmetric move (wheel +e, rail -e of arc length)
     dfds: f64,
+    /// df/de for the wheel point alone moving by +e of locus arc length
+    dfdw: f64,
 }
 
 #[inline]
@@ -311,6 +314,7 @@ fn eval_pair(pair: &WheelRailPair, ctx: &PoseCtx, s_w: f64, s_r: f64) -> PairEva
         b,
         f,
         dfds: dfa - dfb,
+        dfdw: dfa,
     }
 }
 
@@ -411,6 +415,51 @@ fn seed_wheel(pair: &WheelRailPair, ctx: &PoseCtx, s_r: f64, s_lo: f64) -> f64 {
     s_w
 }
 
+/// The isosceles pair whose rail point is at arc length `s_r` (rail-anchored pairs, used near
+/// contact so that the pairs sit at pose-independent rail positions): Newton on f moving the wheel
+/// point only, from the guess `s_w`. A guess already within a tenth of the angle tolerance is kept.
+/// Returns the pair, its wheel arc length and the travelling error after the first correction
+/// (-1 where not defined); re-seeds the wheel point if Newton fails.
+fn pair_at_rail(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    opts: &TravelOptions,
+    s_r: f64,
+    s_w: f64,
+    stats: &mut TravelStats,
+) -> (PairEval, f64, f64) {
+    let l_w = pair.wheel.length();
+    let mut s_w = s_w.clamp(0.0, l_w);
+    let mut e = eval_pair(pair, ctx, s_w, s_r);
+    let mut err = -1.0;
+    let chord_of =
+        |e: &PairEval| ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
+    if e.f.abs() <= 0.1 * opts.angle_tol * chord_of(&e).max(1e-9) {
+        return (e, s_w, travel_error(&e));
+    }
+    for k in 0..opts.max_corrections {
+        let de = (-e.f / e.dfdw).clamp(-2e-3, 2e-3);
+        s_w = (s_w + de / e.a.speed).clamp(0.0, l_w);
+        e = eval_pair(pair, ctx, s_w, s_r);
+        stats.corrections += 1;
+        if k == 0 {
+            err = if e.f.abs() < 1e-3 {
+                travel_error(&e)
+            } else {
+                -1.0
+            };
+        }
+        if e.f.abs() <= opts.angle_tol * chord_of(&e).max(1e-9) {
+            return (e, s_w, err);
+        }
+    }
+    // Lost (a fold of the pair map): re-seed the wheel point from the rail point.
+    s_w = seed_wheel(pair, ctx, s_r, pair.wheel_s_tip);
+    stats.reseeds += 1;
+    let e = eval_pair(pair, ctx, s_w, s_r);
+    (e, s_w, -1.0)
+}
+
 fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
     let (n, gap) = normal_and_gap(e);
     let cos_theta_c = match base_cosines(e) {
@@ -466,8 +515,54 @@ pub fn travel(
         let rec = record(&e, s_w, s_r, err);
         out.push(rec);
         stats.pairs += 1;
-        // Step size: base step near contact, larger outside (never past a possible zone).
         let g = rec.gap;
+        if g <= ANCHOR_GAP {
+            // Near contact: rail-anchored pairs at the nodes of the base step's grid on the rail
+            // (pose-independent positions), halved where a zone could hide between two nodes.
+            let hs = opts.step;
+            let s_next = ((s_r / hs + 1e-9).floor() + 1.0) * hs;
+            if s_next >= pair.rail.length() {
+                break;
+            }
+            let equal = 1.0 / e.a.speed;
+            let ratio = match slope {
+                Some(k) if k > 0.5 * equal && k < 2.0 * equal => k,
+                _ => equal,
+            };
+            let (e1, s_w1, err1) = pair_at_rail(
+                pair,
+                &ctx,
+                opts,
+                s_next,
+                s_w + ratio * (s_next - s_r),
+                &mut stats,
+            );
+            if s_w1 >= pair.wheel.length() {
+                break;
+            }
+            let g1 = normal_and_gap(&e1).1;
+            if g > 0.0 && g1 > 0.0 {
+                let kb = kb_at(pair, s_w, s_r);
+                subdivide(
+                    pair,
+                    &ctx,
+                    opts,
+                    (s_r, s_w, g),
+                    (s_next, s_w1, g1),
+                    kb,
+                    0,
+                    out,
+                    &mut stats,
+                );
+            }
+            if s_next > s_r {
+                slope = Some((s_w1 - s_w) / (s_next - s_r));
+            }
+            prev_gap = Some((g, s_next - s_r));
+            (s_w, s_r, e, err) = (s_w1, s_next, e1, err1);
+            continue;
+        }
+        // Step size: base step near contact, larger outside (never past a possible zone).
         let mut h = opts.step;
         // kappa bound and curvature-safe step, when the base step was tried instead (below)
         let mut fallback: Option<(f64, f64)> = None;
@@ -559,6 +654,42 @@ pub fn travel(
         }
     }
     stats
+}
+
+/// \[m\] gap below which the pairs are rail-anchored.
+const ANCHOR_GAP: f64 = 0.03e-3;
+
+/// Rail-anchored pairs between two pairs `lo` and `hi` (rail arc length, wheel arc length, gap),
+/// both with a positive gap, at the dyadic midpoints where a zone could hide between them
+/// (min gap <= kb h^2 / 8), to `depth` halvings; pushed to `out` in travelling order.
+#[allow(clippy::too_many_arguments)]
+fn subdivide(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    opts: &TravelOptions,
+    lo: (f64, f64, f64),
+    hi: (f64, f64, f64),
+    kb: f64,
+    depth: u32,
+    out: &mut Vec<IsoPair>,
+    stats: &mut TravelStats,
+) {
+    let h = hi.0 - lo.0;
+    if depth == 0 || lo.2.min(hi.2) > 0.125 * kb * h * h {
+        return;
+    }
+    let s_r = 0.5 * (lo.0 + hi.0);
+    let (e, s_w, err) = pair_at_rail(pair, ctx, opts, s_r, 0.5 * (lo.1 + hi.1), stats);
+    let g = normal_and_gap(&e).1;
+    let mid = (s_r, s_w, g);
+    if g > 0.0 {
+        subdivide(pair, ctx, opts, lo, mid, kb, depth - 1, out, stats);
+    }
+    out.push(record(&e, s_w, s_r, err));
+    stats.pairs += 1;
+    if g > 0.0 {
+        subdivide(pair, ctx, opts, mid, hi, kb, depth - 1, out, stats);
+    }
 }
 
 /// \[1/m\] bound on the relative curvature of the profiles over the window ahead (at least 1).
@@ -678,21 +809,31 @@ pub fn refine_narrow_zones(
         let i0 = z.first.saturating_sub(1);
         let i1 = (z.last + 1).min(pairs.len() - 1);
         scratch.extend_from_slice(&pairs[next..=i0]);
-        let (mut s_w, mut s_r) = (pairs[i0].s_w, pairs[i0].s_r);
-        let s_end = pairs[i1].s_r;
-        let h = ((s_end - s_r) / (min_pairs + 1) as f64).max(1e-6);
-        let mut e = eval_pair(pair, &ctx, s_w, s_r);
-        while s_r + 1.5 * h < s_end {
-            match advance(
-                pair, &ctx, opts, &mut s_w, &mut s_r, &e, h, true, None, stats,
-            ) {
-                Some((n, err)) => {
-                    e = n;
-                    scratch.push(record(&e, s_w, s_r, err));
-                    stats.pairs += 1;
-                }
-                None => break,
-            }
+        // Rail-anchored pairs on the dyadic refinement of the base step's grid that gives the
+        // zone (with its two neighbours) at least `min_pairs` pairs: the positions stay
+        // independent of the pose, as in the travelling.
+        let (s_a, s_b) = (pairs[i0].s_r, pairs[i1].s_r);
+        let mut h = opts.step;
+        while (s_b - s_a) / h < (min_pairs + 1) as f64 && h > 1e-6 {
+            h *= 0.5;
+        }
+        let (mut s_w, mut s_r) = (pairs[i0].s_w, s_a);
+        let mut slope = 1.0;
+        let mut s_next = ((s_a / h + 1e-9).floor() + 1.0) * h;
+        while s_next < s_b - 0.25 * h {
+            let (e, s_w1, err) = pair_at_rail(
+                pair,
+                &ctx,
+                opts,
+                s_next,
+                s_w + slope * (s_next - s_r),
+                stats,
+            );
+            scratch.push(record(&e, s_w1, s_next, err));
+            stats.pairs += 1;
+            slope = (s_w1 - s_w) / (s_next - s_r);
+            (s_w, s_r) = (s_w1, s_next);
+            s_next += h;
         }
         next = i1;
     }
