@@ -100,8 +100,18 @@ fn bench(c: &mut Criterion) {
     // tangential solution on the `stripes` and `halfspace` patches at the default step.
     let mut configs = Vec::new();
     for model in ContactModelKind::ALL {
-        for step in [0.5e-3, 0.2e-3, 0.1e-3] {
+        for step in [1.0e-3, 0.5e-3, 0.2e-3, 0.1e-3] {
             if model == ContactModelKind::Halfspace && step < 0.2e-3 {
+                continue;
+            }
+            // The 1 mm step for the models that bound the creep forces (`linear` is unbounded
+            // and carries the benchmark's flange cases on creep forces, see the table).
+            if step > 0.5e-3
+                && matches!(
+                    model,
+                    ContactModelKind::Linear | ContactModelKind::Halfspace
+                )
+            {
                 continue;
             }
             configs.push((model, None, step));

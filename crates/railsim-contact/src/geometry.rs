@@ -53,7 +53,7 @@ pub struct TravelOptions {
 impl Default for TravelOptions {
     fn default() -> Self {
         TravelOptions {
-            step: 0.5e-3,
+            step: 1.0e-3,
             max_step: 8.0e-3,
             angle_tol: 1e-5,
             max_corrections: 6,
@@ -529,14 +529,8 @@ pub fn travel(
                 Some(k) if k > 0.5 * equal && k < 2.0 * equal => k,
                 _ => equal,
             };
-            let (e1, s_w1, err1) = pair_at_rail(
-                pair,
-                &ctx,
-                opts,
-                s_next,
-                s_w + ratio * (s_next - s_r),
-                &mut stats,
-            );
+            let guess = s_w + ratio * (s_next - s_r);
+            let (e1, s_w1, err1) = pair_at_rail(pair, &ctx, opts, s_next, guess, &mut stats);
             if s_w1 >= pair.wheel.length() {
                 break;
             }
@@ -550,7 +544,7 @@ pub fn travel(
                     (s_r, s_w, g),
                     (s_next, s_w1, g1),
                     kb,
-                    0,
+                    2,
                     out,
                     &mut stats,
                 );
@@ -809,14 +803,14 @@ pub fn refine_narrow_zones(
         let i0 = z.first.saturating_sub(1);
         let i1 = (z.last + 1).min(pairs.len() - 1);
         scratch.extend_from_slice(&pairs[next..=i0]);
-        // Rail-anchored pairs on the dyadic refinement of the base step's grid that gives the
-        // zone (with its two neighbours) at least `min_pairs` pairs: the positions stay
-        // independent of the pose, as in the travelling.
+        // Rail-anchored pairs on the grid of step/n, n the smallest integer that gives the zone
+        // (with its two neighbours) at least `min_pairs` pairs: the positions stay independent
+        // of the pose for a given n, as in the travelling.
         let (s_a, s_b) = (pairs[i0].s_r, pairs[i1].s_r);
-        let mut h = opts.step;
-        while (s_b - s_a) / h < (min_pairs + 1) as f64 && h > 1e-6 {
-            h *= 0.5;
-        }
+        let n = ((min_pairs + 1) as f64 * opts.step / (s_b - s_a).max(1e-9))
+            .ceil()
+            .clamp(1.0, 1e4);
+        let h = opts.step / n;
         let (mut s_w, mut s_r) = (pairs[i0].s_w, s_a);
         let mut slope = 1.0;
         let mut s_next = ((s_a / h + 1e-9).floor() + 1.0) * h;

@@ -486,6 +486,7 @@ impl WheelRailContact {
         let mut z_touch = pose.z;
         let mut found = false;
         let mut prev_dz = 0.0;
+        let mut z_cycle = f64::NEG_INFINITY;
         for _ in 0..20 {
             let mut q = *pose;
             q.z = z_touch;
@@ -514,7 +515,16 @@ impl WheelRailContact {
                 found = true;
                 break;
             }
+            if dz.abs() < 5e-5 {
+                z_cycle = z_cycle.max(z_touch);
+            }
             prev_dz = dz;
+        }
+        if !found && z_cycle.is_finite() {
+            // A limit cycle of the estimate (the closest point between coarse pairs on a steep
+            // flange): start from the highest height it visited, where the wheel touches least.
+            z_touch = z_cycle;
+            found = true;
         }
         if !found {
             return Err(ContactError::NoOverlap {

@@ -14,15 +14,17 @@ fn main() {
         .and_then(|a| a.parse().ok())
         .unwrap_or(2000);
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let scene = Scene::from_toml_str(
+    // RAILSIM_STEP_MM: the contact's travelling step (default: the contact's default)
+    let step = std::env::var("RAILSIM_STEP_MM")
+        .map(|s| format!("\n[contact]\nstep_mm = {s}"))
+        .unwrap_or_default();
+    let text = format!(
         r#"vehicle = "vehicles/manchester_vehicle1.toml"
            track = "tracks/straight_irregular.toml"
            speed_kmh = 198
-           duration_s = 1"#,
-        "profile.toml",
-        &root,
-    )
-    .expect("scene");
+           duration_s = 1{step}"#
+    );
+    let scene = Scene::from_toml_str(&text, "profile.toml", &root).expect("scene");
     let sim = Simulation::new(&scene).expect("simulation");
     let model = sim.model();
     let x = sim.initial_state().to_vec();
