@@ -832,6 +832,9 @@ pub fn refine_narrow_zones(
         next = i1;
     }
     scratch.extend_from_slice(&pairs[next..]);
+    // Two refined zones that touch (a run split at its minimum) meet at one node: keep one pair
+    // per rail position, in travelling order.
+    scratch.dedup_by(|later, earlier| later.s_r <= earlier.s_r + 1e-12);
     std::mem::swap(pairs, scratch);
     true
 }

@@ -363,6 +363,10 @@ pub fn solve(
     let mut l_max = f64::NEG_INFINITY;
     for k in 0..n_loc.saturating_sub(1) {
         let (p0, p1) = (local[k], local[k + 1]);
+        if (p1.l - p0.l).abs() < 1e-12 {
+            // coincident pairs carry no width
+            continue;
+        }
         let prev = if k > 0 { Some(local[k - 1]) } else { None };
         let next = if k + 2 < n_loc {
             Some(local[k + 2])
