@@ -264,7 +264,7 @@ fn adjacent_refined_zones_share_no_pair() {
         spin: 55.0 / 0.46,
         ..Default::default()
     };
-    let mut fn_at = |step: f64| {
+    let fn_at = |step: f64| {
         let mut opts = ContactOptions::default();
         opts.travel.step = step;
         let c = WheelRailContact::new(WheelRailPair::new(&spec).unwrap(), opts).unwrap();
