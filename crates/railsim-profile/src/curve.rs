@@ -29,6 +29,9 @@ pub struct CurvePoint {
 pub struct ArcCurve {
     /// nodes at s = k ds
     nodes: Vec<CurvePoint>,
+    /// per interval, the cubic Hermite interpolant in power form in τ: y coefficients c0..c3,
+    /// z coefficients c0..c3 (the same polynomial as the Hermite basis form, fewer operations)
+    coef: Vec<[f64; 8]>,
     /// \[m\] node spacing
     ds: f64,
     /// \[1/m\] 1 / ds
@@ -99,8 +102,24 @@ impl ArcCurve {
                 kappa: (d1[0] * d2[1] - d1[1] * d2[0]) / (sp2 * v),
             });
         }
+        let coef = nodes
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (&w[0], &w[1]);
+                let mut c = [0.0; 8];
+                for k in 0..2 {
+                    let (p0, m0, p1, m1) = (a.p[k], ds * a.t[k], b.p[k], ds * b.t[k]);
+                    c[4 * k] = p0;
+                    c[4 * k + 1] = m0;
+                    c[4 * k + 2] = -3.0 * p0 - 2.0 * m0 + 3.0 * p1 - m1;
+                    c[4 * k + 3] = 2.0 * p0 + m0 - 2.0 * p1 + m1;
+                }
+                c
+            })
+            .collect();
         Ok(ArcCurve {
             nodes,
+            coef,
             ds,
             inv_ds: 1.0 / ds,
             length,
@@ -138,23 +157,13 @@ impl ArcCurve {
     /// Hermite position and derivative d/dτ in interval `i`.
     #[inline]
     fn hermite(&self, i: usize, tau: f64) -> ([f64; 2], [f64; 2]) {
-        let (a, b) = (&self.nodes[i], &self.nodes[i + 1]);
-        let t2 = tau * tau;
-        let t3 = t2 * tau;
-        let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
-        let h10 = t3 - 2.0 * t2 + tau;
-        let h01 = -2.0 * t3 + 3.0 * t2;
-        let h11 = t3 - t2;
-        let g00 = 6.0 * t2 - 6.0 * tau;
-        let g10 = 3.0 * t2 - 4.0 * tau + 1.0;
-        let g01 = -g00;
-        let g11 = 3.0 * t2 - 2.0 * tau;
-        let ds = self.ds;
+        let c = &self.coef[i];
         let mut p = [0.0; 2];
         let mut d = [0.0; 2];
-        for c in 0..2 {
-            p[c] = h00 * a.p[c] + h10 * ds * a.t[c] + h01 * b.p[c] + h11 * ds * b.t[c];
-            d[c] = g00 * a.p[c] + g10 * ds * a.t[c] + g01 * b.p[c] + g11 * ds * b.t[c];
+        for k in 0..2 {
+            let (c0, c1, c2, c3) = (c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]);
+            p[k] = c0 + tau * (c1 + tau * (c2 + tau * c3));
+            d[k] = c1 + tau * (2.0 * c2 + tau * 3.0 * c3);
         }
         (p, d)
     }
