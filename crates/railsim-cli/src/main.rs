@@ -138,9 +138,9 @@ struct ContactArgs {
     /// times slower) and `halfspace` (FASTSIM per grid row unless exact).
     #[arg(long, value_enum, default_value = "fastrip")]
     tangential: TangentialName,
-    /// Travelling step of the isosceles pairs inside contact zones (mm); narrow zones are
-    /// refined to at least 12 pairs whatever the step.
-    #[arg(long, default_value_t = 0.5)]
+    /// Travelling step of the isosceles pairs inside contact zones (mm), the contact model's
+    /// default; narrow zones are refined to at least 12 pairs whatever the step.
+    #[arg(long, default_value_t = 1.0)]
     step_mm: f64,
     /// Which wheel.
     #[arg(long, value_enum, default_value = "left")]
