@@ -488,6 +488,11 @@ fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
 
 /// Travel along both profiles from the flange tip to the field side and record every isosceles
 /// pair in `out` (cleared first). `pose` is in the side frame.
+///
+/// Far from contact the seed's stepping (equal arcs, symmetric correction, variable step with
+/// the tried longer steps); once the gap falls below [`ANCHOR_GAP`] the pairs are rail-anchored at
+/// the nodes of the base step's grid (see `docs/models/contact.md` §3), until the gap rises above
+/// it again.
 pub fn travel(
     pair: &WheelRailPair,
     pose: &WheelsetPose,
@@ -650,8 +655,10 @@ pub fn travel(
     stats
 }
 
-/// \[m\] gap below which the pairs are rail-anchored.
-const ANCHOR_GAP: f64 = 0.03e-3;
+/// \[m\] gap below which the pairs are rail-anchored: small enough that the grid covers only the
+/// neighbourhood of the zones (a larger value costs pairs on conformal approaches), large enough
+/// that a zone's neighbours on both sides are grid nodes.
+pub const ANCHOR_GAP: f64 = 0.03e-3;
 
 /// Rail-anchored pairs between two pairs `lo` and `hi` (rail arc length, wheel arc length, gap),
 /// both with a positive gap, at the dyadic midpoints where a zone could hide between them
