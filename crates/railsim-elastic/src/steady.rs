@@ -487,6 +487,39 @@ mod tests {
     }
 
     #[test]
+    fn bad_input_is_an_error_naming_the_quantity() {
+        let m = mat();
+        let grid = Grid::covering(4, 4, -1e-3, 1e-3, -1e-3, 1e-3).unwrap();
+        let mut s = SteadyRollingSolver::new(grid, &m).unwrap();
+        let ok = vec![1e6; 16];
+        let zero = vec![0.0; 16];
+        let short = vec![0.0; 15];
+        let e = s
+            .solve(&ok, &short, &zero, 0.3, 1e-7, 100, false)
+            .unwrap_err();
+        assert!(e.to_string().contains("wx.len() = 15"), "{e}");
+        let mut nan = zero.clone();
+        nan[3] = f64::NAN;
+        let e = s
+            .solve(&ok, &zero, &nan, 0.3, 1e-7, 100, false)
+            .unwrap_err();
+        assert!(e.to_string().contains("wy [-]"), "{e}");
+        let mut neg = ok.clone();
+        neg[0] = -1.0;
+        let e = s
+            .solve(&neg, &zero, &zero, 0.3, 1e-7, 100, false)
+            .unwrap_err();
+        assert!(e.to_string().contains("pn [Pa]"), "{e}");
+        let e = s
+            .solve(&ok, &zero, &zero, -0.3, 1e-7, 100, false)
+            .unwrap_err();
+        assert!(e.to_string().contains("mu"), "{e}");
+        // No creepage, no traction; an unloaded grid is not an error.
+        let r = s.solve(&zero, &zero, &zero, 0.3, 1e-7, 100, false).unwrap();
+        assert_eq!((r.fx, r.fy, r.n_contact), (0.0, 0.0, 0));
+    }
+
+    #[test]
     fn influence_coefficients_symmetry_and_self_term() {
         let m = mat();
         let h = 1e-3;
