@@ -605,18 +605,11 @@ pub fn travel(
         }
         prev_gap = Some((g, h));
         let (s_w0, s_r0) = (s_w, s_r);
-        let mut stepped = advance(
-            pair,
-            &ctx,
-            opts,
-            &mut s_w,
-            &mut s_r,
-            &e,
-            h,
-            g <= FAR_GAP,
-            slope,
-            &mut stats,
-        );
+        let exact = g <= FAR_GAP;
+        let step_by = |h: f64, s_w: &mut f64, s_r: &mut f64, stats: &mut TravelStats| {
+            advance(pair, &ctx, opts, s_w, s_r, &e, h, exact, slope, stats)
+        };
+        let mut stepped = step_by(h, &mut s_w, &mut s_r, &mut stats);
         if let (Some((kb, h_safe)), Some((next, _))) = (fallback, &stepped) {
             let g1 = normal_and_gap(next).1;
             let keep = if g1 > 0.0 {
@@ -627,18 +620,7 @@ pub fn travel(
             if !keep {
                 (s_w, s_r) = (s_w0, s_r0);
                 prev_gap = Some((g, h_safe));
-                stepped = advance(
-                    pair,
-                    &ctx,
-                    opts,
-                    &mut s_w,
-                    &mut s_r,
-                    &e,
-                    h_safe,
-                    g <= FAR_GAP,
-                    slope,
-                    &mut stats,
-                );
+                stepped = step_by(h_safe, &mut s_w, &mut s_r, &mut stats);
             }
         }
         match stepped {
@@ -818,9 +800,14 @@ pub fn refine_narrow_zones(
             .ceil()
             .clamp(1.0, 1e4);
         let h = opts.step / n;
-        let (mut s_w, mut s_r) = (pairs[i0].s_w, s_a);
+        // Two zones split from one run share a neighbour, which the first zone's refinement has
+        // already passed: start after the last pair written.
+        let (mut s_w, mut s_r) = match scratch.last() {
+            Some(p) if p.s_r > s_a => (p.s_w, p.s_r),
+            _ => (pairs[i0].s_w, s_a),
+        };
         let mut slope = 1.0;
-        let mut s_next = ((s_a / h + 1e-9).floor() + 1.0) * h;
+        let mut s_next = ((s_r / h + 1e-9).floor() + 1.0) * h;
         while s_next < s_b - 0.25 * h {
             let (e, s_w1, err) = pair_at_rail(
                 pair,
@@ -839,9 +826,6 @@ pub fn refine_narrow_zones(
         next = i1;
     }
     scratch.extend_from_slice(&pairs[next..]);
-    // Two refined zones that touch (a run split at its minimum) meet at one node: keep one pair
-    // per rail position, in travelling order.
-    scratch.dedup_by(|later, earlier| later.s_r <= earlier.s_r + 1e-12);
     std::mem::swap(pairs, scratch);
     true
 }

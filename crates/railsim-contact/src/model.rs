@@ -836,8 +836,8 @@ fn solve_halfspace(
         n_elements: sol.n_contact as u32,
         ..Default::default()
     };
-    // Extents and FASTSIM per row.
-    let flex = {
+    // Extents of the loaded cells.
+    {
         let mut ymin = f64::INFINITY;
         let mut ymax = f64::NEG_INFINITY;
         let mut xmn = f64::INFINITY;
@@ -859,6 +859,15 @@ fn solve_halfspace(
         }
         f.width = ymax - ymin + dy;
         f.length = xmx - xmn + dx;
+    }
+    if opts.tangential == Tangential::Exact {
+        // Kalker's exact solution on the half-space grid itself, with its pressure.
+        exact.prepare_with(grid, &input.pair.material, pr)?;
+        stripes::solve_exact(input, grid, exact, &mut f)?;
+        return Ok(f);
+    }
+    // FASTSIM per row with the flexibilities of the equivalent ellipse.
+    let flex = {
         let r = (f.area / std::f64::consts::PI).sqrt();
         let a_eq = r * (f.length / f.width).sqrt();
         let b_eq = r * (f.width / f.length).sqrt();
@@ -871,12 +880,6 @@ fn solve_halfspace(
             &input.pair.material,
         )?
     };
-    if opts.tangential == Tangential::Exact {
-        // Kalker's exact solution on the half-space grid itself, with its pressure.
-        exact.prepare_with(grid, &input.pair.material, pr)?;
-        stripes::solve_exact(input, grid, exact, &mut f)?;
-        return Ok(f);
-    }
     let mut cursor = lo;
     let mut n_adh = 0;
     let mut n_cells = 0;
