@@ -95,7 +95,7 @@ fn a_simulation_right_hand_side_allocates_nothing_after_warm_up() {
     // The simulator's Workspace (house style: no allocation per step): Manchester vehicle 1 on
     // irregular track, eight wheels with the default `stripes` contact.
     use railsim_ode::OdeSystem;
-    use railsim_sim::dynamics::{Dynamics, Workspace};
+    use railsim_sim::dynamics::Dynamics;
     let scene = railsim_sim::Scene::from_toml_str(
         r#"
         vehicle = "vehicles/manchester_vehicle1.toml"
@@ -110,10 +110,7 @@ fn a_simulation_right_hand_side_allocates_nothing_after_warm_up() {
     let sim = railsim_sim::Simulation::new(&scene).unwrap();
     let model = sim.model();
     let mut x = sim.initial_state().to_vec();
-    let mut d = Dynamics {
-        model,
-        ws: Workspace::new(model),
-    };
+    let mut d = Dynamics::new(model);
     let mut dx = vec![0.0; model.dim()];
     for k in 0..5 {
         d.rhs(k as f64 * 1e-4, &x, &mut dx).unwrap();

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use railsim_ode::OdeSystem;
-use railsim_sim::dynamics::{Dynamics, Workspace};
+use railsim_sim::dynamics::Dynamics;
 use railsim_sim::{Scene, Simulation};
 
 fn scene(text: &str) -> Scene {
@@ -55,10 +55,7 @@ fn bench(c: &mut Criterion) {
         let sim = Simulation::new(&s).unwrap();
         let model = sim.model();
         let x = sim.initial_state().to_vec();
-        let mut d = Dynamics {
-            model,
-            ws: Workspace::new(model),
-        };
+        let mut d = Dynamics::new(model);
         let mut dx = vec![0.0; model.dim()];
         g.bench_function(name, |b| {
             b.iter(|| {

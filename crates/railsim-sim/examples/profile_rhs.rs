@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use railsim_ode::OdeSystem;
-use railsim_sim::dynamics::{Dynamics, Workspace};
+use railsim_sim::dynamics::Dynamics;
 use railsim_sim::{Scene, Simulation};
 
 fn main() {
@@ -28,10 +28,7 @@ fn main() {
     let sim = Simulation::new(&scene).expect("simulation");
     let model = sim.model();
     let x = sim.initial_state().to_vec();
-    let mut d = Dynamics {
-        model,
-        ws: Workspace::new(model),
-    };
+    let mut d = Dynamics::new(model);
     let mut dx = vec![0.0; model.dim()];
     let t0 = std::time::Instant::now();
     for _ in 0..n {

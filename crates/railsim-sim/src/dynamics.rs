@@ -203,6 +203,16 @@ fn track_orientation(heading: f64, gradient: f64, roll: f64) -> M3 {
     )
 }
 
+impl<'m> Dynamics<'m> {
+    /// The model with a fresh workspace.
+    pub fn new(model: &'m SimModel) -> Self {
+        Dynamics {
+            model,
+            ws: Workspace::new(model),
+        }
+    }
+}
+
 impl Dynamics<'_> {
     /// Stages 1–3: frames and kinematics of every member.
     fn kinematics(&mut self, t: f64, x: &[f64]) {

@@ -480,7 +480,7 @@ fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
     // A free S1002 wheelset held longitudinally by the frame (x frozen) with 2 kN·m of traction:
     // in the steady state the creep forces on the wheels push forward with torque / r.
     use railsim_ode::OdeSystem;
-    use railsim_sim::dynamics::{Dynamics, Workspace};
+    use railsim_sim::dynamics::Dynamics;
     let dir = std::env::temp_dir().join(format!("railsim-torque-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let text = std::fs::read_to_string(root().join("vehicles/wheelset_free.toml")).unwrap();
@@ -505,10 +505,7 @@ fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
     let (sim, samples, _) = run(&s);
     let m = sim.model();
     let last = samples.last().unwrap();
-    let mut d = Dynamics {
-        model: m,
-        ws: Workspace::new(m),
-    };
+    let mut d = Dynamics::new(m);
     let mut dx = vec![0.0; m.dim()];
     d.rhs(last.t, &last.x, &mut dx).unwrap();
     let fx: f64 = d.ws.wheel_force.iter().map(|f| f[0]).sum();
