@@ -9,3 +9,4 @@ mod klingel;
 mod mbench;
 mod stripes_hertz;
 mod travel;
+mod warm_start;

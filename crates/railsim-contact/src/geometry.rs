@@ -136,6 +136,8 @@ pub struct TravelStats {
     pub corrections: u32,
     /// Times the pair was lost and re-seeded (a fold of the pair map).
     pub reseeds: u32,
+    /// Whether the travelling was warm-started (only windows around the previous contact).
+    pub warm: bool,
 }
 
 /// Pose quantities used by the locus map.
@@ -285,7 +287,7 @@ pub fn locus_curvature_at(pairs: &[IsoPair], i: usize, yawed: bool) -> f64 {
 
 /// Evaluation of a candidate pair.
 #[derive(Clone, Copy, Debug)]
-struct PairEval {
+pub(crate) struct PairEval {
     a: Locus,
     b: railsim_profile::CurvePoint,
     f: f64,
@@ -491,8 +493,12 @@ fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
 ///
 /// Far from contact the seed's stepping (equal arcs, symmetric correction, variable step with
 /// the tried longer steps); once the gap falls below [`ANCHOR_GAP`] the pairs are rail-anchored at
-/// the nodes of the base step's grid (see `docs/models/contact.md` §3), until the gap rises above
-/// it again.
+/// the nodes of the base step's grid (see `docs/models/contact.md` §3): the run starts two nodes
+/// before the pair that found the low gap (dropping the far pairs recorded there) and ends at the
+/// second consecutive node whose gap is above it again. Every zone therefore has at least two
+/// anchored pairs on each side, at pose-independent positions, whatever the far stepping did: the
+/// pairs a patch uses (the zone and two neighbours on each side) are the same as those of a warm
+/// start that travels only windows around the previous contact (`crate::warm`).
 pub fn travel(
     pair: &WheelRailPair,
     pose: &WheelsetPose,
@@ -516,51 +522,40 @@ pub fn travel(
     let mut prev_gap: Option<(f64, f64)> = None;
     let mut err = -1.0;
     let mut slope: Option<f64> = None;
+    // last node of the previous anchored run
+    let mut last_run_end: Option<i64> = None;
     loop {
-        let rec = record(&e, s_w, s_r, err);
-        out.push(rec);
-        stats.pairs += 1;
-        let g = rec.gap;
-        if g <= ANCHOR_GAP {
-            // Near contact: rail-anchored pairs at the nodes of the base step's grid on the rail
-            // (pose-independent positions), halved where a zone could hide between two nodes.
+        let mut rec = record(&e, s_w, s_r, err);
+        if rec.gap <= ANCHOR_GAP {
+            // Near contact: an anchored run from two nodes before this pair, or continuing the
+            // previous run where the two would meet.
             let hs = opts.step;
-            let s_next = ((s_r / hs + 1e-9).floor() + 1.0) * hs;
-            if s_next >= pair.rail.length() {
-                break;
+            let mut k0 = ((s_r / hs + 1e-9).floor() as i64 - 2).max(0);
+            if let Some(k_e) = last_run_end
+                && k0 <= k_e + 1
+            {
+                k0 = k_e;
             }
-            let equal = 1.0 / e.a.speed;
-            let ratio = match slope {
-                Some(k) if k > 0.5 * equal && k < 2.0 * equal => k,
-                _ => equal,
-            };
-            let guess = s_w + ratio * (s_next - s_r);
-            let (e1, s_w1, err1) = pair_at_rail(pair, &ctx, opts, s_next, guess, &mut stats);
-            if s_w1 >= pair.wheel.length() {
-                break;
+            let s0 = k0 as f64 * hs;
+            let guess = interpolate_s_w(out, s0).unwrap_or(s_w + (s0 - s_r) / e.a.speed);
+            while out.last().is_some_and(|p| p.s_r >= s0 - 1e-12) {
+                out.pop();
+                stats.pairs -= 1;
             }
-            let g1 = normal_and_gap(&e1).1;
-            if g > 0.0 && g1 > 0.0 {
-                let kb = kb_at(pair, s_w, s_r);
-                subdivide(
-                    pair,
-                    &ctx,
-                    opts,
-                    (s_r, s_w, g),
-                    (s_next, s_w1, g1),
-                    kb,
-                    2,
-                    out,
-                    &mut stats,
-                );
+            match anchored_run(pair, &ctx, opts, k0, guess, RunEnd::Clear, out, &mut stats) {
+                None => break,
+                Some(run) => {
+                    (e, s_w, s_r, slope) = (run.e, run.s_w, run.s_r, run.slope);
+                    prev_gap = Some((run.g_prev, hs));
+                    last_run_end = Some(run.k);
+                    rec = *out.last().expect("an anchored run records its first node");
+                }
             }
-            if s_next > s_r {
-                slope = Some((s_w1 - s_w) / (s_next - s_r));
-            }
-            prev_gap = Some((g, s_next - s_r));
-            (s_w, s_r, e, err) = (s_w1, s_next, e1, err1);
-            continue;
+        } else {
+            out.push(rec);
+            stats.pairs += 1;
         }
+        let g = rec.gap;
         // Step size: base step near contact, larger outside (never past a possible zone).
         let mut h = opts.step;
         // kappa bound and curvature-safe step, when the base step was tried instead (below)
@@ -637,6 +632,123 @@ pub fn travel(
     stats
 }
 
+/// The wheel arc length at rail arc length `s_r`, interpolated linearly between the two pairs
+/// of `pairs` (sorted by rail arc length) that bracket it; `None` outside them.
+pub(crate) fn interpolate_s_w(pairs: &[IsoPair], s_r: f64) -> Option<f64> {
+    let j = pairs.partition_point(|p| p.s_r <= s_r);
+    if j == 0 || j == pairs.len() {
+        return None;
+    }
+    let (a, b) = (&pairs[j - 1], &pairs[j]);
+    let f = (s_r - a.s_r) / (b.s_r - a.s_r).max(1e-15);
+    Some(a.s_w + f * (b.s_w - a.s_w))
+}
+
+/// How an anchored run ends.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum RunEnd {
+    /// After the second consecutive node whose gap is above [`ANCHOR_GAP`] (cold travelling).
+    Clear,
+    /// At the node of this index (the windows of a warm start).
+    At(i64),
+}
+
+/// The last pair of an anchored run, from which the travelling goes on.
+pub(crate) struct RunState {
+    e: PairEval,
+    s_w: f64,
+    s_r: f64,
+    slope: Option<f64>,
+    /// gap of the node before the last one
+    g_prev: f64,
+    /// index of the last node
+    pub k: i64,
+}
+
+/// Rail-anchored pairs at the nodes `k * step` of the rail, from node `k0` (wheel arc length
+/// guess `guess`) until `end`, with the dyadic midpoints where a zone could hide between two
+/// nodes ([`subdivide`]); pushed to `out` in travelling order. `None` when a profile's end was
+/// reached (the travelling ends there).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn anchored_run(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    opts: &TravelOptions,
+    k0: i64,
+    guess: f64,
+    end: RunEnd,
+    out: &mut Vec<IsoPair>,
+    stats: &mut TravelStats,
+) -> Option<RunState> {
+    let hs = opts.step;
+    let (l_r, l_w) = (pair.rail.length(), pair.wheel.length());
+    let mut k = k0;
+    let mut s_r = k as f64 * hs;
+    if s_r >= l_r {
+        return None;
+    }
+    let (mut e, mut s_w, err) = pair_at_rail(pair, ctx, opts, s_r, guess, stats);
+    if s_w >= l_w {
+        return None;
+    }
+    out.push(record(&e, s_w, s_r, err));
+    stats.pairs += 1;
+    let mut g = normal_and_gap(&e).1;
+    let mut g_prev = f64::NEG_INFINITY;
+    let mut slope: Option<f64> = None;
+    loop {
+        let done = match end {
+            RunEnd::Clear => g > ANCHOR_GAP && g_prev > ANCHOR_GAP,
+            RunEnd::At(k_end) => k >= k_end,
+        };
+        if done {
+            return Some(RunState {
+                e,
+                s_w,
+                s_r,
+                slope,
+                g_prev,
+                k,
+            });
+        }
+        let s_next = (k + 1) as f64 * hs;
+        if s_next >= l_r {
+            return None;
+        }
+        let equal = 1.0 / e.a.speed;
+        let ratio = match slope {
+            Some(q) if q > 0.5 * equal && q < 2.0 * equal => q,
+            _ => equal,
+        };
+        let (e1, s_w1, err1) =
+            pair_at_rail(pair, ctx, opts, s_next, s_w + ratio * (s_next - s_r), stats);
+        if s_w1 >= l_w {
+            return None;
+        }
+        let g1 = normal_and_gap(&e1).1;
+        if g > 0.0 && g1 > 0.0 {
+            let kb = kb_at(pair, s_w, s_r);
+            subdivide(
+                pair,
+                ctx,
+                opts,
+                (s_r, s_w, g),
+                (s_next, s_w1, g1),
+                kb,
+                2,
+                out,
+                stats,
+            );
+        }
+        slope = Some((s_w1 - s_w) / (s_next - s_r));
+        out.push(record(&e1, s_w1, s_next, err1));
+        stats.pairs += 1;
+        (g_prev, g) = (g, g1);
+        (e, s_w, s_r) = (e1, s_w1, s_next);
+        k += 1;
+    }
+}
+
 /// \[m\] gap below which the pairs are rail-anchored: small enough that the grid covers only the
 /// neighbourhood of the zones (a larger value costs pairs on conformal approaches), large enough
 /// that a zone's neighbours on both sides are grid nodes.
@@ -676,7 +788,7 @@ fn subdivide(
 }
 
 /// \[1/m\] bound on the relative curvature of the profiles over the window ahead (at least 1).
-fn kb_at(pair: &WheelRailPair, s_w: f64, s_r: f64) -> f64 {
+pub(crate) fn kb_at(pair: &WheelRailPair, s_w: f64, s_r: f64) -> f64 {
     pair.kappa_bound(s_w, s_r).max(1.0)
 }
 

@@ -22,6 +22,7 @@ pub mod pair;
 pub mod patch;
 pub mod pose;
 pub mod stripes;
+pub mod warm;
 
 pub use error::ContactError;
 pub use geometry::{IsoPair, TravelOptions, TravelStats};
@@ -32,3 +33,4 @@ pub use model::{
 pub use pair::{PairSpec, WheelRailPair};
 pub use pose::{Side, WheelsetPose, WheelsetVelocity};
 pub use stripes::{StripesVariant, Tangential};
+pub use warm::WarmStart;

@@ -28,6 +28,7 @@ use crate::patch::{
 };
 use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
 use crate::stripes::{self, Local, Strip, StripesVariant, Tangential};
+use crate::warm::WarmStart;
 
 /// The contact models, selected by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -337,12 +338,64 @@ impl WheelRailContact {
         vel: &WheelsetVelocity,
         ws: &mut ContactWorkspace,
     ) -> Result<WheelSummary, ContactError> {
-        pose.validate()?;
-        vel.validate()?;
+        self.evaluate_inner(side, pose, vel, None, ws)
+    }
+
+    /// [`evaluate`](Self::evaluate) with the warm start `warm` of this wheel (one per wheel, kept
+    /// between evaluations): the travelling covers only windows around the previous contact
+    /// where its certificate allows (`crate::warm`), with the same patches and forces as a cold
+    /// evaluation to within the travelling's angle tolerance.
+    pub fn evaluate_warm(
+        &self,
+        side: Side,
+        pose: &WheelsetPose,
+        vel: &WheelsetVelocity,
+        warm: &mut WarmStart,
+        ws: &mut ContactWorkspace,
+    ) -> Result<WheelSummary, ContactError> {
+        self.evaluate_inner(side, pose, vel, Some(warm), ws)
+    }
+
+    fn evaluate_inner(
+        &self,
+        side: Side,
+        pose: &WheelsetPose,
+        vel: &WheelsetVelocity,
+        warm: Option<&mut WarmStart>,
+        ws: &mut ContactWorkspace,
+    ) -> Result<WheelSummary, ContactError> {
+        if let Err(e) = pose.validate().and_then(|_| vel.validate()) {
+            if let Some(w) = warm {
+                w.invalidate();
+            }
+            return Err(e);
+        }
         let sp = pose.to_side(side);
         let sv = vel.to_side(side);
-        let mut stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
-        if ws.pairs.len() < 3 {
+        let ctx = PoseCtx::new(&self.pair, &sp);
+        let mut stats = TravelStats::default();
+        let warm_travelled = match warm {
+            Some(w) => {
+                let ok = w.travel(
+                    &self.pair,
+                    &ctx,
+                    &self.opts.travel,
+                    &mut ws.pairs,
+                    &mut stats,
+                );
+                if !ok {
+                    stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
+                    w.store_cold(&self.pair, &ctx, &ws.pairs);
+                }
+                ok
+            }
+            None => {
+                stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
+                false
+            }
+        };
+        stats.warm = warm_travelled;
+        if !warm_travelled && ws.pairs.len() < 3 {
             return Err(ContactError::NoOverlap {
                 side: side.name(),
                 y_mm: pose.y * 1e3,
@@ -373,7 +426,6 @@ impl WheelRailContact {
                 &mut ws.zones,
             );
         }
-        let ctx = PoseCtx::new(&self.pair, &sp);
         let kin = WheelKinematics::new(&ctx, sp.roll, &sv);
         ws.patches.clear();
         let mut total = [0.0; 3];

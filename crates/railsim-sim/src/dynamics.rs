@@ -15,7 +15,9 @@
 
 use std::time::Instant;
 
-use railsim_contact::{ContactWorkspace, PatchResult, Side, WheelsetPose, WheelsetVelocity};
+use railsim_contact::{
+    ContactWorkspace, PatchResult, Side, WarmStart, WheelsetPose, WheelsetVelocity,
+};
 use railsim_ode::{OdeSystem, RhsError};
 use railsim_vehicle::model::{Axis, ForceLaw, series_force, series_state_rate};
 
@@ -98,6 +100,8 @@ pub struct Workspace {
     pub speed: f64,
     /// The contact crate's workspace.
     pub contact: ContactWorkspace,
+    /// Per wheel: the warm start of its contact search (used when the model asks for it).
+    pub warm: Vec<WarmStart>,
     /// Patches of the last evaluation, filled only when `record` is set.
     pub patches: Vec<PatchRecord>,
     /// \[N\] per wheel: force on the wheel in its wheelset's track frame, summed over patches.
@@ -120,6 +124,7 @@ impl Workspace {
             track_position: model.start,
             speed: 0.0,
             contact: ContactWorkspace::new(),
+            warm: vec![WarmStart::new(); model.wheels.len()],
             patches: Vec::with_capacity(4 * model.wheels.len()),
             wheel_force: vec![[0.0; 3]; model.wheels.len()],
             record: false,
@@ -427,9 +432,19 @@ impl Dynamics<'_> {
                 &mut vel,
             );
             let timer = self.ws.timing.then(Instant::now);
-            let res = wheel
-                .contact
-                .evaluate(wheel.side, &pose, &vel, &mut self.ws.contact);
+            let res = if m.warm_start {
+                wheel.contact.evaluate_warm(
+                    wheel.side,
+                    &pose,
+                    &vel,
+                    &mut self.ws.warm[wi],
+                    &mut self.ws.contact,
+                )
+            } else {
+                wheel
+                    .contact
+                    .evaluate(wheel.side, &pose, &vel, &mut self.ws.contact)
+            };
             if let Some(t0) = timer {
                 self.ws.cost.contact += t0.elapsed().as_secs_f64();
             }

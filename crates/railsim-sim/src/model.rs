@@ -137,6 +137,8 @@ pub struct SimModel {
     pub gravity: f64,
     /// \[m\] cant base (distance between the rail contact points that cant is measured over).
     pub cant_base: f64,
+    /// Warm-start each wheel's contact search from its previous evaluation.
+    pub warm_start: bool,
     /// Number of position states (first in the state vector).
     pub n_pos: usize,
     /// Number of rate states (after the positions).
@@ -298,6 +300,7 @@ impl SimModel {
             start: scene.start,
             gravity: v.gravity(),
             cant_base: scene.track.cant_base(),
+            warm_start: scene.warm_start,
             n_pos,
             n_rate,
             n_internal,

@@ -346,6 +346,9 @@ pub struct Scene {
     pub contact: ContactOptions,
     /// \[-\] Coulomb friction coefficient of every wheel/rail pair.
     pub friction: f64,
+    /// Warm-start each wheel's contact search from its previous evaluation (same patches and
+    /// forces as a cold search to within the search's angle tolerance; docs/models/contact.md).
+    pub warm_start: bool,
     /// The integration method and its settings.
     pub integrator: Method,
     /// What to log and where.
@@ -606,7 +609,7 @@ impl Compiler<'_> {
         if !fits {
             return None;
         }
-        let (contact, friction) = contact?;
+        let (contact, friction, warm_start) = contact?;
         Some(Scene {
             name,
             source: source_name.to_owned(),
@@ -619,6 +622,7 @@ impl Compiler<'_> {
             length: length?,
             contact,
             friction,
+            warm_start,
             integrator: integrator?,
             log: log?,
             initial: initial?,
@@ -960,11 +964,14 @@ impl Compiler<'_> {
         }
     }
 
-    fn contact(&mut self, c: Option<&Spanned<ContactSpec>>) -> Option<(ContactOptions, f64)> {
+    fn contact(&mut self, c: Option<&Spanned<ContactSpec>>) -> Option<(ContactOptions, f64, bool)> {
         let mut opts = ContactOptions::default();
         let Some(c) = c else {
-            return (!self.unreadable.iter().any(|t| t == "contact"))
-                .then_some((opts, DEFAULT_FRICTION));
+            return (!self.unreadable.iter().any(|t| t == "contact")).then_some((
+                opts,
+                DEFAULT_FRICTION,
+                true,
+            ));
         };
         let c = c.get_ref();
         let mut ok = true;
@@ -1024,7 +1031,8 @@ impl Compiler<'_> {
                 }
             }
         }
-        ok.then_some((opts, friction))
+        let warm_start = c.warm_start.as_ref().is_none_or(|w| *w.get_ref());
+        ok.then_some((opts, friction, warm_start))
     }
 
     fn integrator(&mut self, i: Option<&Spanned<IntegratorSpec>>) -> Option<Method> {

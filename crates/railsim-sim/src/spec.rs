@@ -98,7 +98,7 @@ pub struct ContactSpec {
     /// `"linear"`, `"polach"`, `"fastsim"`, `"stripes"` or `"halfspace"` (required in the table).
     #[serde(default)]
     pub model: Option<Spanned<String>>,
-    /// \[mm\] arc-length step of the contact search near contact; default 0.5.
+    /// \[mm\] arc-length step of the contact search near contact; default 1.0.
     #[serde(default)]
     pub step_mm: Option<Spanned<f64>>,
     /// \[-\] Coulomb friction coefficient of every wheel/rail pair; default 0.3.
@@ -108,6 +108,9 @@ pub struct ContactSpec {
     /// it the `linear` model uses Kalker's coefficients.
     #[serde(default)]
     pub creep_coefficient_n: Option<Spanned<f64>>,
+    /// Warm-start the contact search from each wheel's previous evaluation; default true.
+    #[serde(default)]
+    pub warm_start: Option<Spanned<bool>>,
 }
 
 /// `[integrator]`.
@@ -179,7 +182,13 @@ pub const ROOT_KEYS: &[&str] = &[
 /// Keys of `[speed_profile]`.
 pub const SPEED_PROFILE_KEYS: &[&str] = &["distance_m", "speed_kmh"];
 /// Keys of `[contact]`.
-pub const CONTACT_KEYS: &[&str] = &["model", "step_mm", "friction", "creep_coefficient_n"];
+pub const CONTACT_KEYS: &[&str] = &[
+    "model",
+    "step_mm",
+    "friction",
+    "creep_coefficient_n",
+    "warm_start",
+];
 /// Keys of `[integrator]`.
 pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_step_s"];
 /// Keys of `[log]`.

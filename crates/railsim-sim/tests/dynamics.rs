@@ -582,3 +582,71 @@ fn a_speed_profile_accelerates_the_frame_and_the_wheels_follow() {
     assert!(slip_end.abs() < 1e-4, "{slip_end}");
     assert!(summary.max_lateral[0] < 1e-4);
 }
+
+#[test]
+fn the_warm_started_contact_search_gives_the_cold_right_hand_side() {
+    // Along the states of a cold run of a free S1002 wheelset released 6 mm off centre on
+    // irregular track (tread, flange-root and flange contact come and go, with flange impacts),
+    // sampled at 200 Hz and interpolated to 0.5 ms as between integrator stages, the right-hand
+    // side with warm-started contact searches must equal the cold one. (The trajectories
+    // themselves are not compared: with flange impacts they are sensitive to any change at the
+    // integrator's tolerance, e.g. rtol 1e-4 against 1.0001e-4 with cold searches.)
+    use railsim_ode::OdeSystem;
+    use railsim_sim::dynamics::Dynamics;
+    let s = scene(
+        r#"
+        vehicle = "vehicles/wheelset_free.toml"
+        track = "tracks/straight_irregular.toml"
+        speed_kmh = 108
+        duration_s = 0.6
+        [initial]
+        lateral_offset_mm = 6
+        [contact]
+        warm_start = false
+        [log]
+        rate_hz = 200
+        "#,
+    );
+    let (sim, samples, _) = run(&s);
+    let mut warm_scene = s.clone();
+    warm_scene.warm_start = true;
+    let warm_sim = Simulation::new(&warm_scene).unwrap();
+    let (mc, mw) = (sim.model(), warm_sim.model());
+    assert!(!mc.warm_start && mw.warm_start);
+    let (mut dc, mut dw) = (Dynamics::new(mc), Dynamics::new(mw));
+    let n = mc.dim();
+    let (mut fc, mut fw, mut x) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut worst, mut ymax, mut evals) = (0.0f64, 0.0f64, 0u64);
+    for w in samples.windows(2) {
+        for j in 0..10 {
+            let f = j as f64 / 10.0;
+            for i in 0..n {
+                x[i] = w[0].x[i] + f * (w[1].x[i] - w[0].x[i]);
+            }
+            let t = w[0].t + f * (w[1].t - w[0].t);
+            dc.rhs(t, &x, &mut fc).unwrap();
+            dw.rhs(t, &x, &mut fw).unwrap();
+            evals += 1;
+            for i in 0..n {
+                worst = worst.max((fc[i] - fw[i]).abs() / fc[i].abs().max(1.0));
+            }
+        }
+        ymax = ymax.max(w[0].lateral[0].abs());
+    }
+    let warm: u64 = dw.ws.warm.iter().map(|w| w.warm_count).sum();
+    eprintln!(
+        "{evals} evaluations, {warm} of {} wheel searches warm; max lateral {:.2} mm; largest \
+         relative difference {worst:.2e}",
+        2 * evals,
+        ymax * 1e3
+    );
+    assert!(ymax > 6e-3, "the run must reach the flange");
+    assert!(
+        worst < 1e-7,
+        "warm and cold right-hand sides differ by {worst:.3e}"
+    );
+    assert!(
+        warm as f64 > 0.8 * (2 * evals) as f64,
+        "only {warm} warm searches"
+    );
+}
