@@ -139,6 +139,13 @@ fn print_summary(s: &RunSummary, timing: bool) {
         "integrator: {} steps, {} rejected, {} right-hand sides, {} Jacobians, {} LU",
         st.steps, st.rejected, st.rhs_evals, st.jacobians, st.lu_factorizations
     );
+    let (warm, cold) = s.contact_searches;
+    if warm + cold > 0 {
+        println!(
+            "contact searches: {warm} warm-started, {cold} cold ({:.1} % warm)",
+            100.0 * warm as f64 / (warm + cold) as f64
+        );
+    }
     println!("samples {}; state digest {:016x}", s.samples, s.digest);
     if timing {
         let c = &s.cost;

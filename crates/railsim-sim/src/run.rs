@@ -86,6 +86,9 @@ pub struct RunSummary {
     pub digest: u64,
     /// Cost of the right-hand side's stages.
     pub cost: CostSplit,
+    /// Warm-started and cold contact searches (wheel evaluations) of the run; both zero when
+    /// the scene turns the warm start off.
+    pub contact_searches: (u64, u64),
     /// \[s\] time spent writing the log.
     pub logging: f64,
     /// The log, if one was written.
@@ -277,6 +280,17 @@ impl Simulation {
         };
         dynamics.ws.timing = opts.timing;
         dynamics.ws.cost = CostSplit::default();
+        // Every run starts with cold contact searches (runs of one simulation do not depend on
+        // each other); the counters are read as differences.
+        let searches = |ws: &Workspace| {
+            ws.warm
+                .iter()
+                .fold((0, 0), |(w, c), s| (w + s.warm_count, c + s.cold_count))
+        };
+        for w in &mut dynamics.ws.warm {
+            w.invalidate();
+        }
+        let searches0 = searches(&dynamics.ws);
         let dt_ns = (1e9 / scene.log.rate_hz).round().max(1.0) as u64;
         let n = self.model.dim();
         let mut xs = vec![0.0; n];
@@ -332,6 +346,8 @@ impl Simulation {
         })();
         let stats = self.integ.stats();
         let cost = dynamics.ws.cost;
+        let searches1 = searches(&dynamics.ws);
+        let contact_searches = (searches1.0 - searches0.0, searches1.1 - searches0.1);
         self.ws = Some(dynamics.ws);
         let log = match recorder {
             Some(rec) => Some(rec.finish(state.digest, self.integ.t())?),
@@ -354,6 +370,7 @@ impl Simulation {
             samples: next as u64,
             digest: state.digest,
             cost,
+            contact_searches,
             logging,
             log,
         })
