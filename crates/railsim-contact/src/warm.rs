@@ -8,11 +8,15 @@
 //! **Certificate** (`docs/models/contact.md` §3.4). With `|g''| <= kb` along the rail arc (the
 //! bound the cold travelling's step control rests on, [`crate::pair::WheelRailPair::kappa_bound`]),
 //! a gap that is at least `A` and `B` at the ends of an interval of length `h` is at least
-//! `min(A, B) - kb h^2 / 8` inside it. The gap at a rail point is the distance to the wheel's
-//! surface in the cross-section plane, so a rigid move of the wheel that displaces the surface
-//! near the pair by `d` in that plane changes it by at most `d`; each bound is lowered by
-//! `1.1 d + 1 nm` per evaluation (the factor covers the locus of a yawed wheel, which is not a
-//! fixed material line, and the isosceles gap's second-order difference to the distance).
+//! `min(A, B) - kb h^2 / 8` inside it. The gap at a rail point is the signed distance to the
+//! wheel's surface in the cross-section plane, so a rigid move of the wheel that displaces the
+//! surface near the pair by `Δp` in that plane changes it by at most `|Δp|` (the distance is
+//! 1-Lipschitz), and near contact by at most `|n·Δp| + (2 ts + 0.02)|Δp| + kb |Δp|^2` (first-order
+//! Taylor term along the pair normal `n`, whose angle to the distance direction is within that of
+//! the two tangents, `ts` its sine, plus the curvature term). Each bound is lowered by
+//! `1.1 d + 1 nm` per evaluation, `d` the smaller of the two (the factor covers the locus of a
+//! yawed wheel, which is not a fixed material line, and the isosceles gap's second-order
+//! difference to the distance).
 //!
 //! **Same result as a cold travelling.** The windows are travelled with the rail-anchored pairs of
 //! the cold travelling (the nodes `k * step` and their dyadic midpoints) from two nodes before to
@@ -27,7 +31,9 @@
 //! inside a window, or windows with more nodes than the last cold travelling had pairs (then
 //! the cold travelling is cheaper and refreshes every bound).
 
-use crate::geometry::{IsoPair, PoseCtx, RunEnd, TravelOptions, TravelStats, anchored_run, kb_at};
+use crate::geometry::{
+    FAR_GAP, IsoPair, PoseCtx, RunEnd, TravelOptions, TravelStats, anchored_run, kb_at,
+};
 use crate::pair::WheelRailPair;
 
 /// \[m\] largest move of the wheel centre between two evaluations for a warm start.
@@ -48,6 +54,11 @@ struct Bound {
     body: [f64; 3],
     /// \[1/m\] bound on the relative curvature over the window ahead
     kb: f64,
+    /// the pair's normal in wheelset axes (rotates with the wheel)
+    n_body: [f64; 3],
+    /// |sine of the angle between the two tangents|, where the pair was near contact (gap up to
+    /// `FAR_GAP` when travelled); `None` elsewhere
+    near_ts: Option<f64>,
 }
 
 /// Warm-start memory of one wheel (one per wheel: it describes that wheel's last pose).
@@ -133,11 +144,26 @@ impl WarmStart {
             self.valid = false;
             return false;
         }
-        // Lower every bound by the cross-section displacement of its wheel point.
+        // Lower every bound by what the move can change the gap: at most the cross-section
+        // displacement of its wheel point; near contact its component along the normal, plus the
+        // tangential part times the angle between normal and distance direction, plus the
+        // curvature term.
         for b in &mut self.bounds {
             let d_y = dr[1][0] * b.body[0] + dr[1][1] * b.body[1] + dr[1][2] * b.body[2] + dc[1];
             let d_z = dr[2][0] * b.body[0] + dr[2][1] * b.body[1] + dr[2][2] * b.body[2] + dc[2];
-            b.lb -= 1.1 * (d_y * d_y + d_z * d_z).sqrt() + 1e-9;
+            let len = (d_y * d_y + d_z * d_z).sqrt();
+            let d = match b.near_ts {
+                Some(ts) => {
+                    let r = &ctx.r;
+                    let nb = &b.n_body;
+                    let n_y = r[1][0] * nb[0] + r[1][1] * nb[1] + r[1][2] * nb[2];
+                    let n_z = r[2][0] * nb[0] + r[2][1] * nb[1] + r[2][2] * nb[2];
+                    let normal = (n_y * d_y + n_z * d_z).abs();
+                    len.min(normal + len * (2.0 * ts + 0.02) + b.kb * len * len)
+                }
+                None => len,
+            };
+            b.lb -= 1.1 * d + 1e-9;
         }
         self.r = ctx.r;
         self.c = ctx.c;
@@ -239,11 +265,19 @@ fn bound_of(pair: &WheelRailPair, ctx: &PoseCtx, p: &IsoPair) -> Bound {
         r[0][1] * d[0] + r[1][1] * d[1] + r[2][1] * d[2],
         r[0][2] * d[0] + r[1][2] * d[1] + r[2][2] * d[2],
     ];
+    let n = [0.0, p.n[0], p.n[1]];
+    let n_body = [
+        r[1][0] * n[1] + r[2][0] * n[2],
+        r[1][1] * n[1] + r[2][1] * n[2],
+        r[1][2] * n[1] + r[2][2] * n[2],
+    ];
     Bound {
         s_r: p.s_r,
         s_w: p.s_w,
         lb: p.gap - 2e-3 * p.gap.abs() - 1e-9,
         body,
         kb: kb_at(pair, p.s_w, p.s_r),
+        n_body,
+        near_ts: (p.gap <= FAR_GAP).then_some(p.tangent_sin.abs()),
     }
 }
