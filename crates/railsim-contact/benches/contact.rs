@@ -6,6 +6,9 @@
 //! timed part is one evaluation at the converged position of each case (what the dynamics does
 //! at every right-hand-side evaluation), so a criterion sample is 42 evaluations.
 //!
+//! A second group times cold against warm-started evaluations along a sequence of poses
+//! (`pose_sequence_55kN`).
+//!
 //! Run: `cargo bench -p railsim-contact --bench contact`. Filter with a model name, e.g.
 //! `cargo bench -p railsim-contact --bench contact -- stripes`.
 #![allow(missing_docs)]
@@ -195,5 +198,87 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+/// Cold against warm-started evaluations along a sequence of poses like those of a time
+/// integration: the right wheel at 55 kN (the Manchester vehicle's static wheel load), 400 poses
+/// over one period of a 3 mm lateral oscillation with 1 mrad of yaw (at most 47 µm between
+/// poses), the height that carries the load at each pose.
+fn bench_sequence(c: &mut Criterion) {
+    let mut group = c.benchmark_group("pose_sequence_55kN");
+    group.sample_size(20);
+    for model in [ContactModelKind::Stripes, ContactModelKind::Polach] {
+        sequence(&mut group, model);
+    }
+    group.finish();
+}
+
+fn sequence(
+    group: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>,
+    model: ContactModelKind,
+) {
+    let opts = ContactOptions {
+        model,
+        ..Default::default()
+    };
+    let contact = WheelRailContact::new(pair(), opts).unwrap();
+    let side = railsim_contact::Side::Right;
+    let vel = WheelsetVelocity {
+        vx: 55.0,
+        spin: -55.0 / 0.46,
+        ..Default::default()
+    };
+    let mut ws = ContactWorkspace::new();
+    let n = 400;
+    let poses: Vec<WheelsetPose> = (0..n)
+        .map(|k| {
+            let phase = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+            let mut pose = WheelsetPose {
+                y: 3e-3 * phase.sin(),
+                z: 0.0,
+                roll: 0.0,
+                yaw: 1e-3 * phase.cos(),
+            };
+            let s = contact
+                .evaluate_with_load(side, &pose, &vel, 55e3, 1e-8, &mut ws)
+                .unwrap();
+            pose.z = s.z;
+            pose
+        })
+        .collect();
+    // The two give the same forces (tests/warm_start.rs checks this closely).
+    let mut warm = railsim_contact::WarmStart::new();
+    let mut ws_warm = ContactWorkspace::new();
+    for p in &poses {
+        let a = contact.evaluate(side, p, &vel, &mut ws).unwrap();
+        let b = contact
+            .evaluate_warm(side, p, &vel, &mut warm, &mut ws_warm)
+            .unwrap();
+        assert!((a.force_track[2] - b.force_track[2]).abs() < 1e-6 * a.force_track[2].abs());
+    }
+    println!(
+        "pose sequence, {}: {} of {} evaluations warm-started",
+        model.name(),
+        warm.warm_count,
+        warm.warm_count + warm.cold_count
+    );
+    group.bench_function(format!("{}_cold", model.name()), |b| {
+        b.iter(|| {
+            for p in &poses {
+                black_box(contact.evaluate(side, p, &vel, &mut ws).unwrap());
+            }
+        })
+    });
+    group.bench_function(format!("{}_warm", model.name()), |b| {
+        b.iter(|| {
+            for p in &poses {
+                black_box(
+                    contact
+                        .evaluate_warm(side, p, &vel, &mut warm, &mut ws_warm)
+                        .unwrap(),
+                );
+            }
+        })
+    });
+}
+
+criterion_group!(benches, bench, bench_sequence);
 criterion_main!(benches);
