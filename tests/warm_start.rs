@@ -75,9 +75,16 @@ fn warm_start_gives_the_cold_patches() {
                 pose.z += 0.5e-3;
             }
             contact.evaluate(side, &pose, &vel, &mut ws_cold).unwrap();
-            contact
+            let s = contact
                 .evaluate_warm(side, &pose, &vel, &mut warm, &mut ws_warm)
                 .unwrap();
+            // the first evaluation and the 1.5 mm jump (over the 1 mm limit) are travelled cold
+            if k == 0 || k == 300 {
+                assert!(
+                    !s.travel.warm,
+                    "{side:?} pose {k}: a cold travelling expected"
+                );
+            }
             let (a, b) = (sorted(&ws_cold.patches), sorted(&ws_warm.patches));
             assert_eq!(
                 a.len(),
