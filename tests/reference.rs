@@ -7,6 +7,7 @@ mod common;
 mod hertz_reference;
 mod klingel;
 mod mbench;
+mod stripes_curved;
 mod stripes_hertz;
 mod travel;
 mod warm_start;

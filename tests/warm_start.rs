@@ -45,7 +45,14 @@ fn warm_start_gives_the_cold_patches() {
         ..Default::default()
     };
     let n = 600;
-    for side in [Side::Right, Side::Left] {
+    // yaw up to 3 mrad (straight track) and up to 12 mrad (angles of attack in curves, as in the
+    // contact benchmark)
+    for (side, yaw_amp) in [
+        (Side::Right, 3e-3),
+        (Side::Left, 3e-3),
+        (Side::Right, 12e-3),
+        (Side::Left, 12e-3),
+    ] {
         let (mut ws_cold, mut ws_warm, mut ws_load) = (
             ContactWorkspace::new(),
             ContactWorkspace::new(),
@@ -63,13 +70,13 @@ fn warm_start_gives_the_cold_patches() {
                 y: 8.0e-3 * (2.0 * std::f64::consts::PI * t).sin() + jump,
                 z: 0.0,
                 roll: 1e-3 * (6.0 * t).sin(),
-                yaw: 3e-3 * (5.0 * t).cos(),
+                yaw: yaw_amp * (5.0 * t).cos(),
             };
             // the height that carries 50 kN (cold, its own workspace), plus a 150 Hz-like
             // vertical oscillation of 15 µm; lifted by 0.5 mm for 20 poses (no contact)
             let s = contact
                 .evaluate_with_load(side, &pose, &vel, 50e3, 1e-8, &mut ws_load)
-                .unwrap();
+                .unwrap_or_else(|e| panic!("{side:?} pose {k} {pose:?}: {e}"));
             pose.z = s.z + 15e-6 * (k as f64 * 0.9).sin();
             if (450..470).contains(&k) {
                 pose.z += 0.5e-3;
@@ -101,9 +108,11 @@ fn warm_start_gives_the_cold_patches() {
             worst_y = worst_y.max(dy);
         }
         eprintln!(
-            "{side:?}: warm {} cold {}, worst force difference {worst_f:.2e} of Fn, position \
+            "{side:?}, yaw up to {:.0} mrad: warm {} cold {}, worst force difference {worst_f:.2e} of Fn, position \
              {worst_y:.2e} m, {two_patch} poses with two patches, {lifted} lifted",
-            warm.warm_count, warm.cold_count
+            yaw_amp * 1e3,
+            warm.warm_count,
+            warm.cold_count
         );
         assert!(two_patch > 10, "the sweep must reach two-patch contact");
         assert!(lifted >= 20, "the lift-off must leave no patch");

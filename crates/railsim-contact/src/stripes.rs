@@ -34,7 +34,7 @@ use railsim_elastic::{
 
 use crate::error::ContactError;
 use crate::model::{PatchForces, PatchInput};
-use crate::patch::{B_MIN, longitudinal_curvature};
+use crate::patch::{B_MIN, longitudinal_curvature, mid};
 
 /// The tangential solution per strip.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -324,30 +324,53 @@ pub fn solve(
     let eps0 = stripes_epsilon(&hc0, fr.a_curv, fr.b_curv);
     let delta0 = fr.delta0;
     let (lo, hi) = input.pair_range();
-    // Per pair: local curvatures and Hertz coefficients, the interpenetration along the patch
-    // normal, the lateral coordinate, and u = virtual interpenetration (positive inside).
+    // Per pair: local curvatures and Hertz coefficients, the interpenetration along the pair's
+    // own normal, the lateral coordinate as arc length along the patch (the chain of pair
+    // midpoints), and u = virtual interpenetration (positive inside). Measuring along each
+    // strip's normal and along the curved patch keeps the solution independent of which pair the
+    // frame sits at: a wide flange-root zone turns through half a radian, and projecting on the
+    // frame's plane made the load jump by a quarter when its deepest pair moved from one end to
+    // the other.
     local.clear();
+    let mut arc = 0.0;
     for i in lo..=hi {
+        if i > lo {
+            let (m0, m1) = (mid(&pairs[i - 1]), mid(&pairs[i]));
+            let (dy, dz) = (m1[0] - m0[0], m1[1] - m0[1]);
+            let step = (dy * dy + dz * dz).sqrt();
+            arc += if dy * fr.t[0] + dz * fr.t[1] >= 0.0 {
+                step
+            } else {
+                -step
+            };
+        }
         let p = &pairs[i];
         let a_i = longitudinal_curvature(p.rho, p.rho_slope);
         let kw = crate::geometry::locus_curvature_at(pairs, i, input.yawed);
         let b_i = (0.5 * (kw - p.kappa_r)).max(B_MIN);
         let hc = hertz_coeffs_fast(a_i, b_i);
         let eps_i = stripes_epsilon(&hc, a_i, b_i);
-        let d = -p.gap * (p.n[0] * fr.n[0] + p.n[1] * fr.n[1]);
+        let d = -p.gap;
         let eps = match variant {
             StripesVariant::Seed => eps0,
             StripesVariant::LocalEpsilon => eps_i,
         };
         local.push(Local {
             u: d - (1.0 - eps) * delta0,
-            l: fr.lateral(p),
+            l: arc,
             b: b_i,
             hc,
             k: e_star / (hc.n * hc.r * eps_i),
             load: 0.0,
             width: 0.0,
         });
+    }
+    // The arc-length coordinate from the frame's point (the deepest pair's lateral position in
+    // the frame, where the two coordinates agree to second order).
+    let deep = fr.deepest.clamp(lo, hi);
+    let shift = fr.lateral(&pairs[deep]) - local[deep - lo].l;
+    for li in local.iter_mut() {
+        li.l += shift;
     }
     // Lateral integration of the line load q = K u, K = E*/(n r eps): on each segment between
     // two pairs, u is interpolated by the mean of the two parabolas through the neighbouring
@@ -461,8 +484,14 @@ pub fn solve(
     let mut f = PatchForces::default();
     let mut area = 0.0;
     let mut a_max: f64 = 0.0;
+    // Each strip's normal load acts along its own normal: the sum, in the frame's axes.
+    let (mut load, mut load_n, mut load_t) = (0.0, 0.0, 0.0);
     for s in strips.iter() {
-        f.fn_ += s.q * s.w;
+        let n = pairs[s.pair].n;
+        let w = s.q * s.w;
+        load += w;
+        load_n += w * (n[0] * fr.n[0] + n[1] * fr.n[1]);
+        load_t += w * (n[0] * fr.t[0] + n[1] * fr.t[1]);
         let p0 = 2.0 * s.q / (std::f64::consts::PI * s.a);
         f.p_max = f.p_max.max(p0);
         area += 2.0 * s.a * s.w;
@@ -473,7 +502,12 @@ pub fn solve(
     f.area = area;
     f.n_elements = strips.len() as u32;
     if tangential == Tangential::Exact {
+        // The exact tangential problem on the patch unrolled into its plane (strips at their
+        // arc-length coordinates), loaded by the strips' total normal load.
+        f.fn_ = load;
         exact_on_strips(input, strips, l_min, l_max, exact_cells, exact, &mut f)?;
+        f.fn_ = load_n;
+        f.fs += load_t;
         return Ok(f);
     }
     // Equivalent ellipse (area and aspect preserved) for the flexibilities.
@@ -482,7 +516,7 @@ pub fn solve(
     let r = (area / std::f64::consts::PI).sqrt();
     let a_eq = r * (len / wid).sqrt();
     let b_eq = r * (wid / len).sqrt();
-    let flex = blended_flexibilities(a_eq, b_eq, f.fn_, input.pair.mu, &input.creep, &mat)?;
+    let flex = blended_flexibilities(a_eq, b_eq, load, input.pair.mu, &input.creep, &mat)?;
     let fastrip = match tangential {
         Tangential::Fastrip => {
             let c = kalker_coeffs(a_eq, b_eq, mat.nu)?;
@@ -500,9 +534,13 @@ pub fn solve(
     };
     let mut n_adh = 0u32;
     let mut n_cells = 0u32;
+    f.fn_ = load_n;
+    f.fs = load_t;
     for s in strips.iter() {
         let p = &pairs[s.pair];
-        let creep: Creepages = input.kin.creepages([p.x, p.a[0], p.a[1]], fr.t, p.n);
+        // the strip's own lateral axis (toward the field side, like the frame's)
+        let t = [p.n[1], -p.n[0]];
+        let creep: Creepages = input.kin.creepages([p.x, p.a[0], p.a[1]], t, p.n);
         let mu = input.pair.mu;
         let st = match &fastrip {
             Some(patch) => {
@@ -515,7 +553,8 @@ pub fn solve(
             }
         };
         f.fx += st.fx;
-        f.fs += st.fy;
+        f.fs += st.fy * (t[0] * fr.t[0] + t[1] * fr.t[1]);
+        f.fn_ += st.fy * (t[0] * fr.n[0] + t[1] * fr.n[1]);
         f.mz += st.mz - s.l * st.fx;
         n_adh += st.n_adhesion;
         n_cells += st.n_cells;
