@@ -9,19 +9,14 @@
 //! 1.5 % (what remains comes from the rigid pair, δ0 and the frame's curvatures moving to the
 //! other well).
 
-use railsim_contact::{ContactModelKind, ContactWorkspace, Side, WheelsetPose, WheelsetVelocity};
+use railsim_contact::{ContactModelKind, ContactWorkspace, Side, WheelsetPose};
 
-use crate::common::{mbench_contact, tol_scale};
+use crate::common::{mbench_contact, rolling_30_m_s, tol_scale};
 
 #[test]
 fn the_load_does_not_jump_when_the_deepest_pair_changes_ends() {
     let contact = mbench_contact(ContactModelKind::Stripes, 1.0e-3);
-    let vel = WheelsetVelocity {
-        vx: 30.0,
-        vy: 0.01,
-        spin: -30.0 / 0.46,
-        ..Default::default()
-    };
+    let vel = rolling_30_m_s();
     let mut pose = WheelsetPose {
         y: 6.269547658606719e-3,
         z: 0.0,

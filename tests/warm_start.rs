@@ -5,10 +5,9 @@
 
 use railsim_contact::{
     ContactModelKind, ContactWorkspace, PatchResult, Side, WarmStart, WheelsetPose,
-    WheelsetVelocity,
 };
 
-use crate::common::{mbench_contact, tol_scale};
+use crate::common::{mbench_contact, rolling_30_m_s, tol_scale};
 
 fn sorted(p: &[PatchResult]) -> Vec<PatchResult> {
     let mut p = p.to_vec();
@@ -38,12 +37,7 @@ fn diff(a: &[PatchResult], b: &[PatchResult]) -> (f64, f64) {
 #[test]
 fn warm_start_gives_the_cold_patches() {
     let contact = mbench_contact(ContactModelKind::Stripes, 1.0e-3);
-    let vel = WheelsetVelocity {
-        vx: 30.0,
-        vy: 0.01,
-        spin: -30.0 / 0.46,
-        ..Default::default()
-    };
+    let vel = rolling_30_m_s();
     let n = 600;
     // yaw up to 3 mrad (straight track) and up to 12 mrad (angles of attack in curves, as in the
     // contact benchmark)

@@ -5,7 +5,9 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 use railsim_contact::contact_format::manchester_benchmark_pair;
-use railsim_contact::{ContactModelKind, ContactOptions, WheelRailContact, WheelRailPair};
+use railsim_contact::{
+    ContactModelKind, ContactOptions, WheelRailContact, WheelRailPair, WheelsetVelocity,
+};
 
 /// Path of a file in the repository.
 pub fn repo(rel: &str) -> PathBuf {
@@ -57,6 +59,16 @@ pub fn mbench_contact_with(
     };
     opts.travel.step = step;
     WheelRailContact::new(mbench_pair(), opts).unwrap()
+}
+
+/// A wheelset rolling at 30 m/s on the benchmark's 460 mm wheels, drifting sideways at 10 mm/s.
+pub fn rolling_30_m_s() -> WheelsetVelocity {
+    WheelsetVelocity {
+        vx: 30.0,
+        vy: 0.01,
+        spin: -30.0 / 0.46,
+        ..Default::default()
+    }
 }
 
 /// A CSV table as header-indexed rows of strings.

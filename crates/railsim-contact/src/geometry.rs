@@ -537,7 +537,8 @@ pub fn travel(
                 k0 = k_e;
             }
             let s0 = k0 as f64 * hs;
-            let guess = interpolate_s_w(out, s0).unwrap_or(s_w + (s0 - s_r) / e.a.speed);
+            let guess = interpolate_s_w(out, s0, |p| (p.s_r, p.s_w))
+                .unwrap_or(s_w + (s0 - s_r) / e.a.speed);
             while out.last().is_some_and(|p| p.s_r >= s0 - 1e-12) {
                 out.pop();
                 stats.pairs -= 1;
@@ -632,16 +633,21 @@ pub fn travel(
     stats
 }
 
-/// The wheel arc length at rail arc length `s_r`, interpolated linearly between the two pairs
-/// of `pairs` (sorted by rail arc length) that bracket it; `None` outside them.
-pub(crate) fn interpolate_s_w(pairs: &[IsoPair], s_r: f64) -> Option<f64> {
-    let j = pairs.partition_point(|p| p.s_r <= s_r);
-    if j == 0 || j == pairs.len() {
+/// The wheel arc length at rail arc length `s_r`, interpolated linearly between the two items
+/// of `items` (sorted by rail arc length; `at` gives an item's rail and wheel arc lengths) that
+/// bracket it; `None` outside them.
+pub(crate) fn interpolate_s_w<T>(
+    items: &[T],
+    s_r: f64,
+    at: impl Fn(&T) -> (f64, f64),
+) -> Option<f64> {
+    let j = items.partition_point(|p| at(p).0 <= s_r);
+    if j == 0 || j == items.len() {
         return None;
     }
-    let (a, b) = (&pairs[j - 1], &pairs[j]);
-    let f = (s_r - a.s_r) / (b.s_r - a.s_r).max(1e-15);
-    Some(a.s_w + f * (b.s_w - a.s_w))
+    let ((r0, w0), (r1, w1)) = (at(&items[j - 1]), at(&items[j]));
+    let f = (s_r - r0) / (r1 - r0).max(1e-15);
+    Some(w0 + f * (w1 - w0))
 }
 
 /// How an anchored run ends.
@@ -662,7 +668,7 @@ pub(crate) struct RunState {
     /// gap of the node before the last one
     g_prev: f64,
     /// index of the last node
-    pub k: i64,
+    k: i64,
 }
 
 /// Rail-anchored pairs at the nodes `k * step` of the rail, from node `k0` (wheel arc length

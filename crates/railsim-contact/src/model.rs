@@ -361,11 +361,11 @@ impl WheelRailContact {
         side: Side,
         pose: &WheelsetPose,
         vel: &WheelsetVelocity,
-        warm: Option<&mut WarmStart>,
+        mut warm: Option<&mut WarmStart>,
         ws: &mut ContactWorkspace,
     ) -> Result<WheelSummary, ContactError> {
         if let Err(e) = pose.validate().and_then(|_| vel.validate()) {
-            if let Some(w) = warm {
+            if let Some(w) = warm.as_mut() {
                 w.invalidate();
             }
             return Err(e);
@@ -374,26 +374,21 @@ impl WheelRailContact {
         let sv = vel.to_side(side);
         let ctx = PoseCtx::new(&self.pair, &sp);
         let mut stats = TravelStats::default();
-        let warm_travelled = match warm {
-            Some(w) => {
-                let ok = w.travel(
-                    &self.pair,
-                    &ctx,
-                    &self.opts.travel,
-                    &mut ws.pairs,
-                    &mut stats,
-                );
-                if !ok {
-                    stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
-                    w.store_cold(&self.pair, &ctx, &ws.pairs);
-                }
-                ok
+        let warm_travelled = warm.as_mut().is_some_and(|w| {
+            w.travel(
+                &self.pair,
+                &ctx,
+                &self.opts.travel,
+                &mut ws.pairs,
+                &mut stats,
+            )
+        });
+        if !warm_travelled {
+            stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
+            if let Some(w) = warm {
+                w.store_cold(&self.pair, &ctx, &ws.pairs);
             }
-            None => {
-                stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
-                false
-            }
-        };
+        }
         stats.warm = warm_travelled;
         if !warm_travelled && ws.pairs.len() < 3 {
             return Err(ContactError::NoOverlap {

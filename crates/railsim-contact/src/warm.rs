@@ -5,7 +5,7 @@
 //! wheel can have moved, and travels only windows around the places where the bounds no longer
 //! exclude contact.
 //!
-//! **Certificate** (`docs/models/contact.md` §3.4). With `|g''| <= kb` along the rail arc (the
+//! **Certificate** (`docs/models/contact.md` §3.1). With `|g''| <= kb` along the rail arc (the
 //! bound the cold travelling's step control rests on, [`crate::pair::WheelRailPair::kappa_bound`]),
 //! a gap that is at least `A` and `B` at the ends of an interval of length `h` is at least
 //! `min(A, B) - kb h^2 / 8` inside it. The gap at a rail point is the signed distance to the
@@ -32,9 +32,11 @@
 //! the cold travelling is cheaper and refreshes every bound).
 
 use crate::geometry::{
-    FAR_GAP, IsoPair, PoseCtx, RunEnd, TravelOptions, TravelStats, anchored_run, kb_at,
+    FAR_GAP, IsoPair, PoseCtx, RunEnd, TravelOptions, TravelStats, anchored_run, interpolate_s_w,
+    kb_at,
 };
 use crate::pair::WheelRailPair;
+use crate::pose::{mat_t_vec, mat_vec};
 
 /// \[m\] largest move of the wheel centre between two evaluations for a warm start.
 const MAX_MOVE: f64 = 1e-3;
@@ -149,16 +151,13 @@ impl WarmStart {
         // tangential part times the angle between normal and distance direction, plus the
         // curvature term.
         for b in &mut self.bounds {
-            let d_y = dr[1][0] * b.body[0] + dr[1][1] * b.body[1] + dr[1][2] * b.body[2] + dc[1];
-            let d_z = dr[2][0] * b.body[0] + dr[2][1] * b.body[1] + dr[2][2] * b.body[2] + dc[2];
+            let dp = mat_vec(&dr, b.body);
+            let (d_y, d_z) = (dp[1] + dc[1], dp[2] + dc[2]);
             let len = (d_y * d_y + d_z * d_z).sqrt();
             let d = match b.near_ts {
                 Some(ts) => {
-                    let r = &ctx.r;
-                    let nb = &b.n_body;
-                    let n_y = r[1][0] * nb[0] + r[1][1] * nb[1] + r[1][2] * nb[2];
-                    let n_z = r[2][0] * nb[0] + r[2][1] * nb[1] + r[2][2] * nb[2];
-                    let normal = (n_y * d_y + n_z * d_z).abs();
+                    let n = mat_vec(&ctx.r, b.n_body);
+                    let normal = (n[1] * d_y + n[2] * d_z).abs();
                     len.min(normal + len * (2.0 * ts + 0.02) + b.kb * len * len)
                 }
                 None => len,
@@ -213,7 +212,9 @@ impl WarmStart {
         for wi in 0..self.windows.len() {
             let (k0, k1, _, _) = self.windows[wi];
             let s0 = k0 as f64 * hs;
-            let guess = self.guess_s_w(s0);
+            // (s0 lies within the bounds: checked above)
+            let guess =
+                interpolate_s_w(&self.bounds, s0, |b| (b.s_r, b.s_w)).unwrap_or(self.bounds[0].s_w);
             let i0 = out.len();
             if anchored_run(pair, ctx, opts, k0, guess, RunEnd::At(k1), out, stats).is_none() {
                 out.clear();
@@ -243,34 +244,17 @@ impl WarmStart {
         self.warm_count += 1;
         true
     }
-
-    /// The wheel arc length of the bounds at rail arc length `s_r`, interpolated.
-    fn guess_s_w(&self, s_r: f64) -> f64 {
-        let b = &self.bounds;
-        let j = b.partition_point(|p| p.s_r <= s_r).clamp(1, b.len() - 1);
-        let (p, q) = (&b[j - 1], &b[j]);
-        let f = (s_r - p.s_r) / (q.s_r - p.s_r).max(1e-15);
-        p.s_w + f * (q.s_w - p.s_w)
-    }
 }
 
 /// The bound of a freshly travelled pair: its gap less 0.2 % (far pairs are corrected only to
 /// 0.05 rad, which measures the gap to 0.1 %) and 1 nm.
 fn bound_of(pair: &WheelRailPair, ctx: &PoseCtx, p: &IsoPair) -> Bound {
-    let d = [p.x - ctx.c[0], p.a[0] - ctx.c[1], p.a[1] - ctx.c[2]];
-    // wheelset axes: R^T d
-    let r = &ctx.r;
-    let body = [
-        r[0][0] * d[0] + r[1][0] * d[1] + r[2][0] * d[2],
-        r[0][1] * d[0] + r[1][1] * d[1] + r[2][1] * d[2],
-        r[0][2] * d[0] + r[1][2] * d[1] + r[2][2] * d[2],
-    ];
-    let n = [0.0, p.n[0], p.n[1]];
-    let n_body = [
-        r[1][0] * n[1] + r[2][0] * n[2],
-        r[1][1] * n[1] + r[2][1] * n[2],
-        r[1][2] * n[1] + r[2][2] * n[2],
-    ];
+    // wheelset axes: R^T (point - centre), R^T n
+    let body = mat_t_vec(
+        &ctx.r,
+        [p.x - ctx.c[0], p.a[0] - ctx.c[1], p.a[1] - ctx.c[2]],
+    );
+    let n_body = mat_t_vec(&ctx.r, [0.0, p.n[0], p.n[1]]);
     Bound {
         s_r: p.s_r,
         s_w: p.s_w,
