@@ -7,6 +7,7 @@ mod common;
 mod hertz_reference;
 mod klingel;
 mod mbench;
+mod point_search;
 mod stripes_curved;
 mod stripes_hertz;
 mod travel;

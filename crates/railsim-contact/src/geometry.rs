@@ -189,6 +189,22 @@ impl Locus {
     }
 }
 
+/// sin(theta) of the locus point of a wheel circle whose profile slope is `rho_p` (module docs),
+/// clamped to 0.5.
+#[inline]
+pub(crate) fn locus_sin(tan_yaw: f64, rho_p: f64) -> f64 {
+    (-tan_yaw * rho_p).clamp(-0.5, 0.5)
+}
+
+/// cos(theta) from sin(theta) by series: |sin theta| <= 0.5 (|yaw| <= 0.2 rad and |rho'| <= 2.75
+/// on a 70 deg flank give 0.55 at most; the clamp keeps the series valid), with errors below
+/// 1e-5 relative there and below 1e-10 for the yaw angles of running vehicles.
+#[inline]
+pub(crate) fn locus_cos(st: f64) -> f64 {
+    let s2 = st * st;
+    1.0 - s2 * (0.5 + s2 * (0.125 + s2 * 0.0625))
+}
+
 /// Evaluate the wheel's contact locus at profile arc length `s`.
 #[inline]
 pub(crate) fn locus(pair: &WheelRailPair, ctx: &PoseCtx, s: f64) -> Locus {
@@ -218,12 +234,9 @@ pub(crate) fn locus(pair: &WheelRailPair, ctx: &PoseCtx, s: f64) -> Locus {
     // d(rho)/d(axial) and its derivative, from the profile tangent and curvature.
     let rho_p = -tz * inv_ty;
     let rho_pp = -cp.kappa * inv_ty * inv_ty * inv_ty;
-    let st = (-ctx.tan_yaw * rho_p).clamp(-0.5, 0.5);
-    // cos(theta) and 1/cos(theta) by series: |sin theta| <= 0.5 (|yaw| <= 0.2 rad and
-    // |rho'| <= 2.75 on a 70 deg flank give 0.55 at most; the clamp keeps the series valid), with
-    // errors below 1e-5 relative there and below 1e-10 for the yaw angles of running vehicles.
+    let st = locus_sin(ctx.tan_yaw, rho_p);
+    let ct = locus_cos(st);
     let s2 = st * st;
-    let ct = 1.0 - s2 * (0.5 + s2 * (0.125 + s2 * 0.0625));
     let inv_ct = 1.0 + s2 * (0.5 + s2 * (0.375 + s2 * 0.3125));
     let dtheta = -ctx.tan_yaw * rho_pp * inv_ct;
     let q = [rho * st, axial, -rho * ct];
@@ -288,17 +301,17 @@ pub fn locus_curvature_at(pairs: &[IsoPair], i: usize, yawed: bool) -> f64 {
 /// Evaluation of a candidate pair.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PairEval {
-    a: Locus,
-    b: railsim_profile::CurvePoint,
-    f: f64,
+    pub(crate) a: Locus,
+    pub(crate) b: railsim_profile::CurvePoint,
+    pub(crate) f: f64,
     /// df/de for the symmetric move (wheel +e, rail -e of arc length)
-    dfds: f64,
+    pub(crate) dfds: f64,
     /// df/de for the wheel point alone moving by +e of locus arc length
-    dfdw: f64,
+    pub(crate) dfdw: f64,
 }
 
 #[inline]
-fn eval_pair(pair: &WheelRailPair, ctx: &PoseCtx, s_w: f64, s_r: f64) -> PairEval {
+pub(crate) fn eval_pair(pair: &WheelRailPair, ctx: &PoseCtx, s_w: f64, s_r: f64) -> PairEval {
     let a = locus(pair, ctx, s_w);
     let b = pair.rail.eval(s_r);
     let d = [b.p[0] - a.p[1], b.p[1] - a.p[2]];
@@ -340,7 +353,7 @@ fn base_cosines(e: &PairEval) -> Option<(f64, f64)> {
 /// The travelling error |theta_A - theta_B| (seed Fig. 10) from the base angles' cosines:
 /// `sin(a - b) = sin a cos b - cos a sin b`.
 #[inline]
-fn travel_error(e: &PairEval) -> f64 {
+pub(crate) fn travel_error(e: &PairEval) -> f64 {
     match base_cosines(e) {
         Some((ca, cb)) => {
             let (sa, sb) = (
@@ -422,7 +435,7 @@ fn seed_wheel(pair: &WheelRailPair, ctx: &PoseCtx, s_r: f64, s_lo: f64) -> f64 {
 /// point only, from the guess `s_w`. A guess already within a tenth of the angle tolerance is kept.
 /// Returns the pair, its wheel arc length and the travelling error after the first correction
 /// (-1 where not defined); re-seeds the wheel point if Newton fails.
-fn pair_at_rail(
+pub(crate) fn pair_at_rail(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
     opts: &TravelOptions,
@@ -462,7 +475,7 @@ fn pair_at_rail(
     (e, s_w, -1.0)
 }
 
-fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
+pub(crate) fn record(e: &PairEval, s_w: f64, s_r: f64, travel_error: f64) -> IsoPair {
     let (n, gap) = normal_and_gap(e);
     let cos_theta_c = match base_cosines(e) {
         Some((ca, cb)) => 0.5 * (ca + cb),
@@ -799,7 +812,7 @@ pub(crate) fn kb_at(pair: &WheelRailPair, s_w: f64, s_r: f64) -> f64 {
 }
 
 /// The pair's normal (from the mean of the two tangents) and its signed gap \[m\] along it.
-fn normal_and_gap(e: &PairEval) -> ([f64; 2], f64) {
+pub(crate) fn normal_and_gap(e: &PairEval) -> ([f64; 2], f64) {
     let mut tm = [e.a.t[0] + e.b.t[0], e.a.t[1] + e.b.t[1]];
     let l = (tm[0] * tm[0] + tm[1] * tm[1]).sqrt().max(1e-300);
     tm = [tm[0] / l, tm[1] / l];

@@ -14,12 +14,14 @@
 //! normal problem → tangential problem → forces in patch, track and wheelset axes.
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod broad;
 pub mod contact_format;
 pub mod error;
 pub mod geometry;
 pub mod model;
 pub mod pair;
 pub mod patch;
+pub mod point;
 pub mod pose;
 pub mod stripes;
 pub mod warm;
@@ -27,8 +29,8 @@ pub mod warm;
 pub use error::ContactError;
 pub use geometry::{IsoPair, TravelOptions, TravelStats};
 pub use model::{
-    ContactModelKind, ContactOptions, ContactWorkspace, PatchForces, PatchResult, WheelRailContact,
-    WheelSummary,
+    ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, PatchForces, PatchResult,
+    WheelRailContact, WheelSummary,
 };
 pub use pair::{PairSpec, WheelRailPair};
 pub use pose::{Side, WheelsetPose, WheelsetVelocity};

@@ -18,14 +18,17 @@ use railsim_elastic::{
     polach,
 };
 
+use crate::broad::Candidate;
 use crate::error::ContactError;
 use crate::geometry::{
-    IsoPair, PoseCtx, TravelOptions, TravelStats, Zone, find_zones, refine_narrow_zones, travel,
+    IsoPair, PoseCtx, TravelOptions, TravelStats, Zone, find_zones, locus, refine_narrow_zones,
+    travel,
 };
 use crate::pair::WheelRailPair;
 use crate::patch::{
     PatchFrame, WheelKinematics, longitudinal_curvature, patch_frame, reference_point,
 };
+use crate::point::{self, PointOptions};
 use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
 use crate::stripes::{self, Local, Strip, StripesVariant, Tangential};
 use crate::warm::WarmStart;
@@ -120,6 +123,34 @@ pub struct ContactOptions {
     /// \[N\] `linear` model only: a constant creep coefficient f11 = f22 = f with
     /// f23 = f33 = 0 (no spin), instead of Kalker's coefficients of the Hertz ellipse.
     pub linear_creep: Option<f64>,
+    /// How the Hertz models (`linear`, `polach`, `fastsim`) find their contact points.
+    pub hertz_search: HertzSearch,
+}
+
+/// How the Hertz models find the contact point of each zone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum HertzSearch {
+    /// The bounding hierarchies of the profiles and a Newton search for the rigid contact pair
+    /// of each zone (`crate::point`): no travelling.
+    #[default]
+    Tree,
+    /// The seed's travelling, as for STRIPES, and the deepest travelled pair of each zone.
+    Travel,
+}
+
+impl HertzSearch {
+    /// Parse `tree` or `travel`.
+    pub fn from_name(name: &str) -> Result<Self, ContactError> {
+        match name {
+            "tree" => Ok(HertzSearch::Tree),
+            "travel" => Ok(HertzSearch::Travel),
+            _ => Err(ContactError::BadOption {
+                key: "hertz_search",
+                value: name.to_string(),
+                expected: "tree or travel".into(),
+            }),
+        }
+    }
 }
 
 impl Default for ContactOptions {
@@ -139,6 +170,7 @@ impl Default for ContactOptions {
             exact_cells: (32, 32),
             max_penetration: 5e-3,
             linear_creep: None,
+            hertz_search: HertzSearch::Tree,
         }
     }
 }
@@ -269,6 +301,7 @@ pub struct ContactWorkspace {
     /// The zones of the last travelling.
     pub zones: Vec<Zone>,
     pairs_scratch: Vec<IsoPair>,
+    candidates: Vec<Candidate>,
     /// Strips of the last STRIPES patch.
     pub strips: Vec<Strip>,
     local: Vec<Local>,
@@ -373,54 +406,28 @@ impl WheelRailContact {
         let sp = pose.to_side(side);
         let sv = vel.to_side(side);
         let ctx = PoseCtx::new(&self.pair, &sp);
-        let mut stats = TravelStats::default();
-        let warm_travelled = warm.as_mut().is_some_and(|w| {
-            w.travel(
-                &self.pair,
-                &ctx,
-                &self.opts.travel,
-                &mut ws.pairs,
-                &mut stats,
-            )
-        });
-        if !warm_travelled {
-            stats = travel(&self.pair, &sp, &self.opts.travel, &mut ws.pairs);
-            if let Some(w) = warm {
-                w.store_cold(&self.pair, &ctx, &ws.pairs);
-            }
-        }
-        stats.warm = warm_travelled;
-        if !warm_travelled && ws.pairs.len() < 3 {
-            return Err(ContactError::NoOverlap {
-                side: side.name(),
-                y_mm: pose.y * 1e3,
-            });
-        }
-        find_zones(
-            &ws.pairs,
-            self.opts.split_angle,
-            self.opts.split_depth_ratio,
-            &mut ws.zones,
-        );
-        if self.opts.min_zone_pairs > 0
-            && refine_narrow_zones(
-                &self.pair,
-                &sp,
-                &self.opts.travel,
-                self.opts.min_zone_pairs,
-                &mut ws.pairs,
-                &ws.zones,
-                &mut ws.pairs_scratch,
-                &mut stats,
-            )
-        {
-            find_zones(
-                &ws.pairs,
-                self.opts.split_angle,
-                self.opts.split_depth_ratio,
-                &mut ws.zones,
+        let point_search = self.opts.hertz_search == HertzSearch::Tree
+            && matches!(
+                self.opts.model,
+                ContactModelKind::Polach | ContactModelKind::Fastsim | ContactModelKind::Linear
             );
+        let mut found = None;
+        if point_search {
+            if let Some(w) = warm.as_mut() {
+                w.invalidate();
+            }
+            found = self.point_search(side, pose, &ctx, ws)?;
         }
+        let stats = match found {
+            Some(stats) => stats,
+            None => {
+                self.travel_zones(&sp, &ctx, warm, ws)
+                    .map_err(|()| ContactError::NoOverlap {
+                        side: side.name(),
+                        y_mm: pose.y * 1e3,
+                    })?
+            }
+        };
         let kin = WheelKinematics::new(&ctx, sp.roll, &sv);
         ws.patches.clear();
         let mut total = [0.0; 3];
@@ -502,6 +509,98 @@ impl WheelRailContact {
             load_iterations: 0,
             load_residual: 0.0,
         })
+    }
+
+    /// The seed's travelling (warm-started where possible) and the zones of its pairs, in
+    /// `ws.pairs` and `ws.zones`; `Err` when the profiles do not overlap laterally.
+    fn travel_zones(
+        &self,
+        sp: &WheelsetPose,
+        ctx: &PoseCtx,
+        mut warm: Option<&mut WarmStart>,
+        ws: &mut ContactWorkspace,
+    ) -> Result<TravelStats, ()> {
+        let mut stats = TravelStats::default();
+        let warm_travelled = warm.as_mut().is_some_and(|w| {
+            w.travel(
+                &self.pair,
+                ctx,
+                &self.opts.travel,
+                &mut ws.pairs,
+                &mut stats,
+            )
+        });
+        if !warm_travelled {
+            stats = travel(&self.pair, sp, &self.opts.travel, &mut ws.pairs);
+            if let Some(w) = warm {
+                w.store_cold(&self.pair, ctx, &ws.pairs);
+            }
+        }
+        stats.warm = warm_travelled;
+        if !warm_travelled && ws.pairs.len() < 3 {
+            return Err(());
+        }
+        find_zones(
+            &ws.pairs,
+            self.opts.split_angle,
+            self.opts.split_depth_ratio,
+            &mut ws.zones,
+        );
+        if self.opts.min_zone_pairs > 0
+            && refine_narrow_zones(
+                &self.pair,
+                sp,
+                &self.opts.travel,
+                self.opts.min_zone_pairs,
+                &mut ws.pairs,
+                &ws.zones,
+                &mut ws.pairs_scratch,
+                &mut stats,
+            )
+        {
+            find_zones(
+                &ws.pairs,
+                self.opts.split_angle,
+                self.opts.split_depth_ratio,
+                &mut ws.zones,
+            );
+        }
+        Ok(stats)
+    }
+
+    /// The single-point search of the Hertz models (`crate::point`): one pair per zone in
+    /// `ws.pairs`, one-pair zones in `ws.zones`; `None` where it leaves the pose to the
+    /// travelling.
+    fn point_search(
+        &self,
+        side: Side,
+        pose: &WheelsetPose,
+        ctx: &PoseCtx,
+        ws: &mut ContactWorkspace,
+    ) -> Result<Option<TravelStats>, ContactError> {
+        // The profiles must overlap laterally, as for the travelling.
+        let y_tip = locus(&self.pair, ctx, self.pair.wheel_s_tip).p[1];
+        let y_end = locus(&self.pair, ctx, self.pair.wheel.length()).p[1];
+        let (r0, r1) = self.pair.rail.y_range();
+        if y_end.min(r1) - y_tip.max(r0) <= 0.0 {
+            return Err(ContactError::NoOverlap {
+                side: side.name(),
+                y_mm: pose.y * 1e3,
+            });
+        }
+        let opts = PointOptions {
+            split_angle: self.opts.split_angle,
+            split_depth_ratio: self.opts.split_depth_ratio,
+        };
+        Ok(point::search(
+            &self.pair,
+            ctx,
+            &self.opts.travel,
+            &opts,
+            &mut ws.candidates,
+            &mut ws.pairs,
+            &mut ws.zones,
+        ))
     }
 
     /// Evaluate with a prescribed vertical load: the wheelset height `pose.z` is iterated

@@ -4,6 +4,7 @@
 use railsim_elastic::Material;
 use railsim_profile::{ArcCurve, Profile, RailPlacement, place_rail};
 
+use crate::broad::ArcTree;
 use crate::error::ContactError;
 
 /// What a [`WheelRailPair`] is built from. Lengths in metres.
@@ -65,6 +66,11 @@ pub struct WheelRailPair {
     pub rail_kappa_ahead: Vec<f64>,
     wheel_inv_ds: f64,
     rail_inv_ds: f64,
+    /// Bounding hierarchy of the wheel curve from the flange tip on (the part that is travelled),
+    /// for the single-point search of the Hertz models (`crate::broad`).
+    pub wheel_tree: ArcTree,
+    /// Bounding hierarchy of the rail curve.
+    pub rail_tree: ArcTree,
 }
 
 /// \[m\] length of the window over which curvature bounds are taken ahead of a point; at least
@@ -151,6 +157,8 @@ impl WheelRailPair {
         let wheel_inv_ds = 1.0 / wheel.ds();
         let rail_inv_ds = 1.0 / rail.ds();
         let rail_kappa_ahead = kappa_ahead(&rail);
+        let wheel_tree = ArcTree::new(&wheel, s_tip, wheel.length(), spec.r0);
+        let rail_tree = ArcTree::new(&rail, 0.0, rail.length(), 0.0);
         Ok(WheelRailPair {
             wheel,
             rail,
@@ -164,6 +172,8 @@ impl WheelRailPair {
             rail_kappa_ahead,
             wheel_inv_ds,
             rail_inv_ds,
+            wheel_tree,
+            rail_tree,
         })
     }
 

@@ -1,0 +1,388 @@
+//! Broad phase of the single-point contact search of the Hertz models: bounding hierarchies of
+//! the two profile curves, built once per pair, and a simultaneous descent of both that returns
+//! the pairs of small arcs (leaves) where the rail can touch or interpenetrate the wheel for one
+//! pose. Everything else is proved out of contact by bounds, without evaluating a curve point.
+//!
+//! A node of an [`ArcTree`] is an arc of the curve with its chord and `thick`, the largest
+//! distance of the arc from the chord (the arc lies in the capsule of that radius around the
+//! chord). The wheel's nodes are mapped to the side frame by the pose: the rigid image of the
+//! profile is an affine image of the chord (the linear part is a block of the rotation matrix,
+//! of norm at most 1, so the thickness does not grow); the yawed contact locus
+//! (`geometry` module docs) differs from the rigid image by `R (rho sin th, 0, rho (1 - cos th))`
+//! with `sin th = -tan(yaw) rho'`: the chord's end points are moved by their own offsets and the
+//! capsule is widened by the range of the offset over the node's rho and rho'.
+//!
+//! A rail arc `a` and a wheel arc `b` are dropped when, measured from the wheel chord with `u`
+//! its direction and `n` its normal toward the wheel's material:
+//! - the rail chord lies more than `thick_a + thick_b` on the outer side of `b`'s chord line
+//!   (every rail point is then below every point of the wheel arc: no interpenetration, no touch);
+//! - or deeper than `depth + thick_a + thick_b` on the material side (`depth` = 0.5 mm, see
+//!   `crate::point` for what happens to deeper zones);
+//! - or, along `u`, the two chords' extents are further apart than the lateral shift a pair of
+//!   points can have across a penetration of that depth (`depth · tan 75°`, the angle between the
+//!   pair's normal and `n` being at most the turning of the arc plus 60° between the tangents).
+//!
+//! The last two rules need the wheel arc to turn by less than 15° (its tangents within 15° of the
+//! chord); bigger nodes are only dropped by the first. Source of the method: bounding-volume
+//! hierarchies as in collision detection (e.g. Ericson, *Real-Time Collision Detection*, 2005,
+//! ch. 6); the bounds above are derived here for the isosceles pairs of seed §3.2.
+
+use railsim_profile::ArcCurve;
+
+use crate::geometry::{PoseCtx, locus_cos, locus_sin};
+use crate::pair::WheelRailPair;
+
+/// \[m\] leaves are split until their arc deviates from the chord by at most this...
+const LEAF_THICK: f64 = 8e-6;
+/// \[m\] ... and are at most this long.
+const LEAF_LEN: f64 = 8e-3;
+/// cos 60°: nodes turning less than this are tested by side.
+const COS_SIDE: f64 = 0.26;
+/// cos 15°: nodes turning less than this are tested by side and extent, not only by side.
+const COS_STRAIGHT: f64 = 0.9659;
+/// tan 75°: bound of the lateral shift per unit depth of a penetrating pair (see module docs).
+const TAN_SHIFT: f64 = 0.5;
+
+/// One arc of an [`ArcTree`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TreeNode {
+    /// \[m\] arc-length range
+    pub s: [f64; 2],
+    /// chord end points (the curve's own frame)
+    pub p0: [f64; 2],
+    /// chord end points (the curve's own frame)
+    pub p1: [f64; 2],
+    /// \[m\] largest distance of the arc from the chord segment
+    pub thick: f64,
+    /// smallest cosine between a tangent of the arc and the chord direction
+    pub cos_min: f64,
+    /// wheel trees: largest |rho'| on the arc, `rho' = -t_z / t_y` the profile's slope (|t_y|
+    /// floored at 1e-6)
+    pub slope_abs: f64,
+    /// wheel trees: `rho'` at the chord's two end points
+    pub slope_end: [f64; 2],
+    /// wheel trees: \[m\] range of `rho rho'` on the arc (`rho = r0 - z`)
+    pub m1: [f64; 2],
+    /// wheel trees: \[m\] range of `rho rho'^2`
+    pub m2: [f64; 2],
+    /// wheel trees: \[m\] largest `rho rho'^4`
+    pub m4: f64,
+    /// wheel trees: \[m\] largest `rho`
+    pub rho_max: f64,
+    /// index of the first child (the second follows it); 0 for a leaf
+    pub child: u32,
+}
+
+impl TreeNode {
+    /// Unit direction of the chord.
+    pub fn dir(&self) -> [f64; 2] {
+        let d = [self.p1[0] - self.p0[0], self.p1[1] - self.p0[1]];
+        let l = (d[0] * d[0] + d[1] * d[1]).sqrt().max(1e-300);
+        [d[0] / l, d[1] / l]
+    }
+}
+
+/// A bounding hierarchy of an [`ArcCurve`] over an arc-length range: binary, split at the
+/// middle node until the arcs are flatter than [`LEAF_THICK`] and shorter than [`LEAF_LEN`].
+/// Node 0 is the root. A wheel's tree also keeps the ranges that bound its yawed contact locus.
+#[derive(Clone, Debug, Default)]
+pub struct ArcTree {
+    /// The nodes; node 0 is the root.
+    pub nodes: Vec<TreeNode>,
+}
+
+impl ArcTree {
+    /// Build the hierarchy of `curve` over arc lengths `[s0, s1]`; `r0` \[m\] is the nominal
+    /// radius of a wheel profile (rho = r0 - z; any value for a rail).
+    pub fn new(curve: &ArcCurve, s0: f64, s1: f64, r0: f64) -> ArcTree {
+        let ds = curve.ds();
+        let pts = curve.nodes();
+        let last = pts.len() - 1;
+        let i0 = ((s0 / ds).floor() as usize).min(last - 1);
+        let i1 = ((s1 / ds).ceil() as usize).clamp(i0 + 1, last);
+        let mut tree = ArcTree { nodes: vec![] };
+        tree.nodes.push(TreeNode::default());
+        tree.fill(0, curve, r0, i0, i1);
+        tree
+    }
+
+    fn fill(&mut self, slot: usize, curve: &ArcCurve, r0: f64, i0: usize, i1: usize) {
+        let ds = curve.ds();
+        let pts = &curve.nodes()[i0..=i1];
+        let (a, b) = (pts[0].p, pts[pts.len() - 1].p);
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len = (d[0] * d[0] + d[1] * d[1]).sqrt().max(1e-15);
+        let u = [d[0] / len, d[1] / len];
+        let (mut thick, mut cos_min, mut kmax) = (0.0f64, 1.0f64, 0.0f64);
+        let empty = [f64::INFINITY, f64::NEG_INFINITY];
+        let (mut m1, mut m2, mut m4, mut slope_abs, mut rho_max) =
+            (empty, empty, 0.0f64, 0.0f64, 0.0f64);
+        // largest change of rho rho' and rho rho'^2 between neighbouring nodes: the slack of the
+        // ranges between nodes
+        let (mut d1, mut d2, mut prev) = (0.0f64, 0.0f64, None::<(f64, f64)>);
+        for c in pts {
+            let v = [c.p[0] - a[0], c.p[1] - a[1]];
+            let along = v[0] * u[0] + v[1] * u[1];
+            let dist = if along < 0.0 {
+                (v[0] * v[0] + v[1] * v[1]).sqrt()
+            } else if along > len {
+                ((c.p[0] - b[0]).powi(2) + (c.p[1] - b[1]).powi(2)).sqrt()
+            } else {
+                (v[0] * u[1] - v[1] * u[0]).abs()
+            };
+            thick = thick.max(dist);
+            cos_min = cos_min.min(c.t[0] * u[0] + c.t[1] * u[1]);
+            let (q, rho) = (rho_slope(c.t), r0 - c.p[1]);
+            let (a1, a2) = (rho * q, rho * q * q);
+            m1 = [m1[0].min(a1), m1[1].max(a1)];
+            m2 = [m2[0].min(a2), m2[1].max(a2)];
+            m4 = m4.max(a2 * q * q);
+            slope_abs = slope_abs.max(q.abs());
+            rho_max = rho_max.max(rho);
+            if let Some((b1, b2)) = prev {
+                d1 = d1.max((a1 - b1).abs());
+                d2 = d2.max((a2 - b2).abs());
+            }
+            prev = Some((a1, a2));
+            kmax = kmax.max(c.kappa.abs());
+        }
+        // Between the resampled nodes the curve is a cubic Hermite arc; it leaves the polygon
+        // of the nodes by at most about kappa ds^2 / 8 (doubled, and a nanometre of round-off).
+        thick += 0.25 * kmax * ds * ds + 1e-9;
+        let s_range = [i0 as f64 * ds, (i1 as f64 * ds).min(curve.length())];
+        self.nodes[slot] = TreeNode {
+            s: s_range,
+            p0: a,
+            p1: b,
+            thick,
+            cos_min,
+            slope_abs,
+            slope_end: [rho_slope(pts[0].t), rho_slope(pts[pts.len() - 1].t)],
+            m1: [m1[0] - d1, m1[1] + d1],
+            m2: [m2[0] - d2, m2[1] + d2],
+            m4: m4 * 1.01,
+            rho_max: rho_max + 0.5 * kmax * ds * ds,
+            child: 0,
+        };
+        let leaf = (thick <= LEAF_THICK && s_range[1] - s_range[0] <= LEAF_LEN) || i1 - i0 <= 4;
+        if !leaf {
+            let c = self.nodes.len();
+            self.nodes.push(TreeNode::default());
+            self.nodes.push(TreeNode::default());
+            self.nodes[slot].child = c as u32;
+            let mid = (i0 + i1) / 2;
+            self.fill(c, curve, r0, i0, mid);
+            self.fill(c + 1, curve, r0, mid, i1);
+        }
+    }
+
+    /// Number of leaves.
+    pub fn leaves(&self) -> usize {
+        self.nodes.iter().filter(|n| n.child == 0).count()
+    }
+}
+
+/// The wheel profile's slope `rho' = -t_z / t_y` (as in the locus), |t_y| floored at 1e-6.
+fn rho_slope(t: [f64; 2]) -> f64 {
+    let ty = if t[0].abs() < 1e-6 { 1e-6 } else { t[0] };
+    -t[1] / ty
+}
+
+/// A rail leaf and a wheel leaf that the bounds could not separate, with estimates from the
+/// chords: the rail point of largest depth into the wheel and its wheel partner.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Candidate {
+    /// rail leaf's arc-length range
+    pub s_r: [f64; 2],
+    /// \[m\] estimated depth of the rail chord into the wheel (largest end-point offset toward the
+    /// wheel's material from its chord line; negative: a gap)
+    pub depth: f64,
+    /// estimated rail arc length of the deepest point
+    pub s_r_est: f64,
+    /// estimated wheel arc length of its partner
+    pub s_w_est: f64,
+    /// unit direction of the rail leaf's chord
+    pub chord: [f64; 2],
+}
+
+/// The wheel nodes' map from profile to side frame for one pose.
+struct WheelMap {
+    /// side-frame (y, z) of the profile origin
+    c: [f64; 2],
+    /// linear part: side (y, z) = c + m (py, pz)
+    m: [[f64; 2]; 2],
+    /// tan yaw, 0 without yaw
+    tan_yaw: f64,
+    /// rotation entries mapping the locus offset (x, z components) to side (y, z)
+    rx: [f64; 2],
+    rz: [f64; 2],
+    /// |rx0| + |rx1|, |rz0| + |rz1|
+    ax: f64,
+    az: f64,
+    r0: f64,
+}
+
+impl WheelMap {
+    fn new(pair: &WheelRailPair, ctx: &PoseCtx) -> Self {
+        let r = &ctx.r;
+        // locus (no yaw): y = c1 + r11 axial - r12 rho with axial = y0 + py, rho = r0 - pz.
+        let m = [[r[1][1], r[1][2]], [r[2][1], r[2][2]]];
+        let (ax, mr) = (pair.wheel_y0, -pair.r0);
+        WheelMap {
+            c: [
+                ctx.c[1] + m[0][0] * ax + m[0][1] * mr,
+                ctx.c[2] + m[1][0] * ax + m[1][1] * mr,
+            ],
+            m,
+            tan_yaw: if ctx.yawed { ctx.tan_yaw } else { 0.0 },
+            rx: [r[1][0], r[2][0]],
+            rz: [r[1][2], r[2][2]],
+            ax: r[1][0].abs() + r[2][0].abs(),
+            az: r[1][2].abs() + r[2][2].abs(),
+            r0: pair.r0,
+        }
+    }
+
+    /// The yawed locus' offset from the rigid image, `R (rho st, 0, rho (1 - ct))`, (y, z).
+    #[inline]
+    fn offset(&self, rho: f64, rho_p: f64) -> [f64; 2] {
+        let st = locus_sin(self.tan_yaw, rho_p);
+        let (a, b) = (rho * st, rho * (1.0 - locus_cos(st)));
+        [
+            self.rx[0] * a + self.rz[0] * b,
+            self.rx[1] * a + self.rz[1] * b,
+        ]
+    }
+
+    /// The node's chord end points in the side frame (on the locus) and its capsule radius.
+    #[inline]
+    fn chord(&self, n: &TreeNode) -> ([f64; 2], [f64; 2], f64) {
+        let q = |p: [f64; 2]| {
+            [
+                self.c[0] + self.m[0][0] * p[0] + self.m[0][1] * p[1],
+                self.c[1] + self.m[1][0] * p[0] + self.m[1][1] * p[1],
+            ]
+        };
+        let (mut q0, mut q1) = (q(n.p0), q(n.p1));
+        if self.tan_yaw == 0.0 {
+            return (q0, q1, n.thick);
+        }
+        let (o0, o1) = (
+            self.offset(self.r0 - n.p0[1], n.slope_end[0]),
+            self.offset(self.r0 - n.p1[1], n.slope_end[1]),
+        );
+        q0 = [q0[0] + o0[0], q0[1] + o0[1]];
+        q1 = [q1[0] + o1[0], q1[1] + o1[1]];
+        // Inside the node the offset stays within its range over the node, and so does the
+        // interpolation between the end offsets: the range bounds the widening. With
+        // st = -T rho' (|T rho'| <= 0.5), rho st = -T rho rho' and, by the series of cos,
+        // rho (1 - ct) = T^2 rho rho'^2 (1/2 + e) with 0 <= e <= 0.14 T^2 rho'^2.
+        let t = self.tan_yaw.abs();
+        let widen = if t * n.slope_abs <= 0.5 {
+            t * (n.m1[1] - n.m1[0]) * self.ax
+                + t * t * (0.5 * (n.m2[1] - n.m2[0]) + 0.14 * t * t * n.m4) * self.az
+        } else {
+            // the clamp of sin theta at 0.5 acts somewhere on the node: the whole offset
+            n.rho_max * (0.5 * self.ax + 0.14 * self.az)
+        };
+        (q0, q1, n.thick + widen)
+    }
+}
+
+/// The leaves of the two trees of `pair` that the bounds cannot separate at this pose, in
+/// `out` (cleared first). `depth` \[m\] is the deepest interpenetration of interest: arcs
+/// further inside the wheel are dropped (the zone edges, where the curves cross, are kept at
+/// any depth).
+pub(crate) fn candidates(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    depth: f64,
+    out: &mut Vec<Candidate>,
+) {
+    out.clear();
+    let (rt, wt) = (&pair.rail_tree.nodes, &pair.wheel_tree.nodes);
+    if rt.is_empty() || wt.is_empty() {
+        return;
+    }
+    let map = WheelMap::new(pair, ctx);
+    let mut stack = [(0u32, 0u32); 96];
+    let mut top = 1usize;
+    while top > 0 {
+        top -= 1;
+        let (ia, ib) = stack[top];
+        let (a, b) = (&rt[ia as usize], &wt[ib as usize]);
+        let (q0, q1, tb) = map.chord(b);
+        let t = a.thick + tb;
+        // boxes around the two capsules, further apart than the depth: no pair of points of the
+        // two arcs is closer than that (|P - Q| = -gap for a penetrating pair)
+        let m = t + depth;
+        if a.p0[0].min(a.p1[0]) > q0[0].max(q1[0]) + m
+            || a.p0[0].max(a.p1[0]) < q0[0].min(q1[0]) - m
+            || a.p0[1].min(a.p1[1]) > q0[1].max(q1[1]) + m
+            || a.p0[1].max(a.p1[1]) < q0[1].min(q1[1]) - m
+        {
+            continue;
+        }
+        // Offsets toward the wheel's material (the left normal of the field-ward chord) and
+        // positions along the chord, both times the chord length `len` (no division).
+        let d = [q1[0] - q0[0], q1[1] - q0[1]];
+        let len2 = (d[0] * d[0] + d[1] * d[1]).max(1e-30);
+        let v0 = [a.p0[0] - q0[0], a.p0[1] - q0[1]];
+        let v1 = [a.p1[0] - q0[0], a.p1[1] - q0[1]];
+        let (o0, o1) = (d[0] * v0[1] - d[1] * v0[0], d[0] * v1[1] - d[1] * v1[0]);
+        let (o_max, o_min) = (o0.max(o1), o0.min(o1));
+        // o_max / len + t < 0, and o_min / len - t > depth, without the square root
+        if (b.cos_min >= COS_SIDE && o_max < 0.0 && o_max * o_max > t * t * len2)
+            || (o_min > 0.0 && o_min * o_min > (t + depth) * (t + depth) * len2)
+        {
+            continue;
+        }
+        let len = len2.sqrt();
+        if b.cos_min >= COS_STRAIGHT {
+            let (e0, e1) = (v0[0] * d[0] + v0[1] * d[1], v1[0] * d[0] + v1[1] * d[1]);
+            let shift = TAN_SHIFT * (o_max + t * len).min((depth + t) * len) + t * len;
+            if e0.max(e1) < -shift || e0.min(e1) > len2 + shift {
+                continue;
+            }
+        }
+        let (la, lb) = (a.child == 0, b.child == 0);
+        if la && lb {
+            // estimates: the deeper rail end point and its projection on the wheel chord
+            let (s_r_est, e) = if o0 >= o1 {
+                (a.s[0], v0[0] * d[0] + v0[1] * d[1])
+            } else {
+                (a.s[1], v1[0] * d[0] + v1[1] * d[1])
+            };
+            let f = (e / len2).clamp(0.0, 1.0);
+            out.push(Candidate {
+                s_r: a.s,
+                depth: o_max / len,
+                s_r_est,
+                s_w_est: b.s[0] + f * (b.s[1] - b.s[0]),
+                chord: a.dir(),
+            });
+            continue;
+        }
+        // split the longer arc (or the one that is not a leaf)
+        let split_a = !la && (lb || a.s[1] - a.s[0] >= b.s[1] - b.s[0]);
+        if top + 2 > stack.len() {
+            // Cannot happen with trees of depth < 48; keep the pair as a coarse candidate.
+            out.push(Candidate {
+                s_r: a.s,
+                depth: o_max / len,
+                s_r_est: 0.5 * (a.s[0] + a.s[1]),
+                s_w_est: 0.5 * (b.s[0] + b.s[1]),
+                chord: a.dir(),
+            });
+            continue;
+        }
+        if split_a {
+            stack[top] = (a.child, ib);
+            stack[top + 1] = (a.child + 1, ib);
+        } else {
+            stack[top] = (ia, b.child);
+            stack[top + 1] = (ia, b.child + 1);
+        }
+        top += 2;
+    }
+}

@@ -1,0 +1,269 @@
+//! Single-point contact search of the Hertz models (`polach`, `fastsim`, `linear`): one rigid
+//! contact pair per penetrated zone, found without travelling the profiles.
+//!
+//! The broad phase ([`crate::broad`]) leaves the few pairs of short arcs where the rail can
+//! touch or enter the wheel. Consecutive rail arcs form runs; in each run every local maximum of
+//! the chord estimates of the depth (deepest first, skipping those next to a minimum already
+//! found) starts a Newton search for the rigid contact pair: the isosceles pair (`f = 0`, `geometry` module docs) whose tangents are
+//! parallel, i.e. the point where the gap along the pairs, `g(s_r)`, has `g' = t_B × t_A = 0`
+//! (seed §3.2: the pair with θ_C = 90°). Newton runs on both conditions at once with the exact
+//! derivatives of `f` and the curvature terms of the tangents, kept in a bracket of `s_r` that
+//! is narrowed by the sign of `g'`, with fixed descent steps where `g` is not convex.
+//!
+//! A minimum with a negative gap is a zone. Two neighbouring minima of one run are two zones
+//! when the largest gap between them (Newton again, for the maximum) is positive, or when the
+//! `find_zones` rule of the travelling splits them (the penetration there below
+//! `split_depth_ratio` of the smaller one and contact angles more than `split_angle` apart);
+//! otherwise the deeper one is the zone. The result has the same form as a travelling: one
+//! pair per zone and zones of one pair each, so the Hertz patch frame is built as before.
+
+use crate::broad::{Candidate, candidates};
+use crate::geometry::{
+    IsoPair, PairEval, PoseCtx, TravelOptions, TravelStats, Zone, eval_pair, normal_and_gap,
+    pair_at_rail, record, travel_error,
+};
+use crate::pair::WheelRailPair;
+
+/// Options of the search (from the contact options).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PointOptions {
+    pub split_angle: f64,
+    pub split_depth_ratio: f64,
+}
+
+/// \[m\] Newton stops when both arc lengths move less than this.
+const S_TOL: f64 = 1e-8;
+/// \[m\] two minima closer than this on the rail are the same.
+const SAME: f64 = 0.2e-3;
+/// Most distinct minima in one run (more: the travelling takes over).
+const MAX_MINIMA: usize = 6;
+/// \[m\] the broad phase keeps arcs up to this far inside the wheel; a zone deeper than half of
+/// it is handed to the travelling.
+pub(crate) const BROAD_DEPTH: f64 = 0.5e-3;
+
+/// Find the rigid contact pair of every zone: pairs to `pairs`, one-pair zones to `zones`
+/// (both cleared first); `cands` is scratch. `None` when the search cannot vouch for its result
+/// (a minimum on the edge of its run, or a zone deeper than half of [`BROAD_DEPTH`]): the
+/// caller travels instead.
+pub(crate) fn search(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    travel: &TravelOptions,
+    opts: &PointOptions,
+    cands: &mut Vec<Candidate>,
+    pairs: &mut Vec<IsoPair>,
+    zones: &mut Vec<Zone>,
+) -> Option<TravelStats> {
+    let mut stats = TravelStats::default();
+    pairs.clear();
+    zones.clear();
+    candidates(pair, ctx, BROAD_DEPTH, cands);
+    // sorted along the rail (few candidates: insertion sort)
+    for i in 1..cands.len() {
+        let mut j = i;
+        while j > 0 && cands[j - 1].s_r[0] > cands[j].s_r[0] {
+            cands.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    let mut i = 0;
+    while i < cands.len() {
+        // a run: rail arcs that touch or overlap
+        let mut j = i;
+        let mut end = cands[i].s_r[1];
+        while j + 1 < cands.len() && cands[j + 1].s_r[0] <= end + 1e-9 {
+            j += 1;
+            end = end.max(cands[j].s_r[1]);
+        }
+        run_minima(pair, ctx, travel, opts, &cands[i..=j], pairs, &mut stats)?;
+        i = j + 1;
+    }
+    if pairs.iter().any(|p| p.gap < -0.5 * BROAD_DEPTH) {
+        return None;
+    }
+    for k in 0..pairs.len() {
+        zones.push(Zone {
+            first: k,
+            last: k,
+            deepest: k,
+        });
+    }
+    Some(stats)
+}
+
+/// The zone(s) of one run of candidates (sorted by rail arc length).
+fn run_minima(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    travel: &TravelOptions,
+    opts: &PointOptions,
+    run: &[Candidate],
+    pairs: &mut Vec<IsoPair>,
+    stats: &mut TravelStats,
+) -> Option<()> {
+    let lo = (run[0].s_r[0] - 1e-3).max(0.0);
+    let hi = (run.iter().fold(0.0f64, |m, c| m.max(c.s_r[1])) + 1e-3).min(pair.rail.length());
+    // Newton from every local maximum of the depth estimates along the rail (deepest first),
+    // unless a minimum already found lies within 1 mm of it.
+    let mut mins = [IsoPair::default(); MAX_MINIMA];
+    let mut n = 0;
+    let mut done = [false; 64];
+    for _ in 0..run.len().min(64) {
+        let Some(k) = (0..run.len().min(64))
+            .filter(|&k| !done[k])
+            .max_by(|&a, &b| run[a].depth.total_cmp(&run[b].depth))
+        else {
+            break;
+        };
+        done[k] = true;
+        let c = &run[k];
+        let peak = run
+            .iter()
+            .filter(|o| (o.s_r_est - c.s_r_est).abs() <= 1.5e-3)
+            .all(|o| o.depth <= c.depth);
+        if !peak || mins[..n].iter().any(|m| (m.s_r - c.s_r_est).abs() < 1e-3) {
+            continue;
+        }
+        let (e, s_w, s_r) = local_min(pair, ctx, travel, c, lo, hi, stats)?;
+        let p = record(&e, s_w, s_r, travel_error(&e));
+        if mins[..n].iter().all(|m| (m.s_r - p.s_r).abs() >= SAME) {
+            if n == MAX_MINIMA {
+                return None;
+            }
+            mins[n] = p;
+            n += 1;
+        }
+    }
+    let mins = &mut mins[..n];
+    mins.sort_by(|a, b| a.s_r.total_cmp(&b.s_r));
+    // Neighbouring penetrating minima are one zone (the deeper one) unless the largest gap
+    // between them is positive or the split rule of `find_zones` holds.
+    let angle = |p: &IsoPair| p.n[0].atan2(p.n[1]);
+    let mut current: Option<IsoPair> = None;
+    for &q in mins.iter().filter(|m| m.gap < 0.0) {
+        let Some(p) = current else {
+            current = Some(q);
+            continue;
+        };
+        // the largest gap between them: Newton from the shallowest estimate in between
+        let start = run
+            .iter()
+            .filter(|c| c.s_r_est > p.s_r && c.s_r_est < q.s_r)
+            .min_by(|a, b| a.depth.total_cmp(&b.depth))
+            .map_or(0.5 * (p.s_r + q.s_r), |c| c.s_r_est);
+        let f = (start - p.s_r) / (q.s_r - p.s_r);
+        let s_w0 = p.s_w + f * (q.s_w - p.s_w);
+        let (e, _, _, _) = extremum(pair, ctx, travel, start, s_w0, p.s_r, q.s_r, -1.0, stats);
+        let hump = normal_and_gap(&e).1;
+        let separate = hump >= 0.0
+            || (-hump < opts.split_depth_ratio * (-p.gap).min(-q.gap)
+                && (angle(&p) - angle(&q)).abs() > opts.split_angle);
+        if separate {
+            pairs.push(p);
+            current = Some(q);
+        } else if q.gap < p.gap {
+            current = Some(q);
+        }
+    }
+    if let Some(p) = current {
+        pairs.push(p);
+    }
+    Some(())
+}
+
+/// Newton search for the local minimum of the gap along the isosceles pairs from the estimate
+/// `c`, with the rail arc length kept in `[lo, hi]`. Returns the pair and its arc lengths, or
+/// `None` if Newton did not converge or the minimum lies on the edge of `[lo, hi]` with a
+/// negative gap.
+fn local_min(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    travel: &TravelOptions,
+    c: &Candidate,
+    lo: f64,
+    hi: f64,
+    stats: &mut TravelStats,
+) -> Option<(PairEval, f64, f64)> {
+    let (e, s_w, s_r, converged) =
+        extremum(pair, ctx, travel, c.s_r_est, c.s_w_est, lo, hi, 1.0, stats);
+    // A minimum on the edge of the run: beyond it no arc can touch (no candidates), so with a
+    // positive gap there is no zone here; with a negative one the zone reaches past the run
+    // (deeper than the broad phase's depth): leave it to the travelling.
+    let on_edge = s_r - lo < 1e-6 || hi - s_r < 1e-6;
+    if !converged || (on_edge && normal_and_gap(&e).1 < 0.0) {
+        return None;
+    }
+    Some((e, s_w, s_r))
+}
+
+/// Newton search for a local minimum (`sign` = 1) or maximum (`sign` = -1) of the gap along the
+/// isosceles pairs from (`s_r`, `s_w`), with `s_r` kept in `[lo, hi]`; the pair is isosceles to
+/// the travelling's tolerance. Returns the pair, its arc lengths and whether Newton converged.
+#[allow(clippy::too_many_arguments)]
+fn extremum(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    travel: &TravelOptions,
+    mut s_r: f64,
+    mut s_w: f64,
+    mut lo: f64,
+    mut hi: f64,
+    sign: f64,
+    stats: &mut TravelStats,
+) -> (PairEval, f64, f64, bool) {
+    let mut converged = false;
+    let l_w = pair.wheel.length();
+    s_r = s_r.clamp(lo, hi);
+    let mut e = eval_pair(pair, ctx, s_w, s_r);
+    stats.pairs += 1;
+    for _ in 0..24 {
+        let (ta, tb) = (e.a.t, e.b.t);
+        let tab = ta[0] * tb[0] + ta[1] * tb[1];
+        // g' along the pairs: the sine of the angle between the tangents
+        let g1 = tb[0] * ta[1] - tb[1] * ta[0];
+        let sp = e.a.speed;
+        // derivatives of f and g' (per unit profile arc of the wheel, per unit rail arc)
+        let f_w = e.dfdw * sp;
+        let f_r = e.dfdw - e.dfds;
+        let g_w = e.a.kappa * tab * sp;
+        let g_r = -e.b.kappa * tab;
+        if f_w.abs() < 1e-12 {
+            break;
+        }
+        // f = 0 solved for s_w at fixed s_r, and how s_w follows s_r along f = 0
+        let dw0 = -e.f / f_w;
+        let dw_dr = -f_r / f_w;
+        // g' and its derivative along the pairs (of -g for a maximum)
+        let h = sign * (g1 + g_w * dw0);
+        let hp = sign * (g_r + g_w * dw_dr);
+        if h < 0.0 {
+            lo = lo.max(s_r);
+        } else {
+            hi = hi.min(s_r);
+        }
+        let mut dr = if hp > 1e-3 {
+            (-h / hp).clamp(-4e-3, 4e-3)
+        } else {
+            -h.signum() * 0.5e-3
+        };
+        if !(s_r + dr > lo && s_r + dr < hi) {
+            dr = 0.5 * (lo + hi) - s_r;
+        }
+        let dw = dw0 + dw_dr * dr;
+        s_r += dr;
+        s_w = (s_w + dw.clamp(-2e-3, 2e-3)).clamp(0.0, l_w);
+        e = eval_pair(pair, ctx, s_w, s_r);
+        stats.pairs += 1;
+        if (dr.abs() < S_TOL && dw.abs() < S_TOL) || hi - lo < S_TOL {
+            converged = true;
+            break;
+        }
+    }
+    let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
+    if e.f.abs() > travel.angle_tol * chord.max(1e-9) {
+        let (e1, s_w1, _) = pair_at_rail(pair, ctx, travel, s_r, s_w, stats);
+        e = e1;
+        s_w = s_w1;
+    }
+    (e, s_w, s_r, converged)
+}

@@ -1,0 +1,159 @@
+//! The single-point search of the Hertz models (`railsim_contact::point`, bounding hierarchies
+//! and Newton on the rigid contact pair) against the seed's travelling on the same models, over
+//! poses spread across the whole wheel: tread, flange root and flange, both wheels, yaw to
+//! ±25 mrad, roll to ±15 mrad, loads from 2 to 120 kN and poses lifted off the rail. Every patch
+//! the travelling finds must be found, at the same place, with the same penetration and load.
+
+use railsim_contact::{
+    ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, PatchResult, Side,
+    WheelRailContact, WheelsetPose,
+};
+
+use crate::common::{mbench_pair, rolling_30_m_s, tol_scale};
+
+/// A small deterministic generator (64-bit LCG, Knuth's constants): uniform in [0, 1).
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.next()
+    }
+}
+
+fn contact(model: ContactModelKind, search: HertzSearch, step: f64) -> WheelRailContact {
+    let mut opts = ContactOptions {
+        model,
+        hertz_search: search,
+        ..Default::default()
+    };
+    opts.travel.step = step;
+    WheelRailContact::new(mbench_pair(), opts).unwrap()
+}
+
+/// The patches that carry at least `frac` of the wheel's total normal load.
+fn main_patches(p: &[PatchResult], frac: f64) -> Vec<PatchResult> {
+    let total: f64 = p.iter().map(|q| q.forces.fn_).sum();
+    p.iter()
+        .filter(|q| q.forces.fn_ >= frac * total)
+        .copied()
+        .collect()
+}
+
+#[test]
+fn the_point_search_finds_the_travelled_patches() {
+    let s = tol_scale();
+    for model in [ContactModelKind::Polach, ContactModelKind::Fastsim] {
+        let tree = contact(model, HertzSearch::Tree, 1e-3);
+        let travel = contact(model, HertzSearch::Travel, 0.1e-3);
+        let vel = rolling_30_m_s();
+        let mut rng = Lcg(20261121);
+        let (mut ws_a, mut ws_b) = (ContactWorkspace::new(), ContactWorkspace::new());
+        let (mut worst_pen, mut worst_fn, mut worst_y) = (0.0f64, 0.0f64, 0.0f64);
+        let (mut n_two, mut n_lifted, mut n_flange, mut n_flat) = (0, 0, 0, 0);
+        let n = 400;
+        for k in 0..n {
+            let side = if k % 2 == 0 { Side::Left } else { Side::Right };
+            let pose = WheelsetPose {
+                y: rng.range(-10e-3, 10e-3),
+                yaw: rng.range(-25e-3, 25e-3),
+                roll: rng.range(-15e-3, 15e-3),
+                ..Default::default()
+            };
+            let fz = rng.range(2e3, 120e3);
+            // the height that carries the load, found with the travelling
+            let Ok(loaded) = travel.evaluate_with_load(side, &pose, &vel, fz, 1e-6, &mut ws_b)
+            else {
+                continue;
+            };
+            let mut q = pose;
+            // every tenth pose lifted 0.3 mm off the rail
+            q.z = loaded.z + if k % 10 == 5 { 0.3e-3 } else { 0.0 };
+            travel.evaluate(side, &q, &vel, &mut ws_b).unwrap();
+            let sa = tree.evaluate(side, &q, &vel, &mut ws_a).unwrap();
+            let (a, b) = (&ws_a.patches, &ws_b.patches);
+            if b.is_empty() {
+                n_lifted += 1;
+                assert!(
+                    a.is_empty(),
+                    "pose {k}: patches where the travelling finds none: {a:?}"
+                );
+                continue;
+            }
+            // every patch with at least 2 % of the load, matched by the closest contact angle
+            let (ma, mb) = (main_patches(a, 0.02), main_patches(b, 0.02));
+            assert_eq!(
+                ma.len(),
+                mb.len(),
+                "pose {k} ({side:?}, {q:?}): {} main patches against {} travelled\n{a:#?}\n{b:#?}",
+                ma.len(),
+                mb.len()
+            );
+            if mb.len() > 1 {
+                n_two += 1;
+            }
+            for p in &mb {
+                if p.contact_angle.abs() > 0.6 {
+                    n_flange += 1;
+                }
+                let m = ma
+                    .iter()
+                    .min_by(|x, y| {
+                        (x.contact_angle - p.contact_angle)
+                            .abs()
+                            .total_cmp(&(y.contact_angle - p.contact_angle).abs())
+                    })
+                    .unwrap();
+                worst_pen = worst_pen.max((m.penetration / p.penetration - 1.0).abs());
+                let dy = (m.rigid_pair_y_rail_profile - p.rigid_pair_y_rail_profile).abs();
+                if dy > 0.2e-3 {
+                    // Not the travelling's rigid pair: allowed only where the gap is flat (a
+                    // conformal well), i.e. where the travelled gap at the point found is as
+                    // deep as the travelling's deepest, to 1 % of the penetration.
+                    let g = ws_b
+                        .pairs
+                        .iter()
+                        .min_by(|x, y| {
+                            let yx = travel.pair.rail_profile_y(x.b[0], x.b[1]);
+                            let yy = travel.pair.rail_profile_y(y.b[0], y.b[1]);
+                            (yx - m.rigid_pair_y_rail_profile)
+                                .abs()
+                                .total_cmp(&(yy - m.rigid_pair_y_rail_profile).abs())
+                        })
+                        .unwrap()
+                        .gap;
+                    let flat = (-g / p.penetration - 1.0).abs();
+                    assert!(
+                        flat < 0.01 * s,
+                        "pose {k}: rigid pair {:.3} mm from the travelling's where the gap is \
+                         {:.2} % shallower",
+                        dy * 1e3,
+                        flat * 100.0
+                    );
+                    n_flat += 1;
+                } else {
+                    worst_y = worst_y.max(dy);
+                    worst_fn = worst_fn.max((m.forces.fn_ / p.forces.fn_ - 1.0).abs());
+                }
+            }
+            assert!(!sa.travel.warm);
+        }
+        eprintln!(
+            "{}: {n} poses, {n_lifted} lifted, {n_two} with two patches, {n_flange} flange patches, \
+             {n_flat} on flat wells; worst penetration {worst_pen:.2e}, Fn {worst_fn:.2e}, rigid \
+             pair {:.3} mm",
+            model.name(),
+            worst_y * 1e3
+        );
+        assert!(n_lifted >= 30 && n_two >= 3 && n_flange >= 50);
+        assert!(worst_pen < 1e-3 * s, "penetration off by {worst_pen:.2e}");
+        assert!(worst_fn < 2e-2 * s, "Fn off by {worst_fn:.2e}");
+        assert!(worst_y < 0.2e-3 * s, "position off by {worst_y:.2e} m");
+    }
+}
