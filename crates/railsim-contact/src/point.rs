@@ -2,9 +2,11 @@
 //! contact pair per penetrated zone, found without travelling the profiles.
 //!
 //! The broad phase ([`crate::broad`]) leaves the few pairs of short arcs where the rail can
-//! touch or enter the wheel. Consecutive rail arcs form runs; in each run every local maximum of
-//! the chord estimates of the depth (deepest first, skipping those next to a minimum already
-//! found) starts a Newton search for the rigid contact pair: the isosceles pair (`f = 0`, `geometry` module docs) whose tangents are
+//! touch or enter the wheel. Consecutive rail arcs form runs; in each run the deepest chord
+//! estimate of the depth, and then every other local maximum of the estimates that may be deeper
+//! than the minima already found or is separated from them by a dip of the estimates (one the
+//! split rule below could separate), both allowing for the estimates' error, starts a Newton
+//! search for the rigid contact pair: the isosceles pair (`f = 0`, `geometry` module docs) whose tangents are
 //! parallel, i.e. the point where the gap along the pairs, `g(s_r)`, has `g' = t_B × t_A = 0`
 //! (seed §3.2: the pair with θ_C = 90°). Newton runs on both conditions at once with the exact
 //! derivatives of `f` and the curvature terms of the tangents, kept in a bracket of `s_r` that
@@ -17,7 +19,7 @@
 //! otherwise the deeper one is the zone. The result has the same form as a travelling: one
 //! pair per zone and zones of one pair each, so the Hertz patch frame is built as before.
 
-use crate::broad::{Candidate, candidates};
+use crate::broad::{Candidate, LEAF_THICK, candidates};
 use crate::geometry::{
     IsoPair, PairEval, PoseCtx, TravelOptions, TravelStats, Zone, eval_pair, normal_and_gap,
     pair_at_rail, record, travel_error,
@@ -37,6 +39,8 @@ const S_TOL: f64 = 1e-8;
 const SAME: f64 = 0.2e-3;
 /// Most distinct minima in one run (more: the travelling takes over).
 const MAX_MINIMA: usize = 6;
+/// Most distinct estimated points in one run (more: the travelling takes over).
+const MAX_PROFILE: usize = 64;
 /// \[m\] the broad phase keeps arcs up to this far inside the wheel; a zone deeper than half of
 /// it is handed to the travelling.
 pub(crate) const BROAD_DEPTH: f64 = 0.5e-3;
@@ -103,28 +107,82 @@ fn run_minima(
 ) -> Option<()> {
     let lo = (run[0].s_r[0] - 1e-3).max(0.0);
     let hi = (run.iter().fold(0.0f64, |m, c| m.max(c.s_r[1])) + 1e-3).min(pair.rail.length());
-    // Newton from every local maximum of the depth estimates along the rail (deepest first),
-    // unless a minimum already found lies within 1 mm of it.
+    // The estimates as a profile along the rail: one entry per estimated rail point (the
+    // deepest of its candidates), sorted.
+    let mut prof = [(0.0f64, 0.0f64, 0usize); MAX_PROFILE];
+    let mut m = 0;
+    for (k, c) in run.iter().enumerate() {
+        if let Some(q) = prof[..m].iter_mut().find(|q| (q.0 - c.s_r_est).abs() < 1e-9) {
+            if c.depth > q.1 {
+                *q = (c.s_r_est, c.depth, k);
+            }
+        } else if m < MAX_PROFILE {
+            prof[m] = (c.s_r_est, c.depth, k);
+            m += 1;
+        } else {
+            return None;
+        }
+    }
+    let prof = &mut prof[..m];
+    prof.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Newton from the local maxima of the profile, deepest first. After the first, only where it
+    // can matter: where the estimates dip between the peak and every minimum found (to what the
+    // split rule could separate, plus the estimates' error: a separate patch), or where the peak
+    // may be deeper than a minimum found (the deeper one of a single patch).
     let mut mins = [IsoPair::default(); MAX_MINIMA];
     let mut n = 0;
-    let mut done = [false; 64];
-    for _ in 0..run.len().min(64) {
-        let Some(k) = (0..run.len().min(64))
-            .filter(|&k| !done[k])
-            .max_by(|&a, &b| run[a].depth.total_cmp(&run[b].depth))
+    let mut done = [false; MAX_PROFILE];
+    let err = 0.25 * LEAF_THICK + 1e-6;
+    loop {
+        let Some(j) = (0..m)
+            .filter(|&j| !done[j])
+            .max_by(|&a, &b| prof[a].1.total_cmp(&prof[b].1))
         else {
             break;
         };
-        done[k] = true;
-        let c = &run[k];
-        let peak = run
-            .iter()
-            .filter(|o| (o.s_r_est - c.s_r_est).abs() <= 1.5e-3)
-            .all(|o| o.depth <= c.depth);
-        if !peak || mins[..n].iter().any(|m| (m.s_r - c.s_r_est).abs() < 1e-3) {
+        done[j] = true;
+        let (s_j, d_j, k) = prof[j];
+        let peak = (j == 0 || prof[j - 1].1 <= d_j) && (j + 1 == m || prof[j + 1].1 <= d_j);
+        // outside the wheel by more than the estimates' error: no zone (and no deeper peak)
+        if d_j + err < 0.0 {
+            break;
+        }
+        let wanted = mins[..n].iter().all(|q| {
+            let (a, b) = (q.s_r.min(s_j), q.s_r.max(s_j));
+            let valley = prof
+                .iter()
+                .filter(|o| o.0 > a && o.0 < b)
+                .fold(f64::INFINITY, |v, o| v.min(o.1));
+            b - a >= 1e-3
+                && (valley <= opts.split_depth_ratio * d_j.min(-q.gap) + err
+                    || d_j + err >= -q.gap)
+        });
+        if !peak || !wanted {
             continue;
         }
-        let (e, s_w, s_r) = local_min(pair, ctx, travel, c, lo, hi, stats)?;
+        let c = &run[k];
+        let before = stats.pairs;
+        let Some((e, s_w, s_r)) =
+            local_min(pair, ctx, travel, c, lo, hi, &mins[..n], stats).ok()?
+        else {
+            if std::env::var_os("PT_DEBUG").is_some() {
+                eprintln!("newton from {:.2} -> known in {} evals", c.s_r_est * 1e3, stats.pairs - before);
+            }
+            continue;
+        };
+        if std::env::var_os("PT_DEBUG").is_some() {
+            eprintln!(
+                "newton from {:.2} (est {:.4}) -> {:.3} gap {:.4} in {} evals; run {:.1}-{:.1} with {} cands",
+                c.s_r_est * 1e3,
+                c.depth * 1e3,
+                s_r * 1e3,
+                normal_and_gap(&e).1 * 1e3,
+                stats.pairs - before,
+                lo * 1e3,
+                hi * 1e3,
+                run.len()
+            );
+        }
         let p = record(&e, s_w, s_r, travel_error(&e));
         if mins[..n].iter().all(|m| (m.s_r - p.s_r).abs() >= SAME) {
             if n == MAX_MINIMA {
@@ -153,7 +211,8 @@ fn run_minima(
             .map_or(0.5 * (p.s_r + q.s_r), |c| c.s_r_est);
         let f = (start - p.s_r) / (q.s_r - p.s_r);
         let s_w0 = p.s_w + f * (q.s_w - p.s_w);
-        let (e, _, _, _) = extremum(pair, ctx, travel, start, s_w0, p.s_r, q.s_r, -1.0, stats);
+        let (e, _, _, _) =
+            extremum(pair, ctx, travel, start, s_w0, p.s_r, q.s_r, -1.0, &[], stats);
         let hump = normal_and_gap(&e).1;
         let separate = hump >= 0.0
             || (-hump < opts.split_depth_ratio * (-p.gap).min(-q.gap)
@@ -173,8 +232,9 @@ fn run_minima(
 
 /// Newton search for the local minimum of the gap along the isosceles pairs from the estimate
 /// `c`, with the rail arc length kept in `[lo, hi]`. Returns the pair and its arc lengths, or
-/// `None` if Newton did not converge or the minimum lies on the edge of `[lo, hi]` with a
-/// negative gap.
+/// `Err` if Newton did not converge or the minimum lies on the edge of `[lo, hi]` with a
+/// negative gap; `Ok(None)` if the iterates reach one of the minima `known`.
+#[allow(clippy::too_many_arguments)]
 fn local_min(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
@@ -182,23 +242,36 @@ fn local_min(
     c: &Candidate,
     lo: f64,
     hi: f64,
+    known: &[IsoPair],
     stats: &mut TravelStats,
-) -> Option<(PairEval, f64, f64)> {
-    let (e, s_w, s_r, converged) =
-        extremum(pair, ctx, travel, c.s_r_est, c.s_w_est, lo, hi, 1.0, stats);
+) -> Result<Option<(PairEval, f64, f64)>, ()> {
+    let (e, s_w, s_r, found) =
+        extremum(pair, ctx, travel, c.s_r_est, c.s_w_est, lo, hi, 1.0, known, stats);
     // A minimum on the edge of the run: beyond it no arc can touch (no candidates), so with a
     // positive gap there is no zone here; with a negative one the zone reaches past the run
     // (deeper than the broad phase's depth): leave it to the travelling.
     let on_edge = s_r - lo < 1e-6 || hi - s_r < 1e-6;
-    if !converged || (on_edge && normal_and_gap(&e).1 < 0.0) {
-        return None;
+    match found {
+        Found::Known => Ok(None),
+        Found::NotConverged => Err(()),
+        Found::Converged if on_edge && normal_and_gap(&e).1 < 0.0 => Err(()),
+        Found::Converged => Ok(Some((e, s_w, s_r))),
     }
-    Some((e, s_w, s_r))
+}
+
+/// How a Newton search ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Found {
+    Converged,
+    /// within 50 µm of a known extremum
+    Known,
+    NotConverged,
 }
 
 /// Newton search for a local minimum (`sign` = 1) or maximum (`sign` = -1) of the gap along the
-/// isosceles pairs from (`s_r`, `s_w`), with `s_r` kept in `[lo, hi]`; the pair is isosceles to
-/// the travelling's tolerance. Returns the pair, its arc lengths and whether Newton converged.
+/// isosceles pairs from (`s_r`, `s_w`), with `s_r` kept in `[lo, hi]`, stopped early when an
+/// iterate comes within 50 µm of a pair in `known` after a short step; the pair is isosceles to
+/// the travelling's tolerance. Returns the pair, its arc lengths and how the search ended.
 #[allow(clippy::too_many_arguments)]
 fn extremum(
     pair: &WheelRailPair,
@@ -209,9 +282,10 @@ fn extremum(
     mut lo: f64,
     mut hi: f64,
     sign: f64,
+    known: &[IsoPair],
     stats: &mut TravelStats,
-) -> (PairEval, f64, f64, bool) {
-    let mut converged = false;
+) -> (PairEval, f64, f64, Found) {
+    let mut found = Found::NotConverged;
     let l_w = pair.wheel.length();
     s_r = s_r.clamp(lo, hi);
     let mut e = eval_pair(pair, ctx, s_w, s_r);
@@ -255,8 +329,11 @@ fn extremum(
         e = eval_pair(pair, ctx, s_w, s_r);
         stats.pairs += 1;
         if (dr.abs() < S_TOL && dw.abs() < S_TOL) || hi - lo < S_TOL {
-            converged = true;
+            found = Found::Converged;
             break;
+        }
+        if dr.abs() < 0.5e-3 && known.iter().any(|m| (m.s_r - s_r).abs() < 50e-6) {
+            return (e, s_w, s_r, Found::Known);
         }
     }
     let chord = ((e.b.p[0] - e.a.p[1]).powi(2) + (e.b.p[1] - e.a.p[2]).powi(2)).sqrt();
@@ -265,5 +342,5 @@ fn extremum(
         e = e1;
         s_w = s_w1;
     }
-    (e, s_w, s_r, converged)
+    (e, s_w, s_r, found)
 }
