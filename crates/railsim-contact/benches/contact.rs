@@ -21,7 +21,7 @@ use railsim_contact::contact_format::{
     ContactCase, manchester_benchmark_pair, parse_cases_csv, solve_case,
 };
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, Tangential, WheelRailContact,
+    ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, Tangential, WheelRailContact,
     WheelRailPair, WheelsetPose, WheelsetVelocity,
 };
 
@@ -101,8 +101,17 @@ fn bench(c: &mut Criterion) {
     group.sample_size(20);
     // Every model at three steps with its default tangential solution, plus Kalker's exact
     // tangential solution on the `stripes` and `halfspace` patches at the default step.
+    // The Hertz models (`linear`, `polach`, `fastsim`) with their default single-point search
+    // (the step does not enter) and with the seed's travelling at each step, for comparison.
     let mut configs = Vec::new();
     for model in ContactModelKind::ALL {
+        let hertz = matches!(
+            model,
+            ContactModelKind::Linear | ContactModelKind::Polach | ContactModelKind::Fastsim
+        );
+        if hertz {
+            configs.push((model, None, 1.0e-3, HertzSearch::Tree));
+        }
         for step in [1.0e-3, 0.5e-3, 0.2e-3, 0.1e-3] {
             if model == ContactModelKind::Halfspace && step < 0.2e-3 {
                 continue;
@@ -117,14 +126,25 @@ fn bench(c: &mut Criterion) {
             {
                 continue;
             }
-            configs.push((model, None, step));
+            configs.push((model, None, step, HertzSearch::Travel));
         }
     }
-    configs.push((ContactModelKind::Stripes, Some(Tangential::Exact), 0.5e-3));
-    configs.push((ContactModelKind::Halfspace, Some(Tangential::Exact), 0.5e-3));
-    for (model, tangential, step) in configs {
+    configs.push((
+        ContactModelKind::Stripes,
+        Some(Tangential::Exact),
+        0.5e-3,
+        HertzSearch::Travel,
+    ));
+    configs.push((
+        ContactModelKind::Halfspace,
+        Some(Tangential::Exact),
+        0.5e-3,
+        HertzSearch::Travel,
+    ));
+    for (model, tangential, step, search) in configs {
         let mut opts = ContactOptions {
             model,
+            hertz_search: search,
             ..Default::default()
         };
         opts.travel.step = step;
@@ -164,11 +184,20 @@ fn bench(c: &mut Criterion) {
             })
             .collect();
         per_case.sort_by(f64::total_cmp);
+        let tree = search == HertzSearch::Tree
+            && matches!(
+                model,
+                ContactModelKind::Linear | ContactModelKind::Polach | ContactModelKind::Fastsim
+            );
         println!(
             "| {} | {} | {} | {:.3} | {:.4} | {:.1} | {:.2} | {:.3} | {:.3} | {:.1} | {:.1} |",
             model.name(),
             tang_name,
-            step * 1e3,
+            if tree {
+                "point search".to_string()
+            } else {
+                format!("{}", step * 1e3)
+            },
             e[0],
             e[1],
             100.0 * e[2],
@@ -179,9 +208,10 @@ fn bench(c: &mut Criterion) {
             per_case[per_case.len() - 1] * 1e6
         );
         let mut ws = ContactWorkspace::new();
-        let name = match tangential {
-            Some(_) => format!("{}_exact_step{}", model.name(), step * 1e3),
-            None => format!("{}_step{}", model.name(), step * 1e3),
+        let name = match (tangential, tree) {
+            (Some(_), _) => format!("{}_exact_step{}", model.name(), step * 1e3),
+            (None, true) => format!("{}_point", model.name()),
+            (None, false) => format!("{}_step{}", model.name(), step * 1e3),
         };
         group.sample_size(if slow { 10 } else { 20 });
         group.bench_function(name, |b| {
@@ -205,8 +235,12 @@ fn bench(c: &mut Criterion) {
 fn bench_sequence(c: &mut Criterion) {
     let mut group = c.benchmark_group("pose_sequence_55kN");
     group.sample_size(20);
-    for model in [ContactModelKind::Stripes, ContactModelKind::Polach] {
-        sequence(&mut group, model);
+    for (model, search) in [
+        (ContactModelKind::Stripes, HertzSearch::Travel),
+        (ContactModelKind::Polach, HertzSearch::Travel),
+        (ContactModelKind::Polach, HertzSearch::Tree),
+    ] {
+        sequence(&mut group, model, search);
     }
     group.finish();
 }
@@ -214,11 +248,15 @@ fn bench_sequence(c: &mut Criterion) {
 fn sequence(
     group: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>,
     model: ContactModelKind,
+    search: HertzSearch,
 ) {
     let opts = ContactOptions {
         model,
+        hertz_search: search,
         ..Default::default()
     };
+    // The point search does not travel, so it has no warm start: one timing only.
+    let point = model != ContactModelKind::Stripes && search == HertzSearch::Tree;
     let contact = WheelRailContact::new(pair(), opts).unwrap();
     let side = railsim_contact::Side::Right;
     let vel = WheelsetVelocity {
@@ -244,6 +282,16 @@ fn sequence(
             pose
         })
         .collect();
+    if point {
+        group.bench_function(format!("{}_point", model.name()), |b| {
+            b.iter(|| {
+                for p in &poses {
+                    black_box(contact.evaluate(side, p, &vel, &mut ws).unwrap());
+                }
+            })
+        });
+        return;
+    }
     // The two give the same forces (tests/warm_start.rs checks this closely).
     let mut warm = railsim_contact::WarmStart::new();
     let mut ws_warm = ContactWorkspace::new();

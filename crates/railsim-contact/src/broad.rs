@@ -35,7 +35,7 @@ use crate::pair::WheelRailPair;
 /// \[m\] leaves are split until their arc deviates from the chord by at most this...
 pub(crate) const LEAF_THICK: f64 = 8e-6;
 /// \[m\] ... and are at most this long.
-const LEAF_LEN: f64 = 8e-3;
+const LEAF_LEN: f64 = 16e-3;
 /// cos 60°: nodes turning less than this are tested by side.
 const COS_SIDE: f64 = 0.26;
 /// cos 15°: nodes turning less than this are tested by side and extent, not only by side.
@@ -213,6 +213,17 @@ pub struct Candidate {
     pub chord: [f64; 2],
 }
 
+/// Reusable buffers of the broad phase: the candidates and the wheel nodes' chords mapped for
+/// the current pose (each computed once per pose, on first use).
+#[derive(Clone, Debug, Default)]
+pub struct BroadScratch {
+    /// The candidates of the last query.
+    pub candidates: Vec<Candidate>,
+    /// per wheel node: query stamp, chord end points and capsule radius in the side frame
+    chords: Vec<(u32, [f64; 5])>,
+    stamp: u32,
+}
+
 /// The wheel nodes' map from profile to side frame for one pose.
 struct WheelMap {
     /// side-frame (y, z) of the profile origin
@@ -305,13 +316,21 @@ pub(crate) fn candidates(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
     depth: f64,
-    out: &mut Vec<Candidate>,
+    scratch: &mut BroadScratch,
 ) {
+    let out = &mut scratch.candidates;
     out.clear();
     let (rt, wt) = (&pair.rail_tree.nodes, &pair.wheel_tree.nodes);
     if rt.is_empty() || wt.is_empty() {
         return;
     }
+    if scratch.chords.len() != wt.len() || scratch.stamp == u32::MAX {
+        scratch.chords.clear();
+        scratch.chords.resize(wt.len(), (0, [0.0; 5]));
+        scratch.stamp = 0;
+    }
+    scratch.stamp += 1;
+    let (stamp, chords) = (scratch.stamp, &mut scratch.chords);
     let map = WheelMap::new(pair, ctx);
     let mut stack = [(0u32, 0u32); 96];
     let mut top = 1usize;
@@ -319,7 +338,15 @@ pub(crate) fn candidates(
         top -= 1;
         let (ia, ib) = stack[top];
         let (a, b) = (&rt[ia as usize], &wt[ib as usize]);
-        let (q0, q1, tb) = map.chord(b);
+        let (q0, q1, tb) = {
+            let c = &mut chords[ib as usize];
+            if c.0 != stamp {
+                let (q0, q1, tb) = map.chord(b);
+                *c = (stamp, [q0[0], q0[1], q1[0], q1[1], tb]);
+            }
+            let v = c.1;
+            ([v[0], v[1]], [v[2], v[3]], v[4])
+        };
         let t = a.thick + tb;
         // boxes around the two capsules, further apart than the depth: no pair of points of the
         // two arcs is closer than that (|P - Q| = -gap for a penetrating pair)
@@ -443,7 +470,8 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             a + (b - a) * ((x >> 11) as f64 / (1u64 << 53) as f64)
         };
-        let (mut ws, mut pairs, mut cands) = (ContactWorkspace::new(), vec![], vec![]);
+        let (mut ws, mut pairs, mut scratch) =
+            (ContactWorkspace::new(), vec![], BroadScratch::default());
         let vel = WheelsetVelocity {
             vx: 30.0,
             spin: -30.0 / 0.46,
@@ -464,7 +492,8 @@ mod tests {
             pose.z = s.z - rnd(0.0, 0.45e-3);
             let sp = pose.to_side(side);
             travel(&pair, &sp, &fine, &mut pairs);
-            candidates(&pair, &PoseCtx::new(&pair, &sp), 0.5e-3, &mut cands);
+            candidates(&pair, &PoseCtx::new(&pair, &sp), 0.5e-3, &mut scratch);
+            let cands = &scratch.candidates;
             for p in pairs.iter().filter(|p| p.gap < 0.0 && p.gap > -0.5e-3) {
                 checked += 1;
                 deep += usize::from(p.gap < -0.25e-3);

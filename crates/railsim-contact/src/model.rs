@@ -18,7 +18,7 @@ use railsim_elastic::{
     polach,
 };
 
-use crate::broad::Candidate;
+use crate::broad::BroadScratch;
 use crate::error::ContactError;
 use crate::geometry::{
     IsoPair, PoseCtx, TravelOptions, TravelStats, Zone, find_zones, locus, refine_narrow_zones,
@@ -301,7 +301,7 @@ pub struct ContactWorkspace {
     /// The zones of the last travelling.
     pub zones: Vec<Zone>,
     pairs_scratch: Vec<IsoPair>,
-    candidates: Vec<Candidate>,
+    broad: BroadScratch,
     /// Strips of the last STRIPES patch.
     pub strips: Vec<Strip>,
     local: Vec<Local>,
@@ -597,7 +597,7 @@ impl WheelRailContact {
             ctx,
             &self.opts.travel,
             &opts,
-            &mut ws.candidates,
+            &mut ws.broad,
             &mut ws.pairs,
             &mut ws.zones,
         ))

@@ -6,11 +6,12 @@
 //! estimate of the depth, and then every other local maximum of the estimates that may be deeper
 //! than the minima already found or is separated from them by a dip of the estimates (one the
 //! split rule below could separate), both allowing for the estimates' error, starts a Newton
-//! search for the rigid contact pair: the isosceles pair (`f = 0`, `geometry` module docs) whose tangents are
-//! parallel, i.e. the point where the gap along the pairs, `g(s_r)`, has `g' = t_B × t_A = 0`
-//! (seed §3.2: the pair with θ_C = 90°). Newton runs on both conditions at once with the exact
-//! derivatives of `f` and the curvature terms of the tangents, kept in a bracket of `s_r` that
-//! is narrowed by the sign of `g'`, with fixed descent steps where `g` is not convex.
+//! search for the rigid contact pair: the isosceles pair (`f = 0`, `geometry` module docs) whose
+//! tangents are parallel, i.e. the point where the gap along the pairs, `g(s_r)`, has
+//! `g' = t_B × t_A = 0` (seed §3.2: the pair with θ_C = 90°). Newton runs on both conditions at
+//! once with the exact derivatives of `f` and the curvature terms of the tangents, kept in a
+//! bracket of `s_r` that is narrowed by the sign of `g'`, with fixed descent steps where `g` is
+//! not convex.
 //!
 //! A minimum with a negative gap is a zone. Two neighbouring minima of one run are two zones
 //! when the largest gap between them (Newton again, for the maximum) is positive, or when the
@@ -19,7 +20,7 @@
 //! otherwise the deeper one is the zone. The result has the same form as a travelling: one
 //! pair per zone and zones of one pair each, so the Hertz patch frame is built as before.
 
-use crate::broad::{Candidate, LEAF_THICK, candidates};
+use crate::broad::{BroadScratch, Candidate, LEAF_THICK, candidates};
 use crate::geometry::{
     IsoPair, PairEval, PoseCtx, TravelOptions, TravelStats, Zone, eval_pair, normal_and_gap,
     pair_at_rail, record, travel_error,
@@ -46,22 +47,23 @@ const MAX_PROFILE: usize = 64;
 pub(crate) const BROAD_DEPTH: f64 = 0.5e-3;
 
 /// Find the rigid contact pair of every zone: pairs to `pairs`, one-pair zones to `zones`
-/// (both cleared first); `cands` is scratch. `None` when the search cannot vouch for its result
-/// (a minimum on the edge of its run, or a zone deeper than half of [`BROAD_DEPTH`]): the
-/// caller travels instead.
+/// (both cleared first); `scratch` holds the broad phase's buffers. `None` when the search
+/// cannot vouch for its result (a minimum on the edge of its run, a zone deeper than half of
+/// [`BROAD_DEPTH`], more minima or estimates in a run than it keeps): the caller travels instead.
 pub(crate) fn search(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
     travel: &TravelOptions,
     opts: &PointOptions,
-    cands: &mut Vec<Candidate>,
+    scratch: &mut BroadScratch,
     pairs: &mut Vec<IsoPair>,
     zones: &mut Vec<Zone>,
 ) -> Option<TravelStats> {
     let mut stats = TravelStats::default();
     pairs.clear();
     zones.clear();
-    candidates(pair, ctx, BROAD_DEPTH, cands);
+    candidates(pair, ctx, BROAD_DEPTH, scratch);
+    let cands = &mut scratch.candidates;
     // sorted along the rail (few candidates: insertion sort)
     for i in 1..cands.len() {
         let mut j = i;
@@ -112,7 +114,10 @@ fn run_minima(
     let mut prof = [(0.0f64, 0.0f64, 0usize); MAX_PROFILE];
     let mut m = 0;
     for (k, c) in run.iter().enumerate() {
-        if let Some(q) = prof[..m].iter_mut().find(|q| (q.0 - c.s_r_est).abs() < 1e-9) {
+        if let Some(q) = prof[..m]
+            .iter_mut()
+            .find(|q| (q.0 - c.s_r_est).abs() < 1e-9)
+        {
             if c.depth > q.1 {
                 *q = (c.s_r_est, c.depth, k);
             }
@@ -133,13 +138,10 @@ fn run_minima(
     let mut n = 0;
     let mut done = [false; MAX_PROFILE];
     let err = 0.25 * LEAF_THICK + 1e-6;
-    loop {
-        let Some(j) = (0..m)
-            .filter(|&j| !done[j])
-            .max_by(|&a, &b| prof[a].1.total_cmp(&prof[b].1))
-        else {
-            break;
-        };
+    while let Some(j) = (0..m)
+        .filter(|&j| !done[j])
+        .max_by(|&a, &b| prof[a].1.total_cmp(&prof[b].1))
+    {
         done[j] = true;
         let (s_j, d_j, k) = prof[j];
         let peak = (j == 0 || prof[j - 1].1 <= d_j) && (j + 1 == m || prof[j + 1].1 <= d_j);
@@ -154,35 +156,17 @@ fn run_minima(
                 .filter(|o| o.0 > a && o.0 < b)
                 .fold(f64::INFINITY, |v, o| v.min(o.1));
             b - a >= 1e-3
-                && (valley <= opts.split_depth_ratio * d_j.min(-q.gap) + err
-                    || d_j + err >= -q.gap)
+                && (valley <= opts.split_depth_ratio * d_j.min(-q.gap) + err || d_j + err >= -q.gap)
         });
         if !peak || !wanted {
             continue;
         }
         let c = &run[k];
-        let before = stats.pairs;
         let Some((e, s_w, s_r)) =
             local_min(pair, ctx, travel, c, lo, hi, &mins[..n], stats).ok()?
         else {
-            if std::env::var_os("PT_DEBUG").is_some() {
-                eprintln!("newton from {:.2} -> known in {} evals", c.s_r_est * 1e3, stats.pairs - before);
-            }
             continue;
         };
-        if std::env::var_os("PT_DEBUG").is_some() {
-            eprintln!(
-                "newton from {:.2} (est {:.4}) -> {:.3} gap {:.4} in {} evals; run {:.1}-{:.1} with {} cands",
-                c.s_r_est * 1e3,
-                c.depth * 1e3,
-                s_r * 1e3,
-                normal_and_gap(&e).1 * 1e3,
-                stats.pairs - before,
-                lo * 1e3,
-                hi * 1e3,
-                run.len()
-            );
-        }
         let p = record(&e, s_w, s_r, travel_error(&e));
         if mins[..n].iter().all(|m| (m.s_r - p.s_r).abs() >= SAME) {
             if n == MAX_MINIMA {
@@ -211,8 +195,18 @@ fn run_minima(
             .map_or(0.5 * (p.s_r + q.s_r), |c| c.s_r_est);
         let f = (start - p.s_r) / (q.s_r - p.s_r);
         let s_w0 = p.s_w + f * (q.s_w - p.s_w);
-        let (e, _, _, _) =
-            extremum(pair, ctx, travel, start, s_w0, p.s_r, q.s_r, -1.0, &[], stats);
+        let (e, _, _, _) = extremum(
+            pair,
+            ctx,
+            travel,
+            start,
+            s_w0,
+            p.s_r,
+            q.s_r,
+            -1.0,
+            &[],
+            stats,
+        );
         let hump = normal_and_gap(&e).1;
         let separate = hump >= 0.0
             || (-hump < opts.split_depth_ratio * (-p.gap).min(-q.gap)
@@ -245,8 +239,9 @@ fn local_min(
     known: &[IsoPair],
     stats: &mut TravelStats,
 ) -> Result<Option<(PairEval, f64, f64)>, ()> {
-    let (e, s_w, s_r, found) =
-        extremum(pair, ctx, travel, c.s_r_est, c.s_w_est, lo, hi, 1.0, known, stats);
+    let (e, s_w, s_r, found) = extremum(
+        pair, ctx, travel, c.s_r_est, c.s_w_est, lo, hi, 1.0, known, stats,
+    );
     // A minimum on the edge of the run: beyond it no arc can touch (no candidates), so with a
     // positive gap there is no zone here; with a negative one the zone reaches past the run
     // (deeper than the broad phase's depth): leave it to the travelling.
