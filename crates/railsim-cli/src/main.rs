@@ -10,8 +10,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use railsim_contact::contact_format::{ContactRow, parse_cases_csv, solve_case};
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, PatchResult, Side, Tangential,
-    WheelRailContact, WheelRailPair, WheelsetPose, WheelsetVelocity,
+    ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, PairSpec, PatchResult, Side,
+    Tangential, WheelRailContact, WheelRailPair, WheelsetPose, WheelsetVelocity,
 };
 use railsim_elastic::Material;
 use railsim_profile::conicity::{
@@ -60,6 +60,21 @@ enum TangentialName {
     Fastrip,
     Fastsim,
     Exact,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq, Eq)]
+enum HertzSearchName {
+    Point,
+    Travel,
+}
+
+impl From<HertzSearchName> for HertzSearch {
+    fn from(h: HertzSearchName) -> Self {
+        match h {
+            HertzSearchName::Point => HertzSearch::Tree,
+            HertzSearchName::Travel => HertzSearch::Travel,
+        }
+    }
 }
 
 impl From<TangentialName> for Tangential {
@@ -142,6 +157,11 @@ struct ContactArgs {
     /// default; narrow zones are refined to at least 12 pairs whatever the step.
     #[arg(long, default_value_t = 1.0)]
     step_mm: f64,
+    /// How the Hertz models (linear, polach, fastsim) find their contact points: the
+    /// single-point search (bounding hierarchies and Newton on the rigid contact pair) or the
+    /// seed's travelling.
+    #[arg(long, value_enum, default_value = "point")]
+    hertz_search: HertzSearchName,
     /// Which wheel.
     #[arg(long, value_enum, default_value = "left")]
     side: SideName,
@@ -301,6 +321,7 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
     let mut opts = ContactOptions {
         model: a.model.into(),
         tangential: a.tangential.into(),
+        hertz_search: a.hertz_search.into(),
         ..Default::default()
     };
     opts.travel.step = a.step_mm * 1e-3;

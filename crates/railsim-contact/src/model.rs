@@ -139,16 +139,24 @@ pub enum HertzSearch {
 }
 
 impl HertzSearch {
-    /// Parse `tree` or `travel`.
+    /// Parse `point` (the tree-based single-point search) or `travel`.
     pub fn from_name(name: &str) -> Result<Self, ContactError> {
         match name {
-            "tree" => Ok(HertzSearch::Tree),
+            "point" => Ok(HertzSearch::Tree),
             "travel" => Ok(HertzSearch::Travel),
             _ => Err(ContactError::BadOption {
                 key: "hertz_search",
                 value: name.to_string(),
-                expected: "tree or travel".into(),
+                expected: "point or travel".into(),
             }),
+        }
+    }
+
+    /// The name [`from_name`](Self::from_name) reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            HertzSearch::Tree => "point",
+            HertzSearch::Travel => "travel",
         }
     }
 }

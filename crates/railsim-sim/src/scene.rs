@@ -3,7 +3,7 @@
 use std::ops::Range;
 use std::path::{Component, Path, PathBuf};
 
-use railsim_contact::{ContactModelKind, ContactOptions};
+use railsim_contact::{ContactModelKind, ContactOptions, HertzSearch};
 use railsim_ode::Method;
 use railsim_track::{SegmentKind, TrackError, TrackModel, TrackSpec};
 use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel, WheelsetId};
@@ -1028,6 +1028,24 @@ impl Compiler<'_> {
                 ) {
                     Some(x) => opts.linear_creep = Some(x),
                     None => ok = false,
+                }
+            }
+        }
+        if let Some(h) = &c.hertz_search {
+            let name = h.get_ref().trim();
+            match HertzSearch::from_name(name) {
+                Ok(k) => opts.hertz_search = k,
+                Err(_) => {
+                    self.err(
+                        &h.span(),
+                        "contact.hertz_search",
+                        format!(
+                            "[contact] hertz_search: unknown search '{name}'{}; expected one of: \
+                             point, travel",
+                            did_you_mean(name, ["point", "travel"].into_iter())
+                        ),
+                    );
+                    ok = false;
                 }
             }
         }

@@ -111,6 +111,9 @@ pub struct ContactSpec {
     /// Warm-start the contact search from each wheel's previous evaluation; default true.
     #[serde(default)]
     pub warm_start: Option<Spanned<bool>>,
+    /// How the Hertz models find their contact points: `"point"` (default) or `"travel"`.
+    #[serde(default)]
+    pub hertz_search: Option<Spanned<String>>,
 }
 
 /// `[integrator]`.
@@ -188,6 +191,7 @@ pub const CONTACT_KEYS: &[&str] = &[
     "friction",
     "creep_coefficient_n",
     "warm_start",
+    "hertz_search",
 ];
 /// Keys of `[integrator]`.
 pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_step_s"];

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use railsim_contact::ContactModelKind;
+use railsim_contact::{ContactModelKind, HertzSearch};
 use railsim_ode::Method;
 use railsim_sim::{
     RunLength, Scene, SceneError, Topic, longest_rigid_wheelbase, required_curve_radius,
@@ -315,6 +315,25 @@ fn bad_contact_model_lists_the_valid_names() {
             "did you mean 'stripes'",
             "linear, polach, fastsim, stripes, halfspace",
         ],
+    );
+}
+
+#[test]
+fn hertz_search_is_read_and_checked() {
+    let s = compile(&format!(
+        "{GOOD}[contact]\nmodel = \"polach\"\nhertz_search = \"travel\"\n"
+    ))
+    .unwrap();
+    assert_eq!(s.contact.hertz_search, HertzSearch::Travel);
+    let s = compile(&format!("{GOOD}[contact]\nmodel = \"polach\"\n")).unwrap();
+    assert_eq!(s.contact.hertz_search, HertzSearch::Tree);
+    let p = problems(&format!(
+        "{GOOD}[contact]\nmodel = \"polach\"\nhertz_search = \"pointt\"\n"
+    ));
+    expect(
+        &p,
+        7,
+        &["unknown search 'pointt'", "did you mean 'point'", "point, travel"],
     );
 }
 
