@@ -59,6 +59,8 @@ pub struct TreeNode {
     pub sag: f64,
     /// smallest cosine between a tangent of the arc and the chord direction
     pub cos_min: f64,
+    /// unit left normal of the chord (toward the wheel on a rail)
+    pub normal: [f64; 2],
     /// wheel trees: largest |rho'| on the arc, `rho' = -t_z / t_y` the profile's slope (|t_y|
     /// floored at 1e-6)
     pub slope_abs: f64,
@@ -162,6 +164,7 @@ impl ArcTree {
             thick,
             sag,
             cos_min,
+            normal: [-u[1], u[0]],
             slope_abs,
             slope_end: [rho_slope(pts[0].t), rho_slope(pts[pts.len() - 1].t)],
             m1: [m1[0] - d1, m1[1] + d1],
@@ -356,6 +359,15 @@ pub(crate) fn candidates(
             || a.p0[1].min(a.p1[1]) > q0[1].max(q1[1]) + m
             || a.p0[1].max(a.p1[1]) < q0[1].min(q1[1]) - m
         {
+            continue;
+        }
+        // The wheel arc more than the radii above the rail chord's line (the same rule seen from
+        // the rail, where the rail arc turns by less than 60°): no rail point is above it.
+        let (w0, w1) = (
+            (q0[0] - a.p0[0]) * a.normal[0] + (q0[1] - a.p0[1]) * a.normal[1],
+            (q1[0] - a.p0[0]) * a.normal[0] + (q1[1] - a.p0[1]) * a.normal[1],
+        );
+        if a.cos_min >= COS_SIDE && w0.min(w1) > t {
             continue;
         }
         // Offsets toward the wheel's material (the left normal of the field-ward chord) and

@@ -333,7 +333,11 @@ fn hertz_search_is_read_and_checked() {
     expect(
         &p,
         7,
-        &["unknown search 'pointt'", "did you mean 'point'", "point, travel"],
+        &[
+            "unknown search 'pointt'",
+            "did you mean 'point'",
+            "point, travel",
+        ],
     );
 }
 
