@@ -50,7 +50,7 @@ fn main_patches(p: &[PatchResult], frac: f64) -> Vec<PatchResult> {
 fn the_point_search_finds_the_travelled_patches() {
     let s = tol_scale();
     for model in [ContactModelKind::Polach, ContactModelKind::Fastsim] {
-        let tree = contact(model, HertzSearch::Tree, 1e-3);
+        let tree = contact(model, HertzSearch::Point, 1e-3);
         let travel = contact(model, HertzSearch::Travel, 0.1e-3);
         let vel = rolling_30_m_s();
         let mut rng = Lcg(20261121);
@@ -163,7 +163,7 @@ fn the_point_search_finds_the_travelled_patches() {
 /// than the height that carries 10 kN: at least 0.3 mm along the normal of a 70° flange.)
 #[test]
 fn deep_zones_are_left_to_the_travelling() {
-    let tree = contact(ContactModelKind::Polach, HertzSearch::Tree, 1e-3);
+    let tree = contact(ContactModelKind::Polach, HertzSearch::Point, 1e-3);
     let travel = contact(ContactModelKind::Polach, HertzSearch::Travel, 1e-3);
     let vel = rolling_30_m_s();
     let (mut ws_a, mut ws_b) = (ContactWorkspace::new(), ContactWorkspace::new());

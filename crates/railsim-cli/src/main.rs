@@ -71,7 +71,7 @@ enum HertzSearchName {
 impl From<HertzSearchName> for HertzSearch {
     fn from(h: HertzSearchName) -> Self {
         match h {
-            HertzSearchName::Point => HertzSearch::Tree,
+            HertzSearchName::Point => HertzSearch::Point,
             HertzSearchName::Travel => HertzSearch::Travel,
         }
     }

@@ -110,7 +110,7 @@ fn bench(c: &mut Criterion) {
             ContactModelKind::Linear | ContactModelKind::Polach | ContactModelKind::Fastsim
         );
         if hertz {
-            configs.push((model, None, 1.0e-3, HertzSearch::Tree));
+            configs.push((model, None, 1.0e-3, HertzSearch::Point));
         }
         for step in [1.0e-3, 0.5e-3, 0.2e-3, 0.1e-3] {
             if model == ContactModelKind::Halfspace && step < 0.2e-3 {
@@ -184,7 +184,7 @@ fn bench(c: &mut Criterion) {
             })
             .collect();
         per_case.sort_by(f64::total_cmp);
-        let tree = search == HertzSearch::Tree
+        let tree = search == HertzSearch::Point
             && matches!(
                 model,
                 ContactModelKind::Linear | ContactModelKind::Polach | ContactModelKind::Fastsim
@@ -238,7 +238,7 @@ fn bench_sequence(c: &mut Criterion) {
     for (model, search) in [
         (ContactModelKind::Stripes, HertzSearch::Travel),
         (ContactModelKind::Polach, HertzSearch::Travel),
-        (ContactModelKind::Polach, HertzSearch::Tree),
+        (ContactModelKind::Polach, HertzSearch::Point),
     ] {
         sequence(&mut group, model, search);
     }
@@ -256,7 +256,7 @@ fn sequence(
         ..Default::default()
     };
     // The point search does not travel, so it has no warm start: one timing only.
-    let point = model != ContactModelKind::Stripes && search == HertzSearch::Tree;
+    let point = model != ContactModelKind::Stripes && search == HertzSearch::Point;
     let contact = WheelRailContact::new(pair(), opts).unwrap();
     let side = railsim_contact::Side::Right;
     let vel = WheelsetVelocity {

@@ -130,19 +130,19 @@ pub struct ContactOptions {
 /// How the Hertz models find the contact point of each zone.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum HertzSearch {
-    /// The bounding hierarchies of the profiles and a Newton search for the rigid contact pair
-    /// of each zone (`crate::point`): no travelling.
+    /// The single-point search: the bounding hierarchies of the profiles and a Newton search for
+    /// the rigid contact pair of each zone (`crate::point`), no travelling.
     #[default]
-    Tree,
+    Point,
     /// The seed's travelling, as for STRIPES, and the deepest travelled pair of each zone.
     Travel,
 }
 
 impl HertzSearch {
-    /// Parse `point` (the tree-based single-point search) or `travel`.
+    /// Parse `point` or `travel`.
     pub fn from_name(name: &str) -> Result<Self, ContactError> {
         match name {
-            "point" => Ok(HertzSearch::Tree),
+            "point" => Ok(HertzSearch::Point),
             "travel" => Ok(HertzSearch::Travel),
             _ => Err(ContactError::BadOption {
                 key: "hertz_search",
@@ -155,7 +155,7 @@ impl HertzSearch {
     /// The name [`from_name`](Self::from_name) reads.
     pub fn name(self) -> &'static str {
         match self {
-            HertzSearch::Tree => "point",
+            HertzSearch::Point => "point",
             HertzSearch::Travel => "travel",
         }
     }
@@ -178,7 +178,7 @@ impl Default for ContactOptions {
             exact_cells: (32, 32),
             max_penetration: 5e-3,
             linear_creep: None,
-            hertz_search: HertzSearch::Tree,
+            hertz_search: HertzSearch::Point,
         }
     }
 }
@@ -414,7 +414,7 @@ impl WheelRailContact {
         let sp = pose.to_side(side);
         let sv = vel.to_side(side);
         let ctx = PoseCtx::new(&self.pair, &sp);
-        let point_search = self.opts.hertz_search == HertzSearch::Tree
+        let point_search = self.opts.hertz_search == HertzSearch::Point
             && matches!(
                 self.opts.model,
                 ContactModelKind::Polach | ContactModelKind::Fastsim | ContactModelKind::Linear

@@ -326,7 +326,7 @@ fn hertz_search_is_read_and_checked() {
     .unwrap();
     assert_eq!(s.contact.hertz_search, HertzSearch::Travel);
     let s = compile(&format!("{GOOD}[contact]\nmodel = \"polach\"\n")).unwrap();
-    assert_eq!(s.contact.hertz_search, HertzSearch::Tree);
+    assert_eq!(s.contact.hertz_search, HertzSearch::Point);
     let p = problems(&format!(
         "{GOOD}[contact]\nmodel = \"polach\"\nhertz_search = \"pointt\"\n"
     ));
