@@ -16,14 +16,21 @@
 //! its direction and `n` its normal toward the wheel's material:
 //! - the rail chord lies more than `thick_a + thick_b` on the outer side of `b`'s chord line
 //!   (every rail point is then below every point of the wheel arc: no interpenetration, no touch);
+//!   the same seen from the rail: the wheel chord more than the radii above `a`'s chord line;
 //! - or deeper than `depth + thick_a + thick_b` on the material side (`depth` = 0.5 mm, see
 //!   `crate::point` for what happens to deeper zones);
+//! - or boxes around the two capsules are further apart than `depth` (the points of an
+//!   interpenetrating pair are at most that far apart);
 //! - or, along `u`, the two chords' extents are further apart than the lateral shift a pair of
-//!   points can have across a penetration of that depth (`depth · tan 75°`, the angle between the
-//!   pair's normal and `n` being at most the turning of the arc plus 60° between the tangents).
+//!   points can have across a penetration of that depth (`depth · tan(15° + θ/2 + 5°)`).
 //!
-//! The last two rules need the wheel arc to turn by less than 15° (its tangents within 15° of the
-//! chord); bigger nodes are only dropped by the first. Source of the method: bounding-volume
+//! Here θ bounds the angle between the tangents of a pair interpenetrating by at most `depth`:
+//! from a crossing of the two curves to the deepest point the gap falls by at least
+//! θ²/(2 κ_rel), so θ = min(60°, √(2·depth·κ_rel)) with κ_rel the largest curvature of the wheel
+//! plus that of the rail (24° for the benchmark's S1002 on UIC60, κ_rel = 173 1/m); a pair's
+//! normal is within θ/2 of either tangent (5° are added for the yawed locus). The side rules need the arc whose chord is used to
+//! turn by less than 90° − θ/2 − 5° (its normal then stays on the same side); the extent rule by
+//! less than 15°; the others hold for any arc. Source of the method: bounding-volume
 //! hierarchies as in collision detection (e.g. Ericson, *Real-Time Collision Detection*, 2005,
 //! ch. 6); the bounds above are derived here for the isosceles pairs of seed §3.2.
 
@@ -36,12 +43,13 @@ use crate::pair::WheelRailPair;
 pub(crate) const LEAF_THICK: f64 = 8e-6;
 /// \[m\] ... and are at most this long.
 const LEAF_LEN: f64 = 16e-3;
-/// cos 60°: nodes turning less than this are tested by side.
-const COS_SIDE: f64 = 0.26;
-/// cos 15°: nodes turning less than this are tested by side and extent, not only by side.
+/// cos 15°: nodes turning less than this are tested by extent too.
 const COS_STRAIGHT: f64 = 0.9659;
-/// tan 75°: bound of the lateral shift per unit depth of a penetrating pair (see module docs).
-const TAN_SHIFT: f64 = 0.5;
+/// \[rad\] 15°, the turning of such nodes
+const STRAIGHT: f64 = 0.2618;
+/// \[rad\] 5°: margin on the angle between a pair's normal and a chord's (the yawed locus'
+/// tangent against the profile's, round-off)
+const ANGLE_MARGIN: f64 = 0.0873;
 
 /// One arc of an [`ArcTree`].
 #[derive(Clone, Copy, Debug, Default)]
@@ -335,6 +343,18 @@ pub(crate) fn candidates(
     scratch.stamp += 1;
     let (stamp, chords) = (scratch.stamp, &mut scratch.chords);
     let map = WheelMap::new(pair, ctx);
+    // A pair interpenetrating by at most `depth` has tangents at most theta apart, theta^2 =
+    // 2 depth kappa_rel (the gap falls from a crossing to its minimum by at least
+    // theta^2 / (2 kappa_rel)), capped at 60°; its normal is within theta / 2 of either tangent.
+    let half = 0.5
+        * (2.0 * depth * pair.kappa_max)
+            .sqrt()
+            .min(std::f64::consts::FRAC_PI_3)
+        + ANGLE_MARGIN;
+    // side rules: a node's tangents within 90° - half of its chord
+    let cos_side = half.sin();
+    // extent rule (nodes turning less than 15°): lateral shift per unit depth
+    let tan_shift = (STRAIGHT + half).tan();
     let mut stack = [(0u32, 0u32); 96];
     let mut top = 1usize;
     while top > 0 {
@@ -367,7 +387,7 @@ pub(crate) fn candidates(
             (q0[0] - a.p0[0]) * a.normal[0] + (q0[1] - a.p0[1]) * a.normal[1],
             (q1[0] - a.p0[0]) * a.normal[0] + (q1[1] - a.p0[1]) * a.normal[1],
         );
-        if a.cos_min >= COS_SIDE && w0.min(w1) > t {
+        if a.cos_min >= cos_side && w0.min(w1) > t {
             continue;
         }
         // Offsets toward the wheel's material (the left normal of the field-ward chord) and
@@ -379,7 +399,7 @@ pub(crate) fn candidates(
         let (o0, o1) = (d[0] * v0[1] - d[1] * v0[0], d[0] * v1[1] - d[1] * v1[0]);
         let (o_max, o_min) = (o0.max(o1), o0.min(o1));
         // o_max / len + t < 0, and o_min / len - t > depth, without the square root
-        if (b.cos_min >= COS_SIDE && o_max < 0.0 && o_max * o_max > t * t * len2)
+        if (b.cos_min >= cos_side && o_max < 0.0 && o_max * o_max > t * t * len2)
             || (o_min > 0.0 && o_min * o_min > (t + depth) * (t + depth) * len2)
         {
             continue;
@@ -387,7 +407,7 @@ pub(crate) fn candidates(
         let len = len2.sqrt();
         if b.cos_min >= COS_STRAIGHT {
             let (e0, e1) = (v0[0] * d[0] + v0[1] * d[1], v1[0] * d[0] + v1[1] * d[1]);
-            let shift = TAN_SHIFT * (o_max + t * len).min((depth + t) * len) + t * len;
+            let shift = tan_shift * (o_max + t * len).min((depth + t) * len) + t * len;
             if e0.max(e1) < -shift || e0.min(e1) > len2 + shift {
                 continue;
             }

@@ -71,6 +71,8 @@ pub struct WheelRailPair {
     pub wheel_tree: ArcTree,
     /// Bounding hierarchy of the rail curve.
     pub rail_tree: ArcTree,
+    /// \[1/m\] largest |curvature| of the wheel curve plus that of the rail curve
+    pub kappa_max: f64,
 }
 
 /// \[m\] length of the window over which curvature bounds are taken ahead of a point; at least
@@ -157,6 +159,8 @@ impl WheelRailPair {
         let wheel_inv_ds = 1.0 / wheel.ds();
         let rail_inv_ds = 1.0 / rail.ds();
         let rail_kappa_ahead = kappa_ahead(&rail);
+        let largest = |k: &[f64]| k.iter().fold(0.0f64, |m, &x| m.max(x));
+        let kappa_max = largest(&wheel_kappa_ahead) + largest(&rail_kappa_ahead);
         let wheel_tree = ArcTree::new(&wheel, s_tip, wheel.length(), spec.r0);
         let rail_tree = ArcTree::new(&rail, 0.0, rail.length(), 0.0);
         Ok(WheelRailPair {
@@ -174,6 +178,7 @@ impl WheelRailPair {
             rail_inv_ds,
             wheel_tree,
             rail_tree,
+            kappa_max,
         })
     }
 
