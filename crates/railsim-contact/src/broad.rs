@@ -96,8 +96,8 @@ impl TreeNode {
 }
 
 /// A bounding hierarchy of an [`ArcCurve`] over an arc-length range: binary, split at the
-/// middle node until the arcs are flatter than 8 µm and shorter than 16 mm (`LEAF_THICK`, `LEAF_LEN`).
-/// Node 0 is the root. A wheel's tree also keeps the ranges that bound its yawed contact locus.
+/// middle node until the arcs are flatter than 8 µm and shorter than 16 mm (`LEAF_THICK`,
+/// `LEAF_LEN`). Node 0 is the root. A wheel's tree also keeps the ranges that bound its yawed contact locus.
 #[derive(Clone, Debug, Default)]
 pub struct ArcTree {
     /// The nodes; node 0 is the root.
