@@ -4,13 +4,16 @@
 //!
 //! Place in the data flow: `railsim-profile` gives the profiles as arc-length curves;
 //! this crate places them ([`pair`]), finds every interpenetrated zone by the isosceles-pair
-//! travelling of Jalili & Salehi (2011) ([`geometry`]), turns each zone into a patch frame
-//! ([`patch`]) and solves it with one of the models of the fidelity ladder ([`model`]), whose
-//! elastic kernels live in `railsim-elastic`. The dynamics (a later crate) calls
+//! travelling of Jalili & Salehi (2011) ([`geometry`], warm-started by [`warm`]) or, for the
+//! Hertz models, each zone's rigid contact pair by a single-point search ([`broad`] bounding
+//! hierarchies, [`point`] Newton), turns each zone into a patch frame ([`patch`]) and solves it
+//! with one of the models of the fidelity ladder ([`model`]), whose elastic kernels live in
+//! `railsim-elastic`. The dynamics (a later crate) calls
 //! [`WheelRailContact::evaluate`] once per wheel per right-hand-side evaluation with a reusable
 //! [`ContactWorkspace`].
 //!
-//! Stages, in order: travel (pairs) → zones (patches) → rigid pair and frame → creepages →
+//! Stages, in order: travel (pairs) → zones (patches), or for the Hertz models the point search
+//! (one pair per zone) → rigid pair and frame → creepages →
 //! normal problem → tangential problem → forces in patch, track and wheelset axes.
 #![deny(rustdoc::broken_intra_doc_links)]
 
