@@ -897,6 +897,21 @@ impl Compiler<'_> {
             &w.frozen,
             &dof_names,
         );
+        // The dynamics treats a wheelset as an axisymmetric rotor (docs/models/dynamics.md): its
+        // products of inertia would be silently dropped, so they are refused.
+        if let Some(p) = &w.products_kgm2
+            && p.get_ref().iter().any(|&x| x != 0.0)
+        {
+            self.err(
+                &p.span(),
+                "products_kgm2",
+                format!(
+                    "{label}: products_kgm2 = {:?} is not used for a wheelset (modelled as an \
+                     axisymmetric rotor); expected no products_kgm2 or [0, 0, 0]",
+                    p.get_ref()
+                ),
+            );
+        }
         let r0 = self
             .req(
                 &w.nominal_radius_m,

@@ -54,6 +54,24 @@ wheel_profile = { left = "s1002", right = "s1002" }
 "#;
 
 #[test]
+fn wheelset_products_of_inertia_are_refused() {
+    let text = format!("{}\nproducts_kgm2 = [0, 5, 0]\n", WS.trim_end());
+    let p = problems(&text);
+    expect(
+        &p,
+        10,
+        &[
+            "wheelset 'ws'",
+            "products_kgm2",
+            "axisymmetric rotor",
+            "[0.0, 5.0, 0.0]",
+        ],
+    );
+    let text = format!("{}\nproducts_kgm2 = [0, 0, 0]\n", WS.trim_end());
+    compile(&text).unwrap();
+}
+
+#[test]
 fn every_vehicle_file_compiles_and_stands() {
     let mut n = 0;
     for entry in std::fs::read_dir(vehicles_dir()).unwrap() {
