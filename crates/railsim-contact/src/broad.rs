@@ -36,7 +36,7 @@
 
 use railsim_profile::ArcCurve;
 
-use crate::geometry::{PoseCtx, locus_cos, locus_sin};
+use crate::geometry::{PoseCtx, locus_cos, locus_sin, profile_slope};
 use crate::pair::WheelRailPair;
 
 /// \[m\] leaves are split until their arc deviates from the chord by at most this...
@@ -86,18 +86,10 @@ pub struct TreeNode {
     pub child: u32,
 }
 
-impl TreeNode {
-    /// Unit direction of the chord.
-    pub fn dir(&self) -> [f64; 2] {
-        let d = [self.p1[0] - self.p0[0], self.p1[1] - self.p0[1]];
-        let l = (d[0] * d[0] + d[1] * d[1]).sqrt().max(1e-300);
-        [d[0] / l, d[1] / l]
-    }
-}
-
 /// A bounding hierarchy of an [`ArcCurve`] over an arc-length range: binary, split at the
 /// middle node until the arcs are flatter than 8 µm and shorter than 16 mm (`LEAF_THICK`,
-/// `LEAF_LEN`). Node 0 is the root. A wheel's tree also keeps the ranges that bound its yawed contact locus.
+/// `LEAF_LEN`). Node 0 is the root. A wheel's tree also keeps the ranges that bound its yawed
+/// contact locus.
 #[derive(Clone, Debug, Default)]
 pub struct ArcTree {
     /// The nodes; node 0 is the root.
@@ -145,7 +137,7 @@ impl ArcTree {
             };
             thick = thick.max(dist);
             cos_min = cos_min.min(c.t[0] * u[0] + c.t[1] * u[1]);
-            let (q, rho) = (rho_slope(c.t), r0 - c.p[1]);
+            let (q, rho) = (profile_slope(c.t), r0 - c.p[1]);
             let (a1, a2) = (rho * q, rho * q * q);
             m1 = [m1[0].min(a1), m1[1].max(a1)];
             m2 = [m2[0].min(a2), m2[1].max(a2)];
@@ -174,7 +166,7 @@ impl ArcTree {
             cos_min,
             normal: [-u[1], u[0]],
             slope_abs,
-            slope_end: [rho_slope(pts[0].t), rho_slope(pts[pts.len() - 1].t)],
+            slope_end: [profile_slope(pts[0].t), profile_slope(pts[pts.len() - 1].t)],
             m1: [m1[0] - d1, m1[1] + d1],
             m2: [m2[0] - d2, m2[1] + d2],
             m4: m4 * 1.01,
@@ -192,17 +184,6 @@ impl ArcTree {
             self.fill(c + 1, curve, r0, mid, i1);
         }
     }
-
-    /// Number of leaves.
-    pub fn leaves(&self) -> usize {
-        self.nodes.iter().filter(|n| n.child == 0).count()
-    }
-}
-
-/// The wheel profile's slope `rho' = -t_z / t_y` (as in the locus), |t_y| floored at 1e-6.
-fn rho_slope(t: [f64; 2]) -> f64 {
-    let ty = if t[0].abs() < 1e-6 { 1e-6 } else { t[0] };
-    -t[1] / ty
 }
 
 /// A rail leaf and a wheel leaf that the bounds could not separate, with estimates from the
@@ -211,8 +192,8 @@ fn rho_slope(t: [f64; 2]) -> f64 {
 pub struct Candidate {
     /// rail leaf's arc-length range
     pub s_r: [f64; 2],
-    /// \[m\] estimated depth of the rail chord into the wheel (largest end-point offset toward the
-    /// wheel's material from its chord line; negative: a gap)
+    /// \[m\] estimated depth of the rail arc into the wheel arc (the deepest of the rail chord's
+    /// ends and the rail arc's middle, both arcs taken as parabolas; negative: a gap)
     pub depth: f64,
     /// estimated rail arc length of the deepest point
     pub s_r_est: f64,
@@ -417,11 +398,7 @@ pub(crate) fn candidates(
             // Estimates: of the rail chord's end points and the rail arc's middle, the deepest
             // below the wheel arc, the arcs taken as parabolas through their chords and middles.
             let inv = 1.0 / len;
-            let n_r = {
-                let dr = [a.p1[0] - a.p0[0], a.p1[1] - a.p0[1]];
-                let l = (dr[0] * dr[0] + dr[1] * dr[1]).sqrt().max(1e-15);
-                [-dr[1] / l, dr[0] / l]
-            };
+            let n_r = a.normal;
             let vm = [
                 0.5 * (v0[0] + v1[0]) + a.sag * n_r[0],
                 0.5 * (v0[1] + v1[1]) + a.sag * n_r[1],
@@ -429,19 +406,19 @@ pub(crate) fn candidates(
             let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
             for (v, s_r) in [(v0, a.s[0]), (v1, a.s[1]), (vm, 0.5 * (a.s[0] + a.s[1]))] {
                 let tau = ((v[0] * d[0] + v[1] * d[1]) / len2).clamp(0.0, 1.0);
-                let depth = (d[0] * v[1] - d[1] * v[0]) * inv - 4.0 * tau * (1.0 - tau) * b.sag;
-                if depth > best.0 {
-                    best = (depth, s_r, tau);
+                let est = (d[0] * v[1] - d[1] * v[0]) * inv - 4.0 * tau * (1.0 - tau) * b.sag;
+                if est > best.0 {
+                    best = (est, s_r, tau);
                 }
             }
-            let (depth, s_r_est, f) = best;
+            let (est, s_r_est, f) = best;
             out.push(Candidate {
                 s_r: a.s,
-                depth,
+                depth: est,
                 s_r_est,
                 s_w_est: b.s[0] + f * (b.s[1] - b.s[0]),
                 s_w: b.s,
-                chord: a.dir(),
+                chord: [n_r[1], -n_r[0]],
             });
             continue;
         }
@@ -455,7 +432,7 @@ pub(crate) fn candidates(
                 s_r_est: 0.5 * (a.s[0] + a.s[1]),
                 s_w_est: 0.5 * (b.s[0] + b.s[1]),
                 s_w: b.s,
-                chord: a.dir(),
+                chord: [a.normal[1], -a.normal[0]],
             });
             continue;
         }

@@ -180,13 +180,16 @@ impl Locus {
     /// d(rho)/d(axial position): the wheel profile's slope.
     #[inline]
     pub fn rho_slope(&self) -> f64 {
-        let ty = if self.tp[0].abs() < 1e-6 {
-            1e-6
-        } else {
-            self.tp[0]
-        };
-        -self.tp[1] / ty
+        profile_slope(self.tp)
     }
+}
+
+/// The wheel profile's slope d(rho)/d(axial) = -t_z / t_y from its unit tangent `t` (profile
+/// frame), |t_y| floored at 1e-6 as in [`locus`].
+#[inline]
+pub(crate) fn profile_slope(t: [f64; 2]) -> f64 {
+    let ty = if t[0].abs() < 1e-6 { 1e-6 } else { t[0] };
+    -t[1] / ty
 }
 
 /// sin(theta) of the locus point of a wheel circle whose profile slope is `rho_p` (module docs),
