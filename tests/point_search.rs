@@ -191,3 +191,75 @@ fn deep_zones_are_left_to_the_travelling() {
         }
     }
 }
+
+/// The point search's warm start (`railsim_contact::broad::BroadMemory`: a broad-phase query
+/// with a margin, reused while the wheel stays within it) against cold searches, along random walks of the pose like the poses of a time
+/// integration: small steps (most searches warm), now and then a jump of a few mm or mrad (a new
+/// query), over the tread and the flange, both wheels, yaw to ±25 mrad. Every evaluation must give
+/// the cold search's patches bit for bit: the rules applied to the stored leaf pairs at the new
+/// pose keep the leaf pairs a full query keeps (a full query could drop a pair at an ancestor
+/// that the leaf rules keep; then the estimates, and possibly the Newton starts, could differ,
+/// which this test would show).
+#[test]
+fn the_warm_point_search_gives_the_cold_result() {
+    let c = contact(ContactModelKind::Polach, HertzSearch::Point, 1e-3);
+    let vel = rolling_30_m_s();
+    let mut rng = Lcg(11235813);
+    let (mut ws_a, mut ws_b) = (ContactWorkspace::new(), ContactWorkspace::new());
+    let (mut compared, mut two) = (0, 0);
+    for side in [Side::Left, Side::Right] {
+        let mut warm = railsim_contact::WarmStart::new();
+        let mut pose = WheelsetPose::default();
+        let (mut z0, mut dz) = (0.0, 0.0);
+        for k in 0..1500 {
+            if k % 150 == 0 {
+                // a jump: a fresh pose anywhere on the wheel
+                pose = WheelsetPose {
+                    y: rng.range(-9e-3, 9e-3),
+                    yaw: rng.range(-25e-3, 25e-3),
+                    roll: rng.range(-5e-3, 5e-3),
+                    ..Default::default()
+                };
+                let fz = rng.range(5e3, 100e3);
+                let s = c
+                    .evaluate_with_load(side, &pose, &vel, fz, 1e-6, &mut ws_a)
+                    .unwrap();
+                (z0, dz) = (s.z, 0.0);
+            } else {
+                // steps of up to 40 µm and 0.1 mrad; the height a random walk of 10 µm steps
+                // within 0.15 mm below and 0.05 mm above the loaded height
+                pose.y += rng.range(-40e-6, 40e-6);
+                pose.yaw += rng.range(-1e-4, 1e-4);
+                pose.roll += rng.range(-2e-5, 2e-5);
+                dz = (dz + rng.range(-10e-6, 10e-6)).clamp(-0.15e-3, 0.05e-3);
+            }
+            pose.z = z0 + dz;
+            let (Ok(a), Ok(b)) = (
+                c.evaluate(side, &pose, &vel, &mut ws_a),
+                c.evaluate_warm(side, &pose, &vel, &mut warm, &mut ws_b),
+            ) else {
+                panic!("pose {k} {side:?} {pose:?}: one search failed");
+            };
+            let (pa, pb) = (&ws_a.patches, &ws_b.patches);
+            assert_eq!(pa, pb, "pose {k} {side:?} {pose:?}: {a:?} / {b:?}");
+            compared += 1;
+            two += usize::from(pa.len() == 2);
+        }
+        eprintln!(
+            "{side:?}: {} warm of {} searches",
+            warm.warm_count,
+            warm.warm_count + warm.cold_count
+        );
+        assert!(
+            warm.warm_count > 3 * warm.cold_count,
+            "{side:?}: {} warm, {} cold",
+            warm.warm_count,
+            warm.cold_count
+        );
+    }
+    eprintln!("{compared} poses compared, {two} with two patches");
+    assert!(
+        compared == 3000 && two > 20,
+        "{compared} compared, {two} with two patches"
+    );
+}

@@ -255,8 +255,19 @@ fn sequence(
         hertz_search: search,
         ..Default::default()
     };
-    // The point search does not travel, so it has no warm start: one timing only.
+    // The point search's warm start keeps its broad phase (`railsim_contact::broad::BroadMemory`).
     let point = model != ContactModelKind::Stripes && search == HertzSearch::Point;
+    let (cold_name, warm_name) = if point {
+        (
+            format!("{}_point", model.name()),
+            format!("{}_point_warm", model.name()),
+        )
+    } else {
+        (
+            format!("{}_cold", model.name()),
+            format!("{}_warm", model.name()),
+        )
+    };
     let contact = WheelRailContact::new(pair(), opts).unwrap();
     let side = railsim_contact::Side::Right;
     let vel = WheelsetVelocity {
@@ -282,17 +293,8 @@ fn sequence(
             pose
         })
         .collect();
-    if point {
-        group.bench_function(format!("{}_point", model.name()), |b| {
-            b.iter(|| {
-                for p in &poses {
-                    black_box(contact.evaluate(side, p, &vel, &mut ws).unwrap());
-                }
-            })
-        });
-        return;
-    }
-    // The two give the same forces (tests/warm_start.rs checks this closely).
+    // The two give the same forces (tests/warm_start.rs and tests/point_search.rs check this
+    // closely).
     let mut warm = railsim_contact::WarmStart::new();
     let mut ws_warm = ContactWorkspace::new();
     for p in &poses {
@@ -304,18 +306,18 @@ fn sequence(
     }
     println!(
         "pose sequence, {}: {} of {} evaluations warm-started",
-        model.name(),
+        warm_name,
         warm.warm_count,
         warm.warm_count + warm.cold_count
     );
-    group.bench_function(format!("{}_cold", model.name()), |b| {
+    group.bench_function(cold_name, |b| {
         b.iter(|| {
             for p in &poses {
                 black_box(contact.evaluate(side, p, &vel, &mut ws).unwrap());
             }
         })
     });
-    group.bench_function(format!("{}_warm", model.name()), |b| {
+    group.bench_function(warm_name, |b| {
         b.iter(|| {
             for p in &poses {
                 black_box(

@@ -203,6 +203,8 @@ pub struct Candidate {
     pub s_w: [f64; 2],
     /// unit direction of the rail leaf's chord
     pub chord: [f64; 2],
+    /// indices of the rail and the wheel leaf in their trees (`u32::MAX`: not a pair of leaves)
+    pub leaves: [u32; 2],
 }
 
 /// Reusable buffers of the broad phase: the candidates and the wheel nodes' chords mapped for
@@ -300,158 +302,355 @@ impl WheelMap {
     }
 }
 
+/// The constants of the rules for one query.
+#[derive(Clone, Copy, Debug)]
+struct Rules {
+    /// \[m\] deepest interpenetration of interest
+    depth: f64,
+    /// side rules: a node's tangents within 90° - half of its chord
+    cos_side: f64,
+    /// extent rule (nodes turning less than 15°): lateral shift per unit depth
+    tan_shift: f64,
+    /// \[m\] added to every wheel capsule: how far any locus point may move before the result
+    /// is used (0 for a query at the pose itself)
+    margin: f64,
+    /// the rules that rest on the directions of the wheel arcs' tangents (the side rule seen
+    /// from the wheel and the extent rule); off with a margin, where the wheel may turn
+    wheel_angles: bool,
+}
+
+impl Rules {
+    fn new(pair: &WheelRailPair, depth: f64, margin: f64) -> Self {
+        // A pair interpenetrating by at most `depth` has tangents at most theta apart, theta^2 =
+        // 2 depth kappa_rel (the gap falls from a crossing to its minimum by at least
+        // theta^2 / (2 kappa_rel)), capped at 60°; its normal is within theta / 2 of either
+        // tangent.
+        let half = 0.5
+            * (2.0 * depth * pair.kappa_max)
+                .sqrt()
+                .min(std::f64::consts::FRAC_PI_3)
+            + ANGLE_MARGIN;
+        Rules {
+            depth,
+            cos_side: half.sin(),
+            tan_shift: (STRAIGHT + half).tan(),
+            margin,
+            wheel_angles: margin == 0.0,
+        }
+    }
+}
+
+/// The chord geometry of a node pair that the rules could not separate, for the estimates.
+struct Overlap {
+    /// the wheel chord (q1 - q0) and its squared length and length
+    d: [f64; 2],
+    len2: f64,
+    len: f64,
+    /// the rail chord's end points from q0
+    v0: [f64; 2],
+    v1: [f64; 2],
+}
+
+/// The rules of the module docs for rail node `a` and the wheel node mapped to the chord
+/// `q0`-`q1` with capsule radius `tb`: `None` when they separate the two arcs.
+#[inline(always)]
+fn overlap(
+    a: &TreeNode,
+    b: &TreeNode,
+    q0: [f64; 2],
+    q1: [f64; 2],
+    tb: f64,
+    r: &Rules,
+) -> Option<Overlap> {
+    let t = a.thick + tb + r.margin;
+    let depth = r.depth;
+    // boxes around the two capsules, further apart than the depth: no pair of points of the
+    // two arcs is closer than that (|P - Q| = -gap for a penetrating pair)
+    let m = t + depth;
+    if a.p0[0].min(a.p1[0]) > q0[0].max(q1[0]) + m
+        || a.p0[0].max(a.p1[0]) < q0[0].min(q1[0]) - m
+        || a.p0[1].min(a.p1[1]) > q0[1].max(q1[1]) + m
+        || a.p0[1].max(a.p1[1]) < q0[1].min(q1[1]) - m
+    {
+        return None;
+    }
+    // The wheel arc more than the radii above the rail chord's line (the same rule seen from
+    // the rail, where the rail arc turns by less than 60°): no rail point is above it.
+    let (w0, w1) = (
+        (q0[0] - a.p0[0]) * a.normal[0] + (q0[1] - a.p0[1]) * a.normal[1],
+        (q1[0] - a.p0[0]) * a.normal[0] + (q1[1] - a.p0[1]) * a.normal[1],
+    );
+    if a.cos_min >= r.cos_side && w0.min(w1) > t {
+        return None;
+    }
+    // Offsets toward the wheel's material (the left normal of the field-ward chord) and
+    // positions along the chord, both times the chord length `len` (no division).
+    let d = [q1[0] - q0[0], q1[1] - q0[1]];
+    let len2 = (d[0] * d[0] + d[1] * d[1]).max(1e-30);
+    let v0 = [a.p0[0] - q0[0], a.p0[1] - q0[1]];
+    let v1 = [a.p1[0] - q0[0], a.p1[1] - q0[1]];
+    let (o0, o1) = (d[0] * v0[1] - d[1] * v0[0], d[0] * v1[1] - d[1] * v1[0]);
+    let (o_max, o_min) = (o0.max(o1), o0.min(o1));
+    // o_max / len + t < 0 (the side rule seen from the wheel), and o_min / len - t > depth
+    // (deeper than the depth of interest), without the square root
+    if (r.wheel_angles && b.cos_min >= r.cos_side && o_max < 0.0 && o_max * o_max > t * t * len2)
+        || (o_min > 0.0 && o_min * o_min > (t + depth) * (t + depth) * len2)
+    {
+        return None;
+    }
+    let len = len2.sqrt();
+    if r.wheel_angles && b.cos_min >= COS_STRAIGHT {
+        let (e0, e1) = (v0[0] * d[0] + v0[1] * d[1], v1[0] * d[0] + v1[1] * d[1]);
+        let shift = r.tan_shift * (o_max + t * len).min((depth + t) * len) + t * len;
+        if e0.max(e1) < -shift || e0.min(e1) > len2 + shift {
+            return None;
+        }
+    }
+    Some(Overlap {
+        d,
+        len2,
+        len,
+        v0,
+        v1,
+    })
+}
+
+/// The candidate of leaves `a` (rail, index `ia`) and `b` (wheel, `ib`). Estimates: of the rail
+/// chord's end points and the rail arc's middle, the deepest below the wheel arc, the arcs taken
+/// as parabolas through their chords and middles.
+#[inline]
+fn estimate(a: &TreeNode, b: &TreeNode, ia: u32, ib: u32, o: &Overlap) -> Candidate {
+    let (d, len2, v0, v1) = (o.d, o.len2, o.v0, o.v1);
+    let inv = 1.0 / o.len;
+    let n_r = a.normal;
+    let vm = [
+        0.5 * (v0[0] + v1[0]) + a.sag * n_r[0],
+        0.5 * (v0[1] + v1[1]) + a.sag * n_r[1],
+    ];
+    let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
+    for (v, s_r) in [(v0, a.s[0]), (v1, a.s[1]), (vm, 0.5 * (a.s[0] + a.s[1]))] {
+        let tau = ((v[0] * d[0] + v[1] * d[1]) / len2).clamp(0.0, 1.0);
+        let est = (d[0] * v[1] - d[1] * v[0]) * inv - 4.0 * tau * (1.0 - tau) * b.sag;
+        if est > best.0 {
+            best = (est, s_r, tau);
+        }
+    }
+    let (est, s_r_est, f) = best;
+    Candidate {
+        s_r: a.s,
+        depth: est,
+        s_r_est,
+        s_w_est: b.s[0] + f * (b.s[1] - b.s[0]),
+        s_w: b.s,
+        chord: [n_r[1], -n_r[0]],
+        leaves: [ia, ib],
+    }
+}
+
+impl BroadScratch {
+    /// Start a query: the wheel chords of earlier poses become stale.
+    fn begin(&mut self, nodes: usize) -> u32 {
+        if self.chords.len() != nodes || self.stamp == u32::MAX {
+            self.chords.clear();
+            self.chords.resize(nodes, (0, [0.0; 5]));
+            self.stamp = 0;
+        }
+        self.stamp += 1;
+        self.stamp
+    }
+}
+
+/// Wheel node `ib`'s chord and capsule radius at the current pose, mapped once per query.
+#[inline(always)]
+fn mapped(
+    chords: &mut [(u32, [f64; 5])],
+    stamp: u32,
+    map: &WheelMap,
+    ib: u32,
+    b: &TreeNode,
+) -> ([f64; 2], [f64; 2], f64) {
+    let c = &mut chords[ib as usize];
+    if c.0 != stamp {
+        let (q0, q1, tb) = map.chord(b);
+        *c = (stamp, [q0[0], q0[1], q1[0], q1[1], tb]);
+    }
+    let v = c.1;
+    ([v[0], v[1]], [v[2], v[3]], v[4])
+}
+
 /// The leaves of the two trees of `pair` that the bounds cannot separate at this pose, in
-/// `out` (cleared first). `depth` \[m\] is the deepest interpenetration of interest: arcs
-/// further inside the wheel are dropped (the zone edges, where the curves cross, are kept at
-/// any depth).
+/// `scratch.candidates` (cleared first). `depth` \[m\] is the deepest interpenetration of
+/// interest: arcs further inside the wheel are dropped (the zone edges, where the curves cross,
+/// are kept at any depth). With `margin` > 0 \[m\] the result holds for every pose at which no
+/// point of the wheel's locus is further than `margin` from where it is at this one
+/// ([`BroadMemory`]): the wheel capsules are widened by it and the rules that rest on the
+/// directions of the wheel arcs are not applied.
 pub(crate) fn candidates(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
     depth: f64,
+    margin: f64,
     scratch: &mut BroadScratch,
 ) {
-    let out = &mut scratch.candidates;
-    out.clear();
+    scratch.candidates.clear();
     let (rt, wt) = (&pair.rail_tree.nodes, &pair.wheel_tree.nodes);
     if rt.is_empty() || wt.is_empty() {
         return;
     }
-    if scratch.chords.len() != wt.len() || scratch.stamp == u32::MAX {
-        scratch.chords.clear();
-        scratch.chords.resize(wt.len(), (0, [0.0; 5]));
-        scratch.stamp = 0;
-    }
-    scratch.stamp += 1;
-    let (stamp, chords) = (scratch.stamp, &mut scratch.chords);
+    let stamp = scratch.begin(wt.len());
+    let (out, chords) = (&mut scratch.candidates, &mut scratch.chords);
     let map = WheelMap::new(pair, ctx);
-    // A pair interpenetrating by at most `depth` has tangents at most theta apart, theta^2 =
-    // 2 depth kappa_rel (the gap falls from a crossing to its minimum by at least
-    // theta^2 / (2 kappa_rel)), capped at 60°; its normal is within theta / 2 of either tangent.
-    let half = 0.5
-        * (2.0 * depth * pair.kappa_max)
-            .sqrt()
-            .min(std::f64::consts::FRAC_PI_3)
-        + ANGLE_MARGIN;
-    // side rules: a node's tangents within 90° - half of its chord
-    let cos_side = half.sin();
-    // extent rule (nodes turning less than 15°): lateral shift per unit depth
-    let tan_shift = (STRAIGHT + half).tan();
+    let rules = Rules::new(pair, depth, margin);
     let mut stack = [(0u32, 0u32); 96];
     let mut top = 1usize;
     while top > 0 {
         top -= 1;
         let (ia, ib) = stack[top];
         let (a, b) = (&rt[ia as usize], &wt[ib as usize]);
-        let (q0, q1, tb) = {
-            let c = &mut chords[ib as usize];
-            if c.0 != stamp {
-                let (q0, q1, tb) = map.chord(b);
-                *c = (stamp, [q0[0], q0[1], q1[0], q1[1], tb]);
-            }
-            let v = c.1;
-            ([v[0], v[1]], [v[2], v[3]], v[4])
+        let (q0, q1, tb) = mapped(chords, stamp, &map, ib, b);
+        let Some(o) = overlap(a, b, q0, q1, tb, &rules) else {
+            continue;
         };
-        let t = a.thick + tb;
-        // boxes around the two capsules, further apart than the depth: no pair of points of the
-        // two arcs is closer than that (|P - Q| = -gap for a penetrating pair)
-        let m = t + depth;
-        if a.p0[0].min(a.p1[0]) > q0[0].max(q1[0]) + m
-            || a.p0[0].max(a.p1[0]) < q0[0].min(q1[0]) - m
-            || a.p0[1].min(a.p1[1]) > q0[1].max(q1[1]) + m
-            || a.p0[1].max(a.p1[1]) < q0[1].min(q1[1]) - m
-        {
-            continue;
-        }
-        // The wheel arc more than the radii above the rail chord's line (the same rule seen from
-        // the rail, where the rail arc turns by less than 60°): no rail point is above it.
-        let (w0, w1) = (
-            (q0[0] - a.p0[0]) * a.normal[0] + (q0[1] - a.p0[1]) * a.normal[1],
-            (q1[0] - a.p0[0]) * a.normal[0] + (q1[1] - a.p0[1]) * a.normal[1],
-        );
-        if a.cos_min >= cos_side && w0.min(w1) > t {
-            continue;
-        }
-        // Offsets toward the wheel's material (the left normal of the field-ward chord) and
-        // positions along the chord, both times the chord length `len` (no division).
-        let d = [q1[0] - q0[0], q1[1] - q0[1]];
-        let len2 = (d[0] * d[0] + d[1] * d[1]).max(1e-30);
-        let v0 = [a.p0[0] - q0[0], a.p0[1] - q0[1]];
-        let v1 = [a.p1[0] - q0[0], a.p1[1] - q0[1]];
-        let (o0, o1) = (d[0] * v0[1] - d[1] * v0[0], d[0] * v1[1] - d[1] * v1[0]);
-        let (o_max, o_min) = (o0.max(o1), o0.min(o1));
-        // o_max / len + t < 0, and o_min / len - t > depth, without the square root
-        if (b.cos_min >= cos_side && o_max < 0.0 && o_max * o_max > t * t * len2)
-            || (o_min > 0.0 && o_min * o_min > (t + depth) * (t + depth) * len2)
-        {
-            continue;
-        }
-        let len = len2.sqrt();
-        if b.cos_min >= COS_STRAIGHT {
-            let (e0, e1) = (v0[0] * d[0] + v0[1] * d[1], v1[0] * d[0] + v1[1] * d[1]);
-            let shift = tan_shift * (o_max + t * len).min((depth + t) * len) + t * len;
-            if e0.max(e1) < -shift || e0.min(e1) > len2 + shift {
-                continue;
-            }
-        }
         let (la, lb) = (a.child == 0, b.child == 0);
         if la && lb {
-            // Estimates: of the rail chord's end points and the rail arc's middle, the deepest
-            // below the wheel arc, the arcs taken as parabolas through their chords and middles.
-            let inv = 1.0 / len;
-            let n_r = a.normal;
-            let vm = [
-                0.5 * (v0[0] + v1[0]) + a.sag * n_r[0],
-                0.5 * (v0[1] + v1[1]) + a.sag * n_r[1],
-            ];
-            let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
-            for (v, s_r) in [(v0, a.s[0]), (v1, a.s[1]), (vm, 0.5 * (a.s[0] + a.s[1]))] {
-                let tau = ((v[0] * d[0] + v[1] * d[1]) / len2).clamp(0.0, 1.0);
-                let est = (d[0] * v[1] - d[1] * v[0]) * inv - 4.0 * tau * (1.0 - tau) * b.sag;
-                if est > best.0 {
-                    best = (est, s_r, tau);
-                }
-            }
-            let (est, s_r_est, f) = best;
-            out.push(Candidate {
-                s_r: a.s,
-                depth: est,
-                s_r_est,
-                s_w_est: b.s[0] + f * (b.s[1] - b.s[0]),
-                s_w: b.s,
-                chord: [n_r[1], -n_r[0]],
-            });
+            out.push(estimate(a, b, ia, ib, &o));
             continue;
         }
         // split the longer arc (or the one that is not a leaf)
         let split_a = !la && (lb || a.s[1] - a.s[0] >= b.s[1] - b.s[0]);
         if top + 2 > stack.len() {
             // Cannot happen with trees of depth < 48; keep the pair as a coarse candidate.
-            out.push(Candidate {
-                s_r: a.s,
-                depth: o_max / len,
-                s_r_est: 0.5 * (a.s[0] + a.s[1]),
-                s_w_est: 0.5 * (b.s[0] + b.s[1]),
-                s_w: b.s,
-                chord: [a.normal[1], -a.normal[0]],
-            });
+            let mut c = estimate(a, b, ia, ib, &o);
+            c.leaves = [u32::MAX; 2];
+            out.push(c);
             continue;
         }
+        // the first child on top: candidates come mostly in the order of the arcs
         if split_a {
-            stack[top] = (a.child, ib);
-            stack[top + 1] = (a.child + 1, ib);
+            stack[top] = (a.child + 1, ib);
+            stack[top + 1] = (a.child, ib);
         } else {
-            stack[top] = (ia, b.child);
-            stack[top + 1] = (ia, b.child + 1);
+            stack[top] = (ia, b.child + 1);
+            stack[top + 1] = (ia, b.child);
         }
         top += 2;
     }
+}
+
+/// The pairs of `leaves` (rail and wheel leaf indices, from a query with a margin) that the
+/// rules cannot separate at this pose, with their estimates, in `scratch.candidates` (cleared
+/// first). Returns `false` (and no candidates) if a pair is not a pair of leaves.
+pub(crate) fn recheck(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    depth: f64,
+    leaves: &[[u32; 2]],
+    scratch: &mut BroadScratch,
+) -> bool {
+    scratch.candidates.clear();
+    let (rt, wt) = (&pair.rail_tree.nodes, &pair.wheel_tree.nodes);
+    let stamp = scratch.begin(wt.len());
+    let (out, chords) = (&mut scratch.candidates, &mut scratch.chords);
+    let map = WheelMap::new(pair, ctx);
+    let rules = Rules::new(pair, depth, 0.0);
+    for &[ia, ib] in leaves {
+        let (Some(a), Some(b)) = (rt.get(ia as usize), wt.get(ib as usize)) else {
+            out.clear();
+            return false;
+        };
+        let (q0, q1, tb) = mapped(chords, stamp, &map, ib, b);
+        if let Some(o) = overlap(a, b, q0, q1, tb, &rules) {
+            out.push(estimate(a, b, ia, ib, &o));
+        }
+    }
+    true
+}
+
+/// What the broad phase keeps of one wheel between the evaluations of a time integration: the
+/// leaf pairs of a query with a margin (`candidates`) and the pose it was made at. While no
+/// point of the wheel's locus has moved further than the margin ([`BroadMemory::move_bound`]),
+/// the rules applied to these pairs alone ([`recheck`]) find every leaf pair a full query would
+/// need.
+#[derive(Clone, Debug, Default)]
+pub struct BroadMemory {
+    leaves: Vec<[u32; 2]>,
+    r: [[f64; 3]; 3],
+    c: [f64; 3],
+    /// tan yaw as the locus uses it (0 without yaw)
+    tan_yaw: f64,
+    margin: f64,
+    valid: bool,
+}
+
+impl BroadMemory {
+    /// Forget the stored query.
+    pub fn invalidate(&mut self) {
+        self.valid = false;
+    }
+
+    /// Whether the stored query covers the pose `ctx`.
+    pub(crate) fn covers(&self, pair: &WheelRailPair, ctx: &PoseCtx) -> bool {
+        self.valid && move_bound(pair, self, ctx) <= self.margin
+    }
+
+    /// Store the leaf pairs of a query with `margin` made at `ctx` (in `candidates`).
+    pub(crate) fn store(&mut self, ctx: &PoseCtx, margin: f64, candidates: &[Candidate]) {
+        self.leaves.clear();
+        self.leaves.extend(candidates.iter().map(|c| c.leaves));
+        self.r = ctx.r;
+        self.c = ctx.c;
+        self.tan_yaw = if ctx.yawed { ctx.tan_yaw } else { 0.0 };
+        self.margin = margin;
+        self.valid = true;
+    }
+
+    /// The stored leaf pairs.
+    pub(crate) fn leaves(&self) -> &[[u32; 2]] {
+        &self.leaves
+    }
+}
+
+/// \[m\] An upper bound of how far any point of the wheel's locus (over the wheel tree's range)
+/// lies in the cross-section at the pose `ctx` from where it lay at the pose of `m`.
+///
+/// A locus point is `P = C + R q` with `q = (rho st, axial, -rho ct)` (`geometry` module docs),
+/// `st = clamp(-tan(yaw) rho', ±0.5)` and `ct` its cosine series. For one profile point between
+/// the two poses: `ΔP = ΔC + ΔR q_0 + R_1 Δq` with `Δq = (rho Δst, 0, -rho Δct)`. The clamp is
+/// 1-Lipschitz, so `|Δst| <= min(S |Δtan|, 1)` with `S` the largest `|rho'|` on the tree; the
+/// series' derivative is at most `1.155 |st|` for `|st| <= 0.5`, so `|Δct| <= 1.155 st_max |Δst|`
+/// with `st_max = min(0.5, S max|tan|)`; `|q_0| <= (rho_max min(0.5, S |tan_0|), axial_max,
+/// rho_max)` componentwise. Each cross-section component is bounded by the sum of the absolute
+/// terms.
+pub(crate) fn move_bound(pair: &WheelRailPair, m: &BroadMemory, ctx: &PoseCtx) -> f64 {
+    let Some(root) = pair.wheel_tree.nodes.first() else {
+        return f64::INFINITY;
+    };
+    let s = root.slope_abs;
+    let rho = root.rho_max;
+    let axial = pair.wheel_y0.abs() + root.p0[0].abs().max(root.p1[0].abs()) + root.thick;
+    let t1 = if ctx.yawed { ctx.tan_yaw } else { 0.0 };
+    let dt = (t1 - m.tan_yaw).abs();
+    let dst = (s * dt).min(1.0);
+    let st_max = (s * m.tan_yaw.abs().max(t1.abs())).min(0.5);
+    let dct = 1.155 * st_max * dst;
+    let q = [rho * (s * m.tan_yaw.abs()).min(0.5), axial, rho];
+    let mut d2 = 0.0;
+    for i in 1..3 {
+        let mut di = (ctx.c[i] - m.c[i]).abs();
+        for j in 0..3 {
+            di += (ctx.r[i][j] - m.r[i][j]).abs() * q[j];
+        }
+        di += ctx.r[i][0].abs() * rho * dst + ctx.r[i][2].abs() * rho * dct;
+        d2 += di * di;
+    }
+    d2.sqrt() * (1.0 + 1e-9) + 1e-12
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::contact_format::manchester_benchmark_pair;
-    use crate::geometry::{TravelOptions, travel};
+    use crate::geometry::{TravelOptions, locus, travel};
     use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
     use crate::{ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact};
 
@@ -501,7 +700,7 @@ mod tests {
             pose.z = s.z - rnd(0.0, 0.45e-3);
             let sp = pose.to_side(side);
             travel(&pair, &sp, &fine, &mut pairs);
-            candidates(&pair, &PoseCtx::new(&pair, &sp), 0.5e-3, &mut scratch);
+            candidates(&pair, &PoseCtx::new(&pair, &sp), 0.5e-3, 0.0, &mut scratch);
             let cands = &scratch.candidates;
             for p in pairs.iter().filter(|p| p.gap < 0.0 && p.gap > -0.5e-3) {
                 checked += 1;
@@ -523,6 +722,127 @@ mod tests {
         assert!(
             checked > 10_000 && deep > 1000,
             "{checked} pairs, {deep} deep"
+        );
+    }
+
+    /// A query with a margin made at one pose serves the poses within the margin: for pairs of
+    /// poses (the second a random move of the first scaled so that [`move_bound`] is between
+    /// 0.3 and 1 times the margin), the bound holds for the locus points of 400 profile points,
+    /// and the stored leaf pairs, rechecked at the second pose, hold every interpenetrating pair
+    /// of a fine travelling there (as in the test above).
+    #[test]
+    fn a_query_with_a_margin_serves_the_poses_within_it() {
+        let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+        let pair = manchester_benchmark_pair(&root).unwrap();
+        let opts = ContactOptions {
+            model: ContactModelKind::Polach,
+            ..Default::default()
+        };
+        let contact = WheelRailContact::new(pair.clone(), opts).unwrap();
+        let fine = TravelOptions {
+            step: 0.1e-3,
+            ..Default::default()
+        };
+        let mut x = 777u64;
+        let mut rnd = |a: f64, b: f64| {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            a + (b - a) * ((x >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        let (mut ws, mut pairs, mut scratch, mut memory) = (
+            ContactWorkspace::new(),
+            vec![],
+            BroadScratch::default(),
+            BroadMemory::default(),
+        );
+        let vel = WheelsetVelocity {
+            vx: 30.0,
+            spin: -30.0 / 0.46,
+            ..Default::default()
+        };
+        let margin = 0.2e-3;
+        let (s0, s1) = (pair.wheel_tree.nodes[0].s[0], pair.wheel_tree.nodes[0].s[1]);
+        let (mut checked, mut tight) = (0, 0.0f64);
+        for k in 0..300 {
+            let side = if k % 2 == 0 { Side::Left } else { Side::Right };
+            let mut pose = WheelsetPose {
+                y: rnd(-10e-3, 10e-3),
+                yaw: rnd(-25e-3, 25e-3),
+                roll: rnd(-15e-3, 15e-3),
+                ..Default::default()
+            };
+            let Ok(s) = contact.evaluate_with_load(side, &pose, &vel, 1e3, 1e-3, &mut ws) else {
+                continue;
+            };
+            pose.z = s.z - rnd(0.0, 0.4e-3);
+            let dir = [
+                rnd(-1.0, 1.0) * 1e-3,
+                rnd(-1.0, 1.0) * 1e-3,
+                rnd(-1.0, 1.0) * 1e-3,
+                rnd(-1.0, 1.0) * 1e-3,
+            ];
+            let moved = |f: f64| WheelsetPose {
+                y: pose.y + f * dir[0],
+                z: pose.z + f * dir[1],
+                roll: pose.roll + f * dir[2],
+                yaw: pose.yaw + f * dir[3],
+            };
+            let (sp0, ctx0) = {
+                let sp = pose.to_side(side);
+                (sp, PoseCtx::new(&pair, &sp))
+            };
+            candidates(&pair, &ctx0, 0.5e-3, margin, &mut scratch);
+            memory.store(&ctx0, margin, &scratch.candidates);
+            let bound_at = |f: f64| {
+                move_bound(
+                    &pair,
+                    &memory,
+                    &PoseCtx::new(&pair, &moved(f).to_side(side)),
+                )
+            };
+            let mut f = rnd(0.3, 1.0) * margin / bound_at(1.0);
+            while bound_at(f) > margin {
+                f *= 0.9;
+            }
+            let sp1 = moved(f).to_side(side);
+            let ctx1 = PoseCtx::new(&pair, &sp1);
+            let bound = move_bound(&pair, &memory, &ctx1);
+            assert!(memory.covers(&pair, &ctx1));
+            // the bound
+            for i in 0..400 {
+                let s = s0 + (s1 - s0) * i as f64 / 399.0;
+                let (p0, p1) = (locus(&pair, &ctx0, s).p, locus(&pair, &ctx1, s).p);
+                let d = ((p1[1] - p0[1]).powi(2) + (p1[2] - p0[2]).powi(2)).sqrt();
+                assert!(
+                    d <= bound,
+                    "pose {k}: locus point at s {s} moved {d:e} m, bound {bound:e}"
+                );
+                tight = tight.max(d / bound);
+            }
+            // the stored pairs, rechecked
+            assert!(recheck(&pair, &ctx1, 0.5e-3, memory.leaves(), &mut scratch));
+            travel(&pair, &sp1, &fine, &mut pairs);
+            let cands = &scratch.candidates;
+            for p in pairs.iter().filter(|p| p.gap < 0.0 && p.gap > -0.5e-3) {
+                checked += 1;
+                assert!(
+                    cands.iter().any(|c| c.s_r[0] <= p.s_r
+                        && p.s_r <= c.s_r[1]
+                        && c.s_w[0] <= p.s_w
+                        && p.s_w <= c.s_w[1]),
+                    "pose {k} ({side:?} {sp0:?} moved to {sp1:?}): pair at s_r {:.3} mm, s_w \
+                     {:.3} mm, gap {:.4} mm in no candidate",
+                    p.s_r * 1e3,
+                    p.s_w * 1e3,
+                    p.gap * 1e3
+                );
+            }
+        }
+        eprintln!("{checked} pairs; largest move / bound {tight:.3}");
+        assert!(
+            checked > 10_000 && tight > 0.2,
+            "{checked} pairs, tightness {tight}"
         );
     }
 }

@@ -18,7 +18,7 @@ use railsim_elastic::{
     polach,
 };
 
-use crate::broad::BroadScratch;
+use crate::broad::{BroadMemory, BroadScratch};
 use crate::error::ContactError;
 use crate::geometry::{
     IsoPair, PoseCtx, TravelOptions, TravelStats, Zone, find_zones, locus, refine_narrow_zones,
@@ -421,10 +421,21 @@ impl WheelRailContact {
             );
         let mut found = None;
         if point_search {
+            // (the travelling's memory would describe an older pose)
+            let memory = warm.as_mut().map(|w| {
+                w.invalidate_travel();
+                &mut w.broad
+            });
+            let result = self.point_search(side, pose, &ctx, memory, ws);
             if let Some(w) = warm.as_mut() {
-                w.invalidate();
+                match &result {
+                    Ok(Some(s)) if s.warm => w.warm_count += 1,
+                    Ok(Some(_)) => w.cold_count += 1,
+                    Ok(None) => {}
+                    Err(_) => w.invalidate(),
+                }
             }
-            found = self.point_search(side, pose, &ctx, ws)?;
+            found = result?;
         }
         let stats = match found {
             Some(stats) => stats,
@@ -584,6 +595,7 @@ impl WheelRailContact {
         side: Side,
         pose: &WheelsetPose,
         ctx: &PoseCtx,
+        memory: Option<&mut BroadMemory>,
         ws: &mut ContactWorkspace,
     ) -> Result<Option<TravelStats>, ContactError> {
         // The profiles must overlap laterally, as for the travelling.
@@ -606,6 +618,7 @@ impl WheelRailContact {
             &self.opts.travel,
             &opts,
             &mut ws.broad,
+            memory,
             &mut ws.pairs,
             &mut ws.zones,
         ))

@@ -20,7 +20,7 @@
 //! otherwise the deeper one is the zone. The result has the same form as a travelling: one
 //! pair per zone and zones of one pair each, so the Hertz patch frame is built as before.
 
-use crate::broad::{BroadScratch, Candidate, LEAF_THICK, candidates};
+use crate::broad::{BroadMemory, BroadScratch, Candidate, LEAF_THICK, candidates, recheck};
 use crate::geometry::{
     IsoPair, PairEval, PoseCtx, TravelOptions, TravelStats, Zone, eval_pair, normal_and_gap,
     pair_at_rail, record, travel_error,
@@ -45,26 +45,59 @@ const MAX_PROFILE: usize = 64;
 /// \[m\] the broad phase keeps arcs up to this far inside the wheel; a zone deeper than half of
 /// it is handed to the travelling.
 pub(crate) const BROAD_DEPTH: f64 = 0.5e-3;
+/// \[m\] margin of the broad-phase queries a warm start keeps ([`BroadMemory`]): they serve
+/// until some point of the wheel's locus has moved this far.
+pub(crate) const WARM_MARGIN: f64 = 0.2e-3;
 
 /// Find the rigid contact pair of every zone: pairs to `pairs`, one-pair zones to `zones`
 /// (both cleared first); `scratch` holds the broad phase's buffers. `None` when the search
 /// cannot vouch for its result (a minimum on the edge of its run, a zone deeper than half of
 /// [`BROAD_DEPTH`], more minima or estimates in a run than it keeps): the caller travels instead.
+///
+/// With `memory` (a warm start, one per wheel) the broad phase reuses the leaf pairs of an
+/// earlier query made with the margin [`WARM_MARGIN`] while they cover the pose, and makes and
+/// stores such a query when they do not; in both cases the rules are then applied to the
+/// stored pairs at this pose ([`recheck`]), so the result depends on the stored query only
+/// through pairs that a query at this pose could also keep. `stats.warm` tells whether the
+/// stored query was reused.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn search(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
     travel: &TravelOptions,
     opts: &PointOptions,
     scratch: &mut BroadScratch,
+    memory: Option<&mut BroadMemory>,
     pairs: &mut Vec<IsoPair>,
     zones: &mut Vec<Zone>,
 ) -> Option<TravelStats> {
     let mut stats = TravelStats::default();
     pairs.clear();
     zones.clear();
-    candidates(pair, ctx, BROAD_DEPTH, scratch);
+    match memory {
+        None => candidates(pair, ctx, BROAD_DEPTH, 0.0, scratch),
+        Some(m) => {
+            stats.warm = m.covers(pair, ctx);
+            if !stats.warm {
+                candidates(pair, ctx, BROAD_DEPTH, WARM_MARGIN, scratch);
+                if scratch.candidates.iter().any(|c| c.leaves[0] == u32::MAX) {
+                    m.invalidate();
+                    return None;
+                }
+                // stored along the rail, so that the rechecked candidates come sorted
+                scratch
+                    .candidates
+                    .sort_unstable_by(|a, b| a.s_r[0].total_cmp(&b.s_r[0]));
+                m.store(ctx, WARM_MARGIN, &scratch.candidates);
+            }
+            if !recheck(pair, ctx, BROAD_DEPTH, m.leaves(), scratch) {
+                m.invalidate();
+                return None;
+            }
+        }
+    }
     let cands = &mut scratch.candidates;
-    // sorted along the rail (few candidates: insertion sort)
+    // sorted along the rail (few candidates, mostly in order already: insertion sort)
     for i in 1..cands.len() {
         let mut j = i;
         while j > 0 && cands[j - 1].s_r[0] > cands[j].s_r[0] {

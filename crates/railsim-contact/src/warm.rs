@@ -31,6 +31,7 @@
 //! inside a window, or windows with more nodes than the last cold travelling had pairs (then
 //! the cold travelling is cheaper and refreshes every bound).
 
+use crate::broad::BroadMemory;
 use crate::geometry::{
     FAR_GAP, IsoPair, PoseCtx, RunEnd, TravelOptions, TravelStats, anchored_run, interpolate_s_w,
     kb_at,
@@ -81,6 +82,10 @@ pub struct WarmStart {
     pub warm_count: u64,
     /// Cold travellings since the start.
     pub cold_count: u64,
+    /// The single-point search's broad phase (`crate::point`, models `linear`, `polach`,
+    /// `fastsim`): a query that serves while the wheel stays within its margin. Its searches
+    /// count in `warm_count` (a stored query reused) and `cold_count` (a new query).
+    pub(crate) broad: BroadMemory,
 }
 
 impl WarmStart {
@@ -89,8 +94,14 @@ impl WarmStart {
         Self::default()
     }
 
-    /// Forget the last travelling (the next one is cold).
+    /// Forget the last travelling and broad-phase query (the next search is cold).
     pub fn invalidate(&mut self) {
+        self.valid = false;
+        self.broad.invalidate();
+    }
+
+    /// Forget the last travelling only.
+    pub(crate) fn invalidate_travel(&mut self) {
         self.valid = false;
     }
 
