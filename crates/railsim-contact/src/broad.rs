@@ -213,8 +213,8 @@ pub struct Candidate {
 pub struct BroadScratch {
     /// The candidates of the last query.
     pub candidates: Vec<Candidate>,
-    /// per wheel node: query stamp, chord end points and capsule radius in the side frame
-    chords: Vec<(u32, [f64; 5])>,
+    /// per wheel node: query stamp and chord in the side frame
+    chords: Vec<(u32, WheelChord)>,
     stamp: u32,
 }
 
@@ -351,18 +351,12 @@ struct Overlap {
     v1: [f64; 2],
 }
 
-/// The rules of the module docs for rail node `a` and the wheel node mapped to the chord
-/// `q0`-`q1` with capsule radius `tb`: `None` when they separate the two arcs.
+/// The rules of the module docs for rail node `a` and the wheel node mapped to `w` (its chord,
+/// capsule radius and chord length, [`mapped`]): `None` when they separate the two arcs.
 #[inline(always)]
-fn overlap(
-    a: &TreeNode,
-    b: &TreeNode,
-    q0: [f64; 2],
-    q1: [f64; 2],
-    tb: f64,
-    r: &Rules,
-) -> Option<Overlap> {
-    let t = a.thick + tb + r.margin;
+fn overlap(a: &TreeNode, b: &TreeNode, w: &WheelChord, r: &Rules) -> Option<Overlap> {
+    let (q0, q1) = (w.q0, w.q1);
+    let t = a.thick + w.thick + r.margin;
     let depth = r.depth;
     // boxes around the two capsules, further apart than the depth: no pair of points of the
     // two arcs is closer than that (|P - Q| = -gap for a penetrating pair)
@@ -384,21 +378,19 @@ fn overlap(
         return None;
     }
     // Offsets toward the wheel's material (the left normal of the field-ward chord) and
-    // positions along the chord, both times the chord length `len` (no division).
-    let d = [q1[0] - q0[0], q1[1] - q0[1]];
-    let len2 = (d[0] * d[0] + d[1] * d[1]).max(1e-30);
+    // positions along the chord, both times the chord length `len`.
+    let (d, len) = ([q1[0] - q0[0], q1[1] - q0[1]], w.len);
+    let len2 = len * len;
     let v0 = [a.p0[0] - q0[0], a.p0[1] - q0[1]];
     let v1 = [a.p1[0] - q0[0], a.p1[1] - q0[1]];
     let (o0, o1) = (d[0] * v0[1] - d[1] * v0[0], d[0] * v1[1] - d[1] * v1[0]);
     let (o_max, o_min) = (o0.max(o1), o0.min(o1));
     // o_max / len + t < 0 (the side rule seen from the wheel), and o_min / len - t > depth
-    // (deeper than the depth of interest), without the square root
-    if (r.wheel_angles && b.cos_min >= r.cos_side && o_max < 0.0 && o_max * o_max > t * t * len2)
-        || (o_min > 0.0 && o_min * o_min > (t + depth) * (t + depth) * len2)
+    // (deeper than the depth of interest)
+    if (r.wheel_angles && b.cos_min >= r.cos_side && o_max < -t * len) || o_min > (t + depth) * len
     {
         return None;
     }
-    let len = len2.sqrt();
     if r.wheel_angles && b.cos_min >= COS_STRAIGHT {
         let (e0, e1) = (v0[0] * d[0] + v0[1] * d[1], v1[0] * d[0] + v1[1] * d[1]);
         let shift = r.tan_shift * (o_max + t * len).min((depth + t) * len) + t * len;
@@ -452,7 +444,7 @@ impl BroadScratch {
     fn begin(&mut self, nodes: usize) -> u32 {
         if self.chords.len() != nodes || self.stamp == u32::MAX {
             self.chords.clear();
-            self.chords.resize(nodes, (0, [0.0; 5]));
+            self.chords.resize(nodes, (0, WheelChord::default()));
             self.stamp = 0;
         }
         self.stamp += 1;
@@ -460,22 +452,36 @@ impl BroadScratch {
     }
 }
 
-/// Wheel node `ib`'s chord and capsule radius at the current pose, mapped once per query.
+/// A wheel node's chord mapped to the side frame for one pose.
+#[derive(Clone, Copy, Debug, Default)]
+struct WheelChord {
+    /// chord end points on the locus
+    q0: [f64; 2],
+    q1: [f64; 2],
+    /// \[m\] capsule radius
+    thick: f64,
+    /// \[m\] chord length (floored at 1e-15)
+    len: f64,
+}
+
+/// Wheel node `ib`'s chord at the current pose, mapped once per query.
 #[inline(always)]
-fn mapped(
-    chords: &mut [(u32, [f64; 5])],
+fn mapped<'a>(
+    chords: &'a mut [(u32, WheelChord)],
     stamp: u32,
     map: &WheelMap,
     ib: u32,
     b: &TreeNode,
-) -> ([f64; 2], [f64; 2], f64) {
+) -> &'a WheelChord {
     let c = &mut chords[ib as usize];
     if c.0 != stamp {
-        let (q0, q1, tb) = map.chord(b);
-        *c = (stamp, [q0[0], q0[1], q1[0], q1[1], tb]);
+        let (q0, q1, thick) = map.chord(b);
+        let len = ((q1[0] - q0[0]).powi(2) + (q1[1] - q0[1]).powi(2))
+            .sqrt()
+            .max(1e-15);
+        *c = (stamp, WheelChord { q0, q1, thick, len });
     }
-    let v = c.1;
-    ([v[0], v[1]], [v[2], v[3]], v[4])
+    &c.1
 }
 
 /// The leaves of the two trees of `pair` that the bounds cannot separate at this pose, in
@@ -498,17 +504,17 @@ pub(crate) fn candidates(
         return;
     }
     let stamp = scratch.begin(wt.len());
+    let rules = Rules::new(pair, depth, margin);
     let (out, chords) = (&mut scratch.candidates, &mut scratch.chords);
     let map = WheelMap::new(pair, ctx);
-    let rules = Rules::new(pair, depth, margin);
     let mut stack = [(0u32, 0u32); 96];
     let mut top = 1usize;
     while top > 0 {
         top -= 1;
         let (ia, ib) = stack[top];
         let (a, b) = (&rt[ia as usize], &wt[ib as usize]);
-        let (q0, q1, tb) = mapped(chords, stamp, &map, ib, b);
-        let Some(o) = overlap(a, b, q0, q1, tb, &rules) else {
+        let w = mapped(chords, stamp, &map, ib, b);
+        let Some(o) = overlap(a, b, w, &rules) else {
             continue;
         };
         let (la, lb) = (a.child == 0, b.child == 0);
@@ -550,16 +556,16 @@ pub(crate) fn recheck(
     scratch.candidates.clear();
     let (rt, wt) = (&pair.rail_tree.nodes, &pair.wheel_tree.nodes);
     let stamp = scratch.begin(wt.len());
+    let rules = Rules::new(pair, depth, 0.0);
     let (out, chords) = (&mut scratch.candidates, &mut scratch.chords);
     let map = WheelMap::new(pair, ctx);
-    let rules = Rules::new(pair, depth, 0.0);
     for &[ia, ib] in leaves {
         let (Some(a), Some(b)) = (rt.get(ia as usize), wt.get(ib as usize)) else {
             out.clear();
             return false;
         };
-        let (q0, q1, tb) = mapped(chords, stamp, &map, ib, b);
-        if let Some(o) = overlap(a, b, q0, q1, tb, &rules) {
+        let w = mapped(chords, stamp, &map, ib, b);
+        if let Some(o) = overlap(a, b, w, &rules) {
             out.push(estimate(a, b, ia, ib, &o));
         }
     }

@@ -40,7 +40,8 @@ const S_TOL: f64 = 1e-8;
 const SAME: f64 = 0.2e-3;
 /// Most distinct minima in one run (more: the travelling takes over).
 const MAX_MINIMA: usize = 6;
-/// Most distinct estimated points in one run (more: the travelling takes over).
+/// Most distinct estimated points in one run (more, or more than twice as many candidates: the
+/// travelling takes over).
 const MAX_PROFILE: usize = 64;
 /// \[m\] the broad phase keeps arcs up to this far inside the wheel; a zone deeper than half of
 /// it is handed to the travelling.
@@ -144,38 +145,54 @@ fn run_minima(
     let hi = (run.iter().fold(0.0f64, |m, c| m.max(c.s_r[1])) + 1e-3).min(pair.rail.length());
     // The estimates as a profile along the rail: one entry per estimated rail point (the
     // deepest of its candidates), sorted.
-    let mut prof = [(0.0f64, 0.0f64, 0usize); MAX_PROFILE];
-    let mut m = 0;
+    // (the candidates' estimates sorted by rail arc length, then by candidate; equal points
+    // merged into the deepest, the first of equals)
+    if run.len() > 2 * MAX_PROFILE {
+        return None;
+    }
+    let mut prof = [(0.0f64, 0.0f64, 0usize); 2 * MAX_PROFILE];
     for (k, c) in run.iter().enumerate() {
-        if let Some(q) = prof[..m]
-            .iter_mut()
-            .find(|q| (q.0 - c.s_r_est).abs() < 1e-9)
-        {
-            if c.depth > q.1 {
-                *q = (c.s_r_est, c.depth, k);
+        prof[k] = (c.s_r_est, c.depth, k);
+    }
+    let prof = &mut prof[..run.len()];
+    prof.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+    let mut m = 0;
+    for i in 0..prof.len() {
+        let e = prof[i];
+        if m > 0 && (e.0 - prof[m - 1].0).abs() < 1e-9 {
+            if e.1 > prof[m - 1].1 {
+                prof[m - 1] = e;
             }
-        } else if m < MAX_PROFILE {
-            prof[m] = (c.s_r_est, c.depth, k);
-            m += 1;
         } else {
-            return None;
+            prof[m] = e;
+            m += 1;
         }
     }
-    let prof = &mut prof[..m];
-    prof.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if m > MAX_PROFILE {
+        return None;
+    }
+    let prof = &prof[..m];
     // Newton from the local maxima of the profile, deepest first. After the first, only where it
     // can matter: where the estimates dip between the peak and every minimum found (to what the
     // split rule could separate, plus the estimates' error: a separate patch), or where the peak
     // may be deeper than a minimum found (the deeper one of a single patch).
     let mut mins = [IsoPair::default(); MAX_MINIMA];
     let mut n = 0;
-    let mut done = [false; MAX_PROFILE];
+    // deepest first, the later of equals first
+    let mut order = [0u8; MAX_PROFILE];
+    for (j, o) in order[..m].iter_mut().enumerate() {
+        *o = j as u8;
+    }
+    let order = &mut order[..m];
+    order.sort_unstable_by(|&a, &b| {
+        prof[b as usize]
+            .1
+            .total_cmp(&prof[a as usize].1)
+            .then(b.cmp(&a))
+    });
     let err = 0.25 * LEAF_THICK + 1e-6;
-    while let Some(j) = (0..m)
-        .filter(|&j| !done[j])
-        .max_by(|&a, &b| prof[a].1.total_cmp(&prof[b].1))
-    {
-        done[j] = true;
+    for &j in order.iter() {
+        let j = j as usize;
         let (s_j, d_j, k) = prof[j];
         let peak = (j == 0 || prof[j - 1].1 <= d_j) && (j + 1 == m || prof[j + 1].1 <= d_j);
         // outside the wheel by more than the estimates' error: no zone (and no deeper peak)
