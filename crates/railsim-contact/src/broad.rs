@@ -574,9 +574,9 @@ pub(crate) fn recheck(
 
 /// What the broad phase keeps of one wheel between the evaluations of a time integration: the
 /// leaf pairs of a query with a margin (`candidates`) and the pose it was made at. While no
-/// point of the wheel's locus has moved further than the margin ([`BroadMemory::move_bound`]),
-/// the rules applied to these pairs alone ([`recheck`]) find every leaf pair a full query would
-/// need.
+/// point of the wheel's locus has moved further than the margin (`move_bound`), the rules
+/// applied to these pairs alone (`recheck`) keep every leaf pair that can hold an
+/// interpenetrating pair (`docs/models/contact.md` §3.2).
 #[derive(Clone, Debug, Default)]
 pub struct BroadMemory {
     leaves: Vec<[u32; 2]>,

@@ -59,8 +59,8 @@ pub(crate) const WARM_MARGIN: f64 = 0.2e-3;
 /// earlier query made with the margin [`WARM_MARGIN`] while they cover the pose, and makes and
 /// stores such a query when they do not; in both cases the rules are then applied to the
 /// stored pairs at this pose ([`recheck`]), so the result depends on the stored query only
-/// through pairs that a query at this pose could also keep. `stats.warm` tells whether the
-/// stored query was reused.
+/// through leaf pairs that pass the rules at this pose. `stats.warm` tells whether the stored
+/// query was reused.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn search(
     pair: &WheelRailPair,

@@ -3,7 +3,8 @@
 //! field side are far from the rail. A [`WarmStart`] keeps, for every pair of the previous
 //! travellings, a lower bound of the gap at the last pose, lowers the bounds by how far the
 //! wheel can have moved, and travels only windows around the places where the bounds no longer
-//! exclude contact.
+//! exclude contact. For the Hertz models' single-point search it holds instead the broad phase's
+//! query with a margin ([`crate::broad::BroadMemory`], `docs/models/contact.md` §3.2).
 //!
 //! **Certificate** (`docs/models/contact.md` §3.1). With `|g''| <= kb` along the rail arc (the
 //! bound the cold travelling's step control rests on, [`crate::pair::WheelRailPair::kappa_bound`]),
@@ -78,9 +79,10 @@ pub struct WarmStart {
     valid: bool,
     /// pairs of the last cold travelling
     cold_pairs: usize,
-    /// Warm travellings since the start.
+    /// Warm searches since the start (travellings, or point searches that reused the stored
+    /// broad-phase query).
     pub warm_count: u64,
-    /// Cold travellings since the start.
+    /// Cold searches since the start.
     pub cold_count: u64,
     /// The single-point search's broad phase (`crate::point`, models `linear`, `polach`,
     /// `fastsim`): a query that serves while the wheel stays within its margin. Its searches
