@@ -93,40 +93,49 @@ fn evaluations_allocate_nothing_after_warm_up() {
 #[test]
 fn a_simulation_right_hand_side_allocates_nothing_after_warm_up() {
     // The simulator's Workspace (house style: no allocation per step): Manchester vehicle 1 on
-    // irregular track, eight wheels with the default `stripes` contact.
+    // irregular track, eight wheels, with the default `stripes` contact (warm-started travelling)
+    // and with `polach` (warm-started point search).
     use railsim_ode::OdeSystem;
     use railsim_sim::dynamics::Dynamics;
-    let scene = railsim_sim::Scene::from_toml_str(
-        r#"
-        vehicle = "vehicles/manchester_vehicle1.toml"
-        track = "tracks/straight_irregular.toml"
-        speed_kmh = 198
-        duration_s = 1
-        "#,
-        "no_alloc.toml",
-        &repo(""),
-    )
-    .unwrap();
-    let sim = railsim_sim::Simulation::new(&scene).unwrap();
-    let model = sim.model();
-    let mut x = sim.initial_state().to_vec();
-    let mut d = Dynamics::new(model);
-    let mut dx = vec![0.0; model.dim()];
-    for k in 0..5 {
-        d.rhs(k as f64 * 1e-4, &x, &mut dx).unwrap();
+    for model in ["stripes", "polach"] {
+        let scene = railsim_sim::Scene::from_toml_str(
+            &format!(
+                r#"
+                vehicle = "vehicles/manchester_vehicle1.toml"
+                track = "tracks/straight_irregular.toml"
+                speed_kmh = 198
+                duration_s = 1
+                [contact]
+                model = "{model}"
+                "#
+            ),
+            "no_alloc.toml",
+            &repo(""),
+        )
+        .unwrap();
+        let sim = railsim_sim::Simulation::new(&scene).unwrap();
+        let model_ = sim.model();
+        let mut x = sim.initial_state().to_vec();
+        let mut d = Dynamics::new(model_);
+        let mut dx = vec![0.0; model_.dim()];
+        for k in 0..5 {
+            d.rhs(k as f64 * 1e-4, &x, &mut dx).unwrap();
+        }
+        COUNT.store(0, Ordering::Relaxed);
+        ON.with(|c| c.set(true));
+        for k in 0..50 {
+            // Small changes of state and time, as between integrator stages.
+            x[0] += 1e-7;
+            d.rhs(5e-4 + k as f64 * 1e-5, &x, &mut dx).unwrap();
+        }
+        ON.with(|c| c.set(false));
+        assert_eq!(
+            COUNT.load(Ordering::Relaxed),
+            0,
+            "{model}: allocations in the right-hand side"
+        );
+        assert!(dx.iter().all(|v| v.is_finite()));
+        let warm: u64 = d.ws.warm.iter().map(|w| w.warm_count).sum();
+        assert!(warm >= 8 * 50, "{model}: {warm} warm searches");
     }
-    COUNT.store(0, Ordering::Relaxed);
-    ON.with(|c| c.set(true));
-    for k in 0..50 {
-        // Small changes of state and time, as between integrator stages.
-        x[0] += 1e-7;
-        d.rhs(5e-4 + k as f64 * 1e-5, &x, &mut dx).unwrap();
-    }
-    ON.with(|c| c.set(false));
-    assert_eq!(
-        COUNT.load(Ordering::Relaxed),
-        0,
-        "allocations in the right-hand side"
-    );
-    assert!(dx.iter().all(|v| v.is_finite()));
 }

@@ -126,3 +126,77 @@ fn warm_start_gives_the_cold_patches() {
         );
     }
 }
+
+/// The cold travelling restricted to windows around the broad phase's candidates (what
+/// `evaluate` does without a warm start, `railsim_contact::point::travel_windows`) against the
+/// travelling of the whole profile (what a warm start's first, cold evaluation does) on random
+/// poses over tread, flange root and flange, both wheels, yaw to ±25 mrad, roll to ±15 mrad,
+/// 2–120 kN, every tenth pose pressed 1 mm deeper (zones past the broad phase's depth: the
+/// whole profile is travelled), every tenth 0.4 mm deeper, and every tenth lifted off. Both must give the same patches up
+/// to where the pairs' Newton iterations started (as the warm start: the same anchored rail
+/// nodes and subdivision, §3.1).
+#[test]
+fn windowed_cold_travelling_gives_the_full_travellings_patches() {
+    let contact = mbench_contact(ContactModelKind::Stripes, 1.0e-3);
+    let vel = rolling_30_m_s();
+    let mut x = 4242u64;
+    let mut rnd = |a: f64, b: f64| {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        a + (b - a) * ((x >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    let (mut ws_a, mut ws_b) = (ContactWorkspace::new(), ContactWorkspace::new());
+    let (mut worst_f, mut worst_y) = (0.0f64, 0.0f64);
+    let (mut windowed, mut full, mut compared, mut two) = (0, 0, 0, 0);
+    for k in 0..400 {
+        let side = if k % 2 == 0 { Side::Left } else { Side::Right };
+        let mut pose = WheelsetPose {
+            y: rnd(-10e-3, 10e-3),
+            yaw: rnd(-25e-3, 25e-3),
+            roll: rnd(-15e-3, 15e-3),
+            ..Default::default()
+        };
+        let fz = rnd(2e3, 120e3);
+        let Ok(s) = contact.evaluate_with_load(side, &pose, &vel, fz, 1e-6, &mut ws_a) else {
+            continue;
+        };
+        pose.z = s.z
+            + match k % 10 {
+                5 => 0.3e-3,
+                0 => -1.0e-3,
+                2 => -0.4e-3,
+                _ => 0.0,
+            };
+        let (Ok(a), Ok(b)) = (
+            contact.evaluate(side, &pose, &vel, &mut ws_a),
+            contact.evaluate_warm(side, &pose, &vel, &mut WarmStart::new(), &mut ws_b),
+        ) else {
+            panic!("pose {k} {side:?} {pose:?}: one evaluation failed");
+        };
+        if a.travel.pairs < b.travel.pairs {
+            windowed += 1;
+        } else {
+            full += 1;
+        }
+        let (pa, pb) = (sorted(&ws_a.patches), sorted(&ws_b.patches));
+        assert_eq!(
+            pa.len(),
+            pb.len(),
+            "pose {k} {side:?} {pose:?}: {a:?} / {b:?}"
+        );
+        let (df, dy) = diff(&pa, &pb);
+        assert!(
+            df < 1e-8 && dy < 1e-9,
+            "pose {k} {side:?} {pose:?}: forces {df:e} of Fn, positions {dy:e} m apart"
+        );
+        (worst_f, worst_y) = (worst_f.max(df), worst_y.max(dy));
+        compared += 1;
+        two += usize::from(pa.len() > 1);
+    }
+    eprintln!(
+        "{compared} poses ({windowed} windowed, {full} travelled whole, {two} with two or more \
+         patches): forces within {worst_f:.1e} of Fn, positions within {worst_y:.1e} m"
+    );
+    assert!(compared > 350 && windowed > 250 && full > 30 && two >= 3);
+}

@@ -440,6 +440,9 @@ impl WheelRailContact {
         let stats = match found {
             Some(stats) => stats,
             None => {
+                // (a point-search model keeps no travelling memory: its fallback travels cold,
+                // windowed, with or without a warm start)
+                let warm = if point_search { None } else { warm };
                 self.travel_zones(&sp, &ctx, warm, ws)
                     .map_err(|()| ContactError::NoOverlap {
                         side: side.name(),
@@ -550,7 +553,21 @@ impl WheelRailContact {
             )
         });
         if !warm_travelled {
-            stats = travel(&self.pair, sp, &self.opts.travel, &mut ws.pairs);
+            // Without a warm start, only windows around the broad phase's candidates are
+            // travelled where that can be vouched for; a warm start needs the whole profile's
+            // bounds.
+            let windowed = warm.is_none()
+                && point::travel_windows(
+                    &self.pair,
+                    ctx,
+                    &self.opts.travel,
+                    &mut ws.broad,
+                    &mut ws.pairs,
+                    &mut stats,
+                );
+            if !windowed {
+                stats = travel(&self.pair, sp, &self.opts.travel, &mut ws.pairs);
+            }
             if let Some(w) = warm {
                 w.store_cold(&self.pair, ctx, &ws.pairs);
             }

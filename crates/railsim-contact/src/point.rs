@@ -22,8 +22,8 @@
 
 use crate::broad::{BroadMemory, BroadScratch, Candidate, LEAF_THICK, candidates, recheck};
 use crate::geometry::{
-    IsoPair, PairEval, PoseCtx, TravelOptions, TravelStats, Zone, eval_pair, normal_and_gap,
-    pair_at_rail, record, travel_error,
+    IsoPair, PairEval, PoseCtx, RunEnd, TravelOptions, TravelStats, Zone, anchored_run, eval_pair,
+    normal_and_gap, pair_at_rail, record, travel_error,
 };
 use crate::pair::WheelRailPair;
 
@@ -388,4 +388,81 @@ fn extremum(
         s_w = s_w1;
     }
     (e, s_w, s_r, found)
+}
+
+/// The cold travelling restricted to windows around the broad phase's candidates
+/// (`docs/models/contact.md` §3.1): the rail-anchored pairs of the travelling (nodes `k * step`
+/// and their dyadic midpoints) from two nodes before to two nodes after every run of candidate
+/// rail arcs, as a warm start travels its windows, to `out` (cleared first). Every zone lies in
+/// candidates (every interpenetrating pair down to the broad phase's depth does; a deeper zone's
+/// edges do), so the zones, their pairs and two nodes on each side are those of the full
+/// travelling up to where the pairs' Newton iterations started. Returns `false` (and the caller
+/// travels the whole profile) when there are no candidates (no contact: the full travelling
+/// reports the gaps), a profile's end lies in a window, or a window ends inside the wheel (a zone
+/// deeper than the broad phase's depth reaches past it).
+pub(crate) fn travel_windows(
+    pair: &WheelRailPair,
+    ctx: &PoseCtx,
+    opts: &TravelOptions,
+    scratch: &mut BroadScratch,
+    out: &mut Vec<IsoPair>,
+    stats: &mut TravelStats,
+) -> bool {
+    out.clear();
+    *stats = TravelStats::default();
+    candidates(pair, ctx, BROAD_DEPTH, 0.0, scratch);
+    let cands = &mut scratch.candidates;
+    if cands.is_empty() || cands.iter().any(|c| c.leaves[0] == u32::MAX) {
+        return false;
+    }
+    cands.sort_unstable_by(|a, b| a.s_r[0].total_cmp(&b.s_r[0]));
+    let hs = opts.step;
+    let mut i = 0;
+    let mut last_end: Option<i64> = None;
+    while i < cands.len() {
+        // a run of touching rail arcs, and the wheel arc length guess at its start
+        let mut j = i;
+        let mut end = cands[i].s_r[1];
+        while j + 1 < cands.len() && cands[j + 1].s_r[0] <= end + 1e-9 {
+            j += 1;
+            end = end.max(cands[j].s_r[1]);
+        }
+        let first = &cands[i];
+        let mut k0 = ((first.s_r[0] / hs + 1e-9).floor() as i64 - 2).max(0);
+        let k1 = (end / hs - 1e-9).ceil() as i64 + 2;
+        i = j + 1;
+        // windows that meet continue the previous one
+        if let Some(k_e) = last_end
+            && k0 <= k_e
+        {
+            if k1 <= k_e {
+                continue;
+            }
+            k0 = k_e + 1;
+        }
+        let s0 = k0 as f64 * hs;
+        let guess = match out.last() {
+            Some(p) if last_end.is_some_and(|k_e| k0 == k_e + 1) => p.s_w + (s0 - p.s_r),
+            _ => first.s_w_est - (first.s_r_est - s0),
+        };
+        if anchored_run(pair, ctx, opts, k0, guess, RunEnd::At(k1), out, stats).is_none() {
+            return false;
+        }
+        last_end = Some(k1);
+    }
+    // Every window must begin and end outside the wheel: a zone cut by a window's end would be
+    // incomplete.
+    let mut prev_end = f64::NEG_INFINITY;
+    let mut start = 0;
+    for (n, p) in out.iter().enumerate() {
+        let new_window = p.s_r > prev_end + 1.5 * hs;
+        if new_window && n > 0 && (out[start].gap < 0.0 || out[n - 1].gap < 0.0) {
+            return false;
+        }
+        if new_window {
+            start = n;
+        }
+        prev_end = p.s_r;
+    }
+    !(out.len() < 3 || out[start].gap < 0.0 || out[out.len() - 1].gap < 0.0)
 }
