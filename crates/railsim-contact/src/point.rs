@@ -19,6 +19,9 @@
 //! `split_depth_ratio` of the smaller one and contact angles more than `split_angle` apart);
 //! otherwise the deeper one is the zone. The result has the same form as a travelling: one
 //! pair per zone and zones of one pair each, so the Hertz patch frame is built as before.
+//!
+//! The same broad phase also restricts a cold travelling to windows around its candidates
+//! (`travel_windows`).
 
 use crate::broad::{BroadMemory, BroadScratch, Candidate, LEAF_THICK, candidates, recheck};
 use crate::geometry::{
