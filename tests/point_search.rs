@@ -9,23 +9,7 @@ use railsim_contact::{
     WheelRailContact, WheelsetPose,
 };
 
-use crate::common::{mbench_pair, rolling_30_m_s, tol_scale};
-
-/// A small deterministic generator (64-bit LCG, Knuth's constants): uniform in [0, 1).
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
+use crate::common::{Lcg, mbench_pair, rolling_30_m_s, tol_scale};
 
 fn contact(model: ContactModelKind, search: HertzSearch, step: f64) -> WheelRailContact {
     let mut opts = ContactOptions {

@@ -7,7 +7,7 @@ use railsim_contact::{
     ContactModelKind, ContactWorkspace, PatchResult, Side, WarmStart, WheelsetPose,
 };
 
-use crate::common::{mbench_contact, rolling_30_m_s, tol_scale};
+use crate::common::{Lcg, mbench_contact, rolling_30_m_s, tol_scale};
 
 fn sorted(p: &[PatchResult]) -> Vec<PatchResult> {
     let mut p = p.to_vec();
@@ -139,13 +139,8 @@ fn warm_start_gives_the_cold_patches() {
 fn windowed_cold_travelling_gives_the_full_travellings_patches() {
     let contact = mbench_contact(ContactModelKind::Stripes, 1.0e-3);
     let vel = rolling_30_m_s();
-    let mut x = 4242u64;
-    let mut rnd = |a: f64, b: f64| {
-        x = x
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        a + (b - a) * ((x >> 11) as f64 / (1u64 << 53) as f64)
-    };
+    let mut rng = Lcg(4242);
+    let mut rnd = |a: f64, b: f64| rng.range(a, b);
     let (mut ws_a, mut ws_b) = (ContactWorkspace::new(), ContactWorkspace::new());
     let (mut worst_f, mut worst_y) = (0.0f64, 0.0f64);
     let (mut windowed, mut full, mut compared, mut two) = (0, 0, 0, 0);

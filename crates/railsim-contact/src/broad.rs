@@ -656,9 +656,98 @@ pub(crate) fn move_bound(pair: &WheelRailPair, m: &BroadMemory, ctx: &PoseCtx) -
 mod tests {
     use super::*;
     use crate::contact_format::manchester_benchmark_pair;
-    use crate::geometry::{TravelOptions, locus, travel};
+    use crate::geometry::{IsoPair, TravelOptions, locus, travel};
     use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
     use crate::{ContactModelKind, ContactOptions, ContactWorkspace, WheelRailContact};
+
+    /// The benchmark pair, its `polach` contact (to find loaded heights), a 0.1 mm travelling and
+    /// a deterministic generator (64-bit LCG, Knuth's constants).
+    struct Setup {
+        pair: WheelRailPair,
+        contact: WheelRailContact,
+        fine: TravelOptions,
+        ws: ContactWorkspace,
+        x: u64,
+    }
+
+    impl Setup {
+        fn new(seed: u64) -> Self {
+            let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+            let pair = manchester_benchmark_pair(&root).unwrap();
+            let opts = ContactOptions {
+                model: ContactModelKind::Polach,
+                ..Default::default()
+            };
+            Setup {
+                contact: WheelRailContact::new(pair.clone(), opts).unwrap(),
+                pair,
+                fine: TravelOptions {
+                    step: 0.1e-3,
+                    ..Default::default()
+                },
+                ws: ContactWorkspace::new(),
+                x: seed,
+            }
+        }
+
+        fn rnd(&mut self, a: f64, b: f64) -> f64 {
+            self.x = self
+                .x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            a + (b - a) * ((self.x >> 11) as f64 / (1u64 << 53) as f64)
+        }
+
+        /// Pose `k`: left and right wheels alternately, over the whole wheel, yaw to 25 mrad,
+        /// roll to 15 mrad, pressed up to `press` \[m\] below the height that carries 1 kN;
+        /// `None` where that height is not found.
+        fn pose(&mut self, k: usize, press: f64) -> Option<(Side, WheelsetPose)> {
+            let side = if k.is_multiple_of(2) {
+                Side::Left
+            } else {
+                Side::Right
+            };
+            let mut pose = WheelsetPose {
+                y: self.rnd(-10e-3, 10e-3),
+                yaw: self.rnd(-25e-3, 25e-3),
+                roll: self.rnd(-15e-3, 15e-3),
+                ..Default::default()
+            };
+            let vel = WheelsetVelocity {
+                vx: 30.0,
+                spin: -30.0 / 0.46,
+                ..Default::default()
+            };
+            let s = self
+                .contact
+                .evaluate_with_load(side, &pose, &vel, 1e3, 1e-3, &mut self.ws)
+                .ok()?;
+            pose.z = s.z - self.rnd(0.0, press);
+            Some((side, pose))
+        }
+    }
+
+    /// Asserts that every pair of `pairs` interpenetrating by less than 0.5 mm lies in one of
+    /// `cands` (its rail point in the rail leaf, its wheel point in the wheel leaf); returns
+    /// how many were checked and how many of them were deeper than 0.25 mm.
+    fn assert_covered(pairs: &[IsoPair], cands: &[Candidate], what: &str) -> (usize, usize) {
+        let (mut checked, mut deep) = (0, 0);
+        for p in pairs.iter().filter(|p| p.gap < 0.0 && p.gap > -0.5e-3) {
+            checked += 1;
+            deep += usize::from(p.gap < -0.25e-3);
+            assert!(
+                cands.iter().any(|c| c.s_r[0] <= p.s_r
+                    && p.s_r <= c.s_r[1]
+                    && c.s_w[0] <= p.s_w
+                    && p.s_w <= c.s_w[1]),
+                "{what}: pair at s_r {:.3} mm, s_w {:.3} mm, gap {:.4} mm in no candidate",
+                p.s_r * 1e3,
+                p.s_w * 1e3,
+                p.gap * 1e3
+            );
+        }
+        (checked, deep)
+    }
 
     /// Every interpenetrating pair of a fine travelling (0.1 mm) down to the broad phase's depth
     /// lies in a candidate: its rail point in the candidate's rail leaf and its wheel point in
@@ -666,63 +755,28 @@ mod tests {
     /// interpenetration to 0.5 mm.
     #[test]
     fn every_interpenetrating_pair_is_in_a_candidate() {
-        let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-        let pair = manchester_benchmark_pair(&root).unwrap();
-        let opts = ContactOptions {
-            model: ContactModelKind::Polach,
-            ..Default::default()
-        };
-        let contact = WheelRailContact::new(pair.clone(), opts).unwrap();
-        let fine = TravelOptions {
-            step: 0.1e-3,
-            ..Default::default()
-        };
-        let mut x = 12345u64;
-        let mut rnd = |a: f64, b: f64| {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            a + (b - a) * ((x >> 11) as f64 / (1u64 << 53) as f64)
-        };
-        let (mut ws, mut pairs, mut scratch) =
-            (ContactWorkspace::new(), vec![], BroadScratch::default());
-        let vel = WheelsetVelocity {
-            vx: 30.0,
-            spin: -30.0 / 0.46,
-            ..Default::default()
-        };
+        let mut t = Setup::new(12345);
+        let (mut pairs, mut scratch) = (vec![], BroadScratch::default());
         let (mut checked, mut deep) = (0, 0);
         for k in 0..300 {
-            let side = if k % 2 == 0 { Side::Left } else { Side::Right };
-            let mut pose = WheelsetPose {
-                y: rnd(-10e-3, 10e-3),
-                yaw: rnd(-25e-3, 25e-3),
-                roll: rnd(-15e-3, 15e-3),
-                ..Default::default()
-            };
-            let Ok(s) = contact.evaluate_with_load(side, &pose, &vel, 1e3, 1e-3, &mut ws) else {
+            let Some((side, pose)) = t.pose(k, 0.45e-3) else {
                 continue;
             };
-            pose.z = s.z - rnd(0.0, 0.45e-3);
             let sp = pose.to_side(side);
-            travel(&pair, &sp, &fine, &mut pairs);
-            candidates(&pair, &PoseCtx::new(&pair, &sp), 0.5e-3, 0.0, &mut scratch);
-            let cands = &scratch.candidates;
-            for p in pairs.iter().filter(|p| p.gap < 0.0 && p.gap > -0.5e-3) {
-                checked += 1;
-                deep += usize::from(p.gap < -0.25e-3);
-                assert!(
-                    cands.iter().any(|c| c.s_r[0] <= p.s_r
-                        && p.s_r <= c.s_r[1]
-                        && c.s_w[0] <= p.s_w
-                        && p.s_w <= c.s_w[1]),
-                    "pose {k} ({side:?} {sp:?}): pair at s_r {:.3} mm, s_w {:.3} mm, gap \
-                     {:.4} mm in no candidate",
-                    p.s_r * 1e3,
-                    p.s_w * 1e3,
-                    p.gap * 1e3
-                );
-            }
+            travel(&t.pair, &sp, &t.fine, &mut pairs);
+            candidates(
+                &t.pair,
+                &PoseCtx::new(&t.pair, &sp),
+                0.5e-3,
+                0.0,
+                &mut scratch,
+            );
+            let (c, d) = assert_covered(
+                &pairs,
+                &scratch.candidates,
+                &format!("pose {k} ({side:?} {sp:?})"),
+            );
+            (checked, deep) = (checked + c, deep + d);
         }
         eprintln!("{checked} pairs, {deep} deep");
         assert!(
@@ -738,55 +792,22 @@ mod tests {
     /// of a fine travelling there (as in the test above).
     #[test]
     fn a_query_with_a_margin_serves_the_poses_within_it() {
-        let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-        let pair = manchester_benchmark_pair(&root).unwrap();
-        let opts = ContactOptions {
-            model: ContactModelKind::Polach,
-            ..Default::default()
-        };
-        let contact = WheelRailContact::new(pair.clone(), opts).unwrap();
-        let fine = TravelOptions {
-            step: 0.1e-3,
-            ..Default::default()
-        };
-        let mut x = 777u64;
-        let mut rnd = |a: f64, b: f64| {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            a + (b - a) * ((x >> 11) as f64 / (1u64 << 53) as f64)
-        };
-        let (mut ws, mut pairs, mut scratch, mut memory) = (
-            ContactWorkspace::new(),
-            vec![],
-            BroadScratch::default(),
-            BroadMemory::default(),
-        );
-        let vel = WheelsetVelocity {
-            vx: 30.0,
-            spin: -30.0 / 0.46,
-            ..Default::default()
-        };
+        let mut t = Setup::new(777);
+        let (mut pairs, mut scratch, mut memory) =
+            (vec![], BroadScratch::default(), BroadMemory::default());
         let margin = 0.2e-3;
-        let (s0, s1) = (pair.wheel_tree.nodes[0].s[0], pair.wheel_tree.nodes[0].s[1]);
+        let root = t.pair.wheel_tree.nodes[0];
+        let (s0, s1) = (root.s[0], root.s[1]);
         let (mut checked, mut tight) = (0, 0.0f64);
         for k in 0..300 {
-            let side = if k % 2 == 0 { Side::Left } else { Side::Right };
-            let mut pose = WheelsetPose {
-                y: rnd(-10e-3, 10e-3),
-                yaw: rnd(-25e-3, 25e-3),
-                roll: rnd(-15e-3, 15e-3),
-                ..Default::default()
-            };
-            let Ok(s) = contact.evaluate_with_load(side, &pose, &vel, 1e3, 1e-3, &mut ws) else {
+            let Some((side, pose)) = t.pose(k, 0.4e-3) else {
                 continue;
             };
-            pose.z = s.z - rnd(0.0, 0.4e-3);
             let dir = [
-                rnd(-1.0, 1.0) * 1e-3,
-                rnd(-1.0, 1.0) * 1e-3,
-                rnd(-1.0, 1.0) * 1e-3,
-                rnd(-1.0, 1.0) * 1e-3,
+                t.rnd(-1.0, 1.0) * 1e-3,
+                t.rnd(-1.0, 1.0) * 1e-3,
+                t.rnd(-1.0, 1.0) * 1e-3,
+                t.rnd(-1.0, 1.0) * 1e-3,
             ];
             let moved = |f: f64| WheelsetPose {
                 y: pose.y + f * dir[0],
@@ -794,31 +815,26 @@ mod tests {
                 roll: pose.roll + f * dir[2],
                 yaw: pose.yaw + f * dir[3],
             };
-            let (sp0, ctx0) = {
-                let sp = pose.to_side(side);
-                (sp, PoseCtx::new(&pair, &sp))
-            };
-            candidates(&pair, &ctx0, 0.5e-3, margin, &mut scratch);
+            let frac = t.rnd(0.3, 1.0);
+            let pair = &t.pair;
+            let sp0 = pose.to_side(side);
+            let ctx0 = PoseCtx::new(pair, &sp0);
+            candidates(pair, &ctx0, 0.5e-3, margin, &mut scratch);
             memory.store(&ctx0, margin, &scratch.candidates);
-            let bound_at = |f: f64| {
-                move_bound(
-                    &pair,
-                    &memory,
-                    &PoseCtx::new(&pair, &moved(f).to_side(side)),
-                )
-            };
-            let mut f = rnd(0.3, 1.0) * margin / bound_at(1.0);
+            let bound_at =
+                |f: f64| move_bound(pair, &memory, &PoseCtx::new(pair, &moved(f).to_side(side)));
+            let mut f = frac * margin / bound_at(1.0);
             while bound_at(f) > margin {
                 f *= 0.9;
             }
             let sp1 = moved(f).to_side(side);
-            let ctx1 = PoseCtx::new(&pair, &sp1);
-            let bound = move_bound(&pair, &memory, &ctx1);
-            assert!(memory.covers(&pair, &ctx1));
+            let ctx1 = PoseCtx::new(pair, &sp1);
+            let bound = move_bound(pair, &memory, &ctx1);
+            assert!(memory.covers(pair, &ctx1));
             // the bound
             for i in 0..400 {
                 let s = s0 + (s1 - s0) * i as f64 / 399.0;
-                let (p0, p1) = (locus(&pair, &ctx0, s).p, locus(&pair, &ctx1, s).p);
+                let (p0, p1) = (locus(pair, &ctx0, s).p, locus(pair, &ctx1, s).p);
                 let d = ((p1[1] - p0[1]).powi(2) + (p1[2] - p0[2]).powi(2)).sqrt();
                 assert!(
                     d <= bound,
@@ -827,23 +843,10 @@ mod tests {
                 tight = tight.max(d / bound);
             }
             // the stored pairs, rechecked
-            assert!(recheck(&pair, &ctx1, 0.5e-3, memory.leaves(), &mut scratch));
-            travel(&pair, &sp1, &fine, &mut pairs);
-            let cands = &scratch.candidates;
-            for p in pairs.iter().filter(|p| p.gap < 0.0 && p.gap > -0.5e-3) {
-                checked += 1;
-                assert!(
-                    cands.iter().any(|c| c.s_r[0] <= p.s_r
-                        && p.s_r <= c.s_r[1]
-                        && c.s_w[0] <= p.s_w
-                        && p.s_w <= c.s_w[1]),
-                    "pose {k} ({side:?} {sp0:?} moved to {sp1:?}): pair at s_r {:.3} mm, s_w \
-                     {:.3} mm, gap {:.4} mm in no candidate",
-                    p.s_r * 1e3,
-                    p.s_w * 1e3,
-                    p.gap * 1e3
-                );
-            }
+            assert!(recheck(pair, &ctx1, 0.5e-3, memory.leaves(), &mut scratch));
+            travel(pair, &sp1, &t.fine, &mut pairs);
+            let what = format!("pose {k} ({side:?} {sp0:?} moved to {sp1:?})");
+            checked += assert_covered(&pairs, &scratch.candidates, &what).0;
         }
         eprintln!("{checked} pairs; largest move / bound {tight:.3}");
         assert!(

@@ -111,13 +111,7 @@ pub(crate) fn search(
     }
     let mut i = 0;
     while i < cands.len() {
-        // a run: rail arcs that touch or overlap
-        let mut j = i;
-        let mut end = cands[i].s_r[1];
-        while j + 1 < cands.len() && cands[j + 1].s_r[0] <= end + 1e-9 {
-            j += 1;
-            end = end.max(cands[j].s_r[1]);
-        }
+        let (j, _) = run_from(cands, i);
         run_minima(pair, ctx, travel, opts, &cands[i..=j], pairs, &mut stats)?;
         i = j + 1;
     }
@@ -132,6 +126,18 @@ pub(crate) fn search(
         });
     }
     Some(stats)
+}
+
+/// The run of candidates (sorted along the rail) that starts at `i`: rail arcs that touch or
+/// overlap. Returns the index of its last candidate and where its rail arcs end.
+fn run_from(cands: &[Candidate], i: usize) -> (usize, f64) {
+    let mut j = i;
+    let mut end = cands[i].s_r[1];
+    while j + 1 < cands.len() && cands[j + 1].s_r[0] <= end + 1e-9 {
+        j += 1;
+        end = end.max(cands[j].s_r[1]);
+    }
+    (j, end)
 }
 
 /// The zone(s) of one run of candidates (sorted by rail arc length).
@@ -423,13 +429,7 @@ pub(crate) fn travel_windows(
     let mut i = 0;
     let mut last_end: Option<i64> = None;
     while i < cands.len() {
-        // a run of touching rail arcs, and the wheel arc length guess at its start
-        let mut j = i;
-        let mut end = cands[i].s_r[1];
-        while j + 1 < cands.len() && cands[j + 1].s_r[0] <= end + 1e-9 {
-            j += 1;
-            end = end.max(cands[j].s_r[1]);
-        }
+        let (j, end) = run_from(cands, i);
         let first = &cands[i];
         let mut k0 = ((first.s_r[0] / hs + 1e-9).floor() as i64 - 2).max(0);
         let k1 = (end / hs - 1e-9).ceil() as i64 + 2;
