@@ -622,7 +622,8 @@ impl BroadMemory {
 /// A locus point is `P = C + R q` with `q = (rho st, axial, -rho ct)` (`geometry` module docs),
 /// `st = clamp(-tan(yaw) rho', ±0.5)` and `ct` its cosine series. For one profile point between
 /// the two poses: `ΔP = ΔC + ΔR q_0 + R_1 Δq` with `Δq = (rho Δst, 0, -rho Δct)`. The clamp is
-/// 1-Lipschitz, so `|Δst| <= min(S |Δtan|, 1)` with `S` the largest `|rho'|` on the tree; the
+/// 1-Lipschitz, so `|Δst| <= min(S |Δtan|, 1)` with `S` the largest `|rho'|` on the tree (at its
+/// nodes, plus 1 %); the
 /// series' derivative is at most `1.155 |st|` for `|st| <= 0.5`, so `|Δct| <= 1.155 st_max |Δst|`
 /// with `st_max = min(0.5, S max|tan|)`; `|q_0| <= (rho_max min(0.5, S |tan_0|), axial_max,
 /// rho_max)` componentwise. Each cross-section component is bounded by the sum of the absolute
@@ -631,7 +632,8 @@ pub(crate) fn move_bound(pair: &WheelRailPair, m: &BroadMemory, ctx: &PoseCtx) -
     let Some(root) = pair.wheel_tree.nodes.first() else {
         return f64::INFINITY;
     };
-    let s = root.slope_abs;
+    // (the largest |rho'| at the curve's nodes, 1 % added for the curve between them)
+    let s = 1.01 * root.slope_abs;
     let rho = root.rho_max;
     let axial = pair.wheel_y0.abs() + root.p0[0].abs().max(root.p1[0].abs()) + root.thick;
     let t1 = if ctx.yawed { ctx.tan_yaw } else { 0.0 };
