@@ -402,13 +402,14 @@ fn extremum(
 /// The cold travelling restricted to windows around the broad phase's candidates
 /// (`docs/models/contact.md` §3.1): the rail-anchored pairs of the travelling (nodes `k * step`
 /// and their dyadic midpoints) from two nodes before to two nodes after every run of candidate
-/// rail arcs, as a warm start travels its windows, to `out` (cleared first). Every zone lies in
-/// candidates (every interpenetrating pair down to the broad phase's depth does; a deeper zone's
-/// edges do), so the zones, their pairs and two nodes on each side are those of the full
+/// rail arcs (windows that meet or touch merged), as a warm start travels its windows, to `out`
+/// (cleared first). Every zone lies in candidates (every interpenetrating pair down to the broad
+/// phase's depth does; a deeper zone's edges do), so the zones, their pairs and two nodes on each side are those of the full
 /// travelling up to where the pairs' Newton iterations started. Returns `false` (and the caller
 /// travels the whole profile) when there are no candidates (no contact: the full travelling
-/// reports the gaps), a profile's end lies in a window, or a window ends inside the wheel (a zone
-/// deeper than the broad phase's depth reaches past it).
+/// reports the gaps), a profile's end lies in a window, a window begins or ends inside the wheel
+/// (a zone deeper than the broad phase's depth reaches past it), or there are more than 16
+/// windows.
 pub(crate) fn travel_windows(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
@@ -426,32 +427,32 @@ pub(crate) fn travel_windows(
     }
     cands.sort_unstable_by(|a, b| a.s_r[0].total_cmp(&b.s_r[0]));
     let hs = opts.step;
+    // Windows (node ranges, with the candidate whose estimate guesses the wheel point at the
+    // start); windows that meet or touch are one, travelled as one anchored run.
+    const MAX_WINDOWS: usize = 16;
+    let mut windows = [(0i64, 0i64, 0usize); MAX_WINDOWS];
+    let mut n = 0;
     let mut i = 0;
-    let mut last_end: Option<i64> = None;
     while i < cands.len() {
         let (j, end) = run_from(cands, i);
-        let first = &cands[i];
-        let mut k0 = ((first.s_r[0] / hs + 1e-9).floor() as i64 - 2).max(0);
+        let k0 = ((cands[i].s_r[0] / hs + 1e-9).floor() as i64 - 2).max(0);
         let k1 = (end / hs - 1e-9).ceil() as i64 + 2;
-        i = j + 1;
-        // windows that meet continue the previous one
-        if let Some(k_e) = last_end
-            && k0 <= k_e
-        {
-            if k1 <= k_e {
-                continue;
+        match windows[..n].last_mut() {
+            Some(w) if k0 <= w.1 + 1 => w.1 = w.1.max(k1),
+            _ if n == MAX_WINDOWS => return false,
+            _ => {
+                windows[n] = (k0, k1, i);
+                n += 1;
             }
-            k0 = k_e + 1;
         }
-        let s0 = k0 as f64 * hs;
-        let guess = match out.last() {
-            Some(p) if last_end.is_some_and(|k_e| k0 == k_e + 1) => p.s_w + (s0 - p.s_r),
-            _ => first.s_w_est - (first.s_r_est - s0),
-        };
+        i = j + 1;
+    }
+    for &(k0, k1, c) in &windows[..n] {
+        let first = &cands[c];
+        let guess = first.s_w_est - (first.s_r_est - k0 as f64 * hs);
         if anchored_run(pair, ctx, opts, k0, guess, RunEnd::At(k1), out, stats).is_none() {
             return false;
         }
-        last_end = Some(k1);
     }
     // Every window must begin and end outside the wheel: a zone cut by a window's end would be
     // incomplete.
