@@ -201,8 +201,6 @@ pub struct Candidate {
     pub s_w_est: f64,
     /// wheel leaf's arc-length range
     pub s_w: [f64; 2],
-    /// unit direction of the rail leaf's chord
-    pub chord: [f64; 2],
     /// indices of the rail and the wheel leaf in their trees (`u32::MAX`: not a pair of leaves)
     pub leaves: [u32; 2],
 }
@@ -247,7 +245,7 @@ impl WheelMap {
                 ctx.c[2] + m[1][0] * ax + m[1][1] * mr,
             ],
             m,
-            tan_yaw: if ctx.yawed { ctx.tan_yaw } else { 0.0 },
+            tan_yaw: ctx.locus_tan_yaw(),
             rx: [r[1][0], r[2][0]],
             rz: [r[1][2], r[2][2]],
             ax: r[1][0].abs() + r[2][0].abs(),
@@ -267,9 +265,9 @@ impl WheelMap {
         ]
     }
 
-    /// The node's chord end points in the side frame (on the locus) and its capsule radius.
+    /// The node's chord in the side frame (end points on the locus) and its capsule radius.
     #[inline]
-    fn chord(&self, n: &TreeNode) -> ([f64; 2], [f64; 2], f64) {
+    fn chord(&self, n: &TreeNode) -> WheelChord {
         let q = |p: [f64; 2]| {
             [
                 self.c[0] + self.m[0][0] * p[0] + self.m[0][1] * p[1],
@@ -278,7 +276,7 @@ impl WheelMap {
         };
         let (mut q0, mut q1) = (q(n.p0), q(n.p1));
         if self.tan_yaw == 0.0 {
-            return (q0, q1, n.thick);
+            return WheelChord::new(q0, q1, n.thick);
         }
         let (o0, o1) = (
             self.offset(self.r0 - n.p0[1], n.slope_end[0]),
@@ -298,7 +296,7 @@ impl WheelMap {
             // the clamp of sin theta at 0.5 acts somewhere on the node: the whole offset
             n.rho_max * (0.5 * self.ax + 0.14 * self.az)
         };
-        (q0, q1, n.thick + widen)
+        WheelChord::new(q0, q1, n.thick + widen)
     }
 }
 
@@ -434,7 +432,6 @@ fn estimate(a: &TreeNode, b: &TreeNode, ia: u32, ib: u32, o: &Overlap) -> Candid
         s_r_est,
         s_w_est: b.s[0] + f * (b.s[1] - b.s[0]),
         s_w: b.s,
-        chord: [n_r[1], -n_r[0]],
         leaves: [ia, ib],
     }
 }
@@ -464,6 +461,15 @@ struct WheelChord {
     len: f64,
 }
 
+impl WheelChord {
+    fn new(q0: [f64; 2], q1: [f64; 2], thick: f64) -> Self {
+        let len = ((q1[0] - q0[0]).powi(2) + (q1[1] - q0[1]).powi(2))
+            .sqrt()
+            .max(1e-15);
+        WheelChord { q0, q1, thick, len }
+    }
+}
+
 /// Wheel node `ib`'s chord at the current pose, mapped once per query.
 #[inline(always)]
 fn mapped<'a>(
@@ -475,11 +481,7 @@ fn mapped<'a>(
 ) -> &'a WheelChord {
     let c = &mut chords[ib as usize];
     if c.0 != stamp {
-        let (q0, q1, thick) = map.chord(b);
-        let len = ((q1[0] - q0[0]).powi(2) + (q1[1] - q0[1]).powi(2))
-            .sqrt()
-            .max(1e-15);
-        *c = (stamp, WheelChord { q0, q1, thick, len });
+        *c = (stamp, map.chord(b));
     }
     &c.1
 }
@@ -605,7 +607,7 @@ impl BroadMemory {
         self.leaves.extend(candidates.iter().map(|c| c.leaves));
         self.r = ctx.r;
         self.c = ctx.c;
-        self.tan_yaw = if ctx.yawed { ctx.tan_yaw } else { 0.0 };
+        self.tan_yaw = ctx.locus_tan_yaw();
         self.margin = margin;
         self.valid = true;
     }
@@ -636,7 +638,7 @@ pub(crate) fn move_bound(pair: &WheelRailPair, m: &BroadMemory, ctx: &PoseCtx) -
     let s = 1.01 * root.slope_abs;
     let rho = root.rho_max;
     let axial = pair.wheel_y0.abs() + root.p0[0].abs().max(root.p1[0].abs()) + root.thick;
-    let t1 = if ctx.yawed { ctx.tan_yaw } else { 0.0 };
+    let t1 = ctx.locus_tan_yaw();
     let dt = (t1 - m.tan_yaw).abs();
     let dst = (s * dt).min(1.0);
     let st_max = (s * m.tan_yaw.abs().max(t1.abs())).min(0.5);

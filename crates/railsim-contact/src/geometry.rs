@@ -158,6 +158,12 @@ impl PoseCtx {
             yawed: pose.yaw.abs() > 1e-12,
         }
     }
+
+    /// tan(yaw) as the locus uses it: 0 for a pose [`locus`] treats as unyawed.
+    #[inline]
+    pub(crate) fn locus_tan_yaw(&self) -> f64 {
+        if self.yawed { self.tan_yaw } else { 0.0 }
+    }
 }
 
 /// The wheel locus evaluated at one profile arc length.

@@ -430,8 +430,8 @@ impl WheelRailContact {
             if let Some(w) = warm.as_mut() {
                 match &result {
                     Ok(Some(s)) if s.warm => w.warm_count += 1,
-                    Ok(Some(_)) => w.cold_count += 1,
-                    Ok(None) => {}
+                    // (`None`: left to the cold travelling below)
+                    Ok(_) => w.cold_count += 1,
                     Err(_) => w.invalidate(),
                 }
             }
