@@ -318,13 +318,16 @@ struct Rules {
 }
 
 impl Rules {
-    fn new(pair: &WheelRailPair, depth: f64, margin: f64) -> Self {
+    /// The rules of a query at `depth` with `margin`, for a wheel locus whose curvature is at
+    /// most `kappa_scale` times the profile's (`PoseCtx::kappa_scale`).
+    fn new(pair: &WheelRailPair, depth: f64, margin: f64, kappa_scale: f64) -> Self {
         // A pair interpenetrating by at most `depth` has tangents at most theta apart, theta^2 =
         // 2 depth kappa_rel (the gap falls from a crossing to its minimum by at least
         // theta^2 / (2 kappa_rel)), capped at 60°; its normal is within theta / 2 of either
         // tangent.
+        let kappa_rel = kappa_scale * pair.wheel_kappa_max + pair.rail_kappa_max;
         let half = 0.5
-            * (2.0 * depth * pair.kappa_max)
+            * (2.0 * depth * kappa_rel)
                 .sqrt()
                 .min(std::f64::consts::FRAC_PI_3)
             + ANGLE_MARGIN;
@@ -449,6 +452,18 @@ impl BroadScratch {
     }
 }
 
+/// \[-\] how much larger |tan(yaw)| a query with a margin is made for: far more than the
+/// margin lets the flange's locus turn (about 0.2 mrad).
+const YAW_ALLOWANCE: f64 = 2e-3;
+
+/// The locus curvature factor a query with a margin at `ctx` is made for: that of
+/// |tan(yaw)| + `YAW_ALLOWANCE` (at least 1: an unyawed pose may be followed by a yawed one).
+fn margin_kappa_scale(pair: &WheelRailPair, ctx: &PoseCtx) -> f64 {
+    pair.locus
+        .kappa_scale(ctx.tan_yaw.abs() + YAW_ALLOWANCE)
+        .max(ctx.kappa_scale)
+}
+
 /// A wheel node's chord mapped to the side frame for one pose.
 #[derive(Clone, Copy, Debug, Default)]
 struct WheelChord {
@@ -506,7 +521,15 @@ pub(crate) fn candidates(
         return;
     }
     let stamp = scratch.begin(wt.len());
-    let rules = Rules::new(pair, depth, margin);
+    // With a margin the wheel may also yaw a little further before the result is used
+    // (`BroadMemory::covers`): the rules hold for the locus curvature up to `YAW_ALLOWANCE`
+    // more.
+    let kappa_scale = if margin > 0.0 {
+        margin_kappa_scale(pair, ctx)
+    } else {
+        ctx.kappa_scale
+    };
+    let rules = Rules::new(pair, depth, margin, kappa_scale);
     let (out, chords) = (&mut scratch.candidates, &mut scratch.chords);
     let map = WheelMap::new(pair, ctx);
     let mut stack = [(0u32, 0u32); 96];
@@ -558,7 +581,7 @@ pub(crate) fn recheck(
     scratch.candidates.clear();
     let (rt, wt) = (&pair.rail_tree.nodes, &pair.wheel_tree.nodes);
     let stamp = scratch.begin(wt.len());
-    let rules = Rules::new(pair, depth, 0.0);
+    let rules = Rules::new(pair, depth, 0.0, ctx.kappa_scale);
     let (out, chords) = (&mut scratch.candidates, &mut scratch.chords);
     let map = WheelMap::new(pair, ctx);
     for &[ia, ib] in leaves {
@@ -587,6 +610,8 @@ pub struct BroadMemory {
     /// tan yaw as the locus uses it (0 without yaw)
     tan_yaw: f64,
     margin: f64,
+    /// the locus curvature factor the query was made for
+    kappa_scale: f64,
     valid: bool,
 }
 
@@ -598,17 +623,26 @@ impl BroadMemory {
 
     /// Whether the stored query covers the pose `ctx`.
     pub(crate) fn covers(&self, pair: &WheelRailPair, ctx: &PoseCtx) -> bool {
-        self.valid && move_bound(pair, self, ctx) <= self.margin
+        self.valid
+            && ctx.kappa_scale <= self.kappa_scale
+            && move_bound(pair, self, ctx) <= self.margin
     }
 
     /// Store the leaf pairs of a query with `margin` made at `ctx` (in `candidates`).
-    pub(crate) fn store(&mut self, ctx: &PoseCtx, margin: f64, candidates: &[Candidate]) {
+    pub(crate) fn store(
+        &mut self,
+        pair: &WheelRailPair,
+        ctx: &PoseCtx,
+        margin: f64,
+        candidates: &[Candidate],
+    ) {
         self.leaves.clear();
         self.leaves.extend(candidates.iter().map(|c| c.leaves));
         self.r = ctx.r;
         self.c = ctx.c;
         self.tan_yaw = ctx.locus_tan_yaw();
         self.margin = margin;
+        self.kappa_scale = margin_kappa_scale(pair, ctx);
         self.valid = true;
     }
 
@@ -824,7 +858,7 @@ mod tests {
             let sp0 = pose.to_side(side);
             let ctx0 = PoseCtx::new(pair, &sp0);
             candidates(pair, &ctx0, 0.5e-3, margin, &mut scratch);
-            memory.store(&ctx0, margin, &scratch.candidates);
+            memory.store(pair, &ctx0, margin, &scratch.candidates);
             let bound_at =
                 |f: f64| move_bound(pair, &memory, &PoseCtx::new(pair, &moved(f).to_side(side)));
             let mut f = frac * margin / bound_at(1.0);

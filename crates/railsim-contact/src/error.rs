@@ -24,6 +24,17 @@ pub enum ContactError {
         /// What was expected, in words.
         expected: &'static str,
     },
+    /// The wheelset is yawed beyond the angle up to which the wheel's contact locus is a
+    /// regular curve (`railsim_contact::pair::LocusLimits`).
+    #[error(
+        "wheelset yaw [rad] = {yaw} is out of range for this wheel profile: expected |yaw| <= {limit:.4} rad (beyond it the yawed wheel's contact locus folds near the flange root, docs/models/contact.md §3.1)"
+    )]
+    YawBeyondLocus {
+        /// \[rad\] the yaw found
+        yaw: f64,
+        /// \[rad\] the largest accepted |yaw| for the pair's wheel profile
+        limit: f64,
+    },
     /// The wheel penetrates the rail by more than the plausibility limit.
     #[error(
         "absurd penetration on the {side} wheel: {found_mm:.3} mm of interpenetration, expected at most {limit_mm:.1} mm"

@@ -19,6 +19,14 @@
 //! by Vollebregt (VSD 60, 2022); the closed form above is derived here. It is exact for a rail
 //! straight along x; track curvature under the wheel is neglected (radius ratio ~1e-3).
 //!
+//! # Regular locus
+//! The projected locus turns like the profile, 1/f times faster, with
+//! `f = 1 - tan^2(yaw) (rho'^2 + rho rho'')`, and folds where `f = 0` (a cusp; S1002: 33.7 mrad of
+//! yaw, at the flange root). A pair accepts yaw only while `f >= 0.2` everywhere, and the
+//! curvature bounds of the searches take the locus' curvature, up to
+//! `1 / (cos^3(theta) cos^2(yaw) f)` times the profile's ([`PoseCtx::kappa_scale`],
+//! [`crate::pair::LocusLimits`]).
+//!
 //! # Isosceles pairs
 //! Points A (wheel locus) and B (rail), with unit tangents oriented toward the field side, form
 //! an isosceles pair when the chord is perpendicular to the mean tangent:
@@ -147,15 +155,25 @@ pub(crate) struct PoseCtx {
     pub c: [f64; 3],
     pub tan_yaw: f64,
     pub yawed: bool,
+    /// factor of the wheel's curvature bounds on the yawed locus
+    /// ([`crate::pair::LocusLimits::kappa_scale`]; 1 without yaw)
+    pub kappa_scale: f64,
 }
 
 impl PoseCtx {
     pub(crate) fn new(pair: &WheelRailPair, pose: &WheelsetPose) -> Self {
+        let yawed = pose.yaw.abs() > 1e-12;
+        let tan_yaw = pose.yaw.tan();
         PoseCtx {
             r: rotation(pose.roll, pose.yaw),
             c: [0.0, pose.y, pair.r0 + pose.z],
-            tan_yaw: pose.yaw.tan(),
-            yawed: pose.yaw.abs() > 1e-12,
+            tan_yaw,
+            yawed,
+            kappa_scale: if yawed {
+                pair.locus.kappa_scale(tan_yaw)
+            } else {
+                1.0
+            },
         }
     }
 
@@ -205,9 +223,9 @@ pub(crate) fn locus_sin(tan_yaw: f64, rho_p: f64) -> f64 {
     (-tan_yaw * rho_p).clamp(-0.5, 0.5)
 }
 
-/// cos(theta) from sin(theta) by series: |sin theta| <= 0.5 (|yaw| <= 0.2 rad and |rho'| <= 2.75
-/// on a 70 deg flank give 0.55 at most; the clamp keeps the series valid), with errors below
-/// 1e-5 relative there and below 1e-10 for the yaw angles of running vehicles.
+/// cos(theta) from sin(theta) by series: |sin theta| <= 0.5 (the pair's yaw limit,
+/// [`crate::pair::LocusLimits`], keeps |tan(yaw) rho'| below 0.5; the clamp is a guard), with
+/// errors below 1e-5 relative there and below 1e-10 for the yaw angles of running vehicles.
 #[inline]
 pub(crate) fn locus_cos(st: f64) -> f64 {
     let s2 = st * st;
@@ -588,7 +606,7 @@ pub fn travel(
             // |g'| D + kappa_b D^2 / 2, with g' the angle between the tangents (the gap's slope
             // per unit arc) and kappa_b a bound on the relative curvature over the window ahead;
             // the step keeps half of the gap.
-            let kb = kb_at(pair, s_w, s_r);
+            let kb = kb_at(pair, &ctx, s_w, s_r);
             let gp = rec.tangent_sin.abs();
             let mut cand = (-gp + (gp * gp + kb * g).sqrt()) / kb;
             if let Some((g0, ds0)) = prev_gap
@@ -755,7 +773,7 @@ pub(crate) fn anchored_run(
         }
         let g1 = normal_and_gap(&e1).1;
         if g > 0.0 && g1 > 0.0 {
-            let kb = kb_at(pair, s_w, s_r);
+            let kb = kb_at(pair, ctx, s_w, s_r);
             subdivide(
                 pair,
                 ctx,
@@ -815,9 +833,10 @@ fn subdivide(
     }
 }
 
-/// \[1/m\] bound on the relative curvature of the profiles over the window ahead (at least 1).
-pub(crate) fn kb_at(pair: &WheelRailPair, s_w: f64, s_r: f64) -> f64 {
-    pair.kappa_bound(s_w, s_r).max(1.0)
+/// \[1/m\] bound on the relative curvature of the rail and the wheel's locus over the window
+/// ahead (at least 1).
+pub(crate) fn kb_at(pair: &WheelRailPair, ctx: &PoseCtx, s_w: f64, s_r: f64) -> f64 {
+    pair.kappa_bound(s_w, s_r, ctx.kappa_scale).max(1.0)
 }
 
 /// The pair's normal (from the mean of the two tangents) and its signed gap \[m\] along it.

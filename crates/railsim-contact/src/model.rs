@@ -405,7 +405,18 @@ impl WheelRailContact {
         mut warm: Option<&mut WarmStart>,
         ws: &mut ContactWorkspace,
     ) -> Result<WheelSummary, ContactError> {
-        if let Err(e) = pose.validate().and_then(|_| vel.validate()) {
+        let checked = pose.validate().and_then(|_| vel.validate()).and_then(|_| {
+            let limit = self.pair.locus.tan_yaw_max;
+            if pose.yaw.tan().abs() > limit {
+                Err(ContactError::YawBeyondLocus {
+                    yaw: pose.yaw,
+                    limit: limit.atan(),
+                })
+            } else {
+                Ok(())
+            }
+        });
+        if let Err(e) = checked {
             if let Some(w) = warm.as_mut() {
                 w.invalidate();
             }

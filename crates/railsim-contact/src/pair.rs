@@ -71,8 +71,92 @@ pub struct WheelRailPair {
     pub wheel_tree: ArcTree,
     /// Bounding hierarchy of the rail curve.
     pub rail_tree: ArcTree,
-    /// \[1/m\] largest |curvature| of the wheel curve plus that of the rail curve
-    pub kappa_max: f64,
+    /// \[1/m\] largest |curvature| of the wheel curve
+    pub wheel_kappa_max: f64,
+    /// \[1/m\] largest |curvature| of the rail curve
+    pub rail_kappa_max: f64,
+    /// How far the wheel can be yawed before its contact locus folds.
+    pub locus: LocusLimits,
+}
+
+/// The yaw angles the wheel's contact locus supports (`crate::geometry` module docs, "regular
+/// locus").
+///
+/// With `T = tan(yaw)`, the locus point of the profile point at axial position `Y` is
+/// `q = (rho sin(theta), Y, -rho cos(theta))`, `sin(theta) = -T rho'`, and its projection on
+/// the cross-section has the derivative `dq/dY = f (cos(yaw), -rho' / cos(theta))` (after the
+/// yaw; the roll turns the cross-section rigidly) with `f = 1 - T^2 (rho'^2 + rho rho'')`. The
+/// locus is a regular curve, turning the same way as the profile, while `f > 0` everywhere, i.e.
+/// `T^2 K < 1` with `K` the largest `rho'^2 + rho rho''` over the travelled profile; where
+/// `f = 0` it has a cusp (for the S1002 wheel at the flange root, where `rho rho''` reaches
+/// about 950, near 33 mrad of yaw), beyond which the projected outline of the wheel is the
+/// envelope of a folded locus, which the 2-D search does not model. Its curvature is
+/// `cos(yaw) |rho''| / (cos^3(theta) f (cos^2(yaw) + rho'^2 / cos^2(theta))^(3/2))`, at most
+/// `1 / (cos^3(theta) cos^2(yaw) f)` times the profile's `|rho''| / (1 + rho'^2)^(3/2)`:
+/// [`crate::geometry`] scales the wheel's curvature bounds by that factor
+/// ([`LocusLimits::kappa_scale`]). Derived here from the locus of Vollebregt (VSD 60, 2022).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocusLimits {
+    /// \[-\] largest `rho'^2 + rho rho''` over the travelled profile (from the flange tip), at
+    /// the curve's nodes and midway between them, plus 2 % (0 if negative everywhere)
+    pub k: f64,
+    /// \[-\] largest `|rho'|` there, plus 2 %
+    pub slope_max: f64,
+    /// \[-\] largest accepted `|tan(yaw)|`: `f >= LOCUS_MIN_SPEED` everywhere and
+    /// `|sin(theta)| <= 0.5` (the clamp of [`crate::geometry`] never acts), at most tan(0.2 rad)
+    pub tan_yaw_max: f64,
+}
+
+/// \[-\] smallest locus speed factor `f` (see [`LocusLimits`]) of an accepted yaw: the locus'
+/// curvature is then at most five times the profile's (S1002: |yaw| <= 29 mrad).
+pub const LOCUS_MIN_SPEED: f64 = 0.2;
+
+impl LocusLimits {
+    /// The limits of `wheel` (profile frame, nominal radius `r0`) from arc length `s0` on.
+    pub fn new(wheel: &ArcCurve, s0: f64, r0: f64) -> Self {
+        let h = 0.5 * wheel.ds();
+        let n = ((wheel.length() - s0) / h).ceil() as usize;
+        let (mut k, mut slope) = (0.0f64, 0.0f64);
+        for i in 0..=n {
+            let c = wheel.eval((s0 + i as f64 * h).min(wheel.length()));
+            let ty = if c.t[0].abs() < 1e-6 { 1e-6 } else { c.t[0] };
+            // rho = r0 - z, rho' = -t_z / t_y, rho'' = -kappa / t_y^3 (profile-frame curvature)
+            let rho_p = -c.t[1] / ty;
+            let rho_pp = -c.kappa / (ty * ty * ty);
+            k = k.max(rho_p * rho_p + (r0 - c.p[1]) * rho_pp);
+            slope = slope.max(rho_p.abs());
+        }
+        let (k, slope_max) = (1.02 * k, 1.02 * slope);
+        let by_speed = if k > 0.0 {
+            ((1.0 - LOCUS_MIN_SPEED) / k).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        let by_clamp = if slope_max > 0.0 {
+            0.5 / slope_max
+        } else {
+            f64::INFINITY
+        };
+        LocusLimits {
+            k,
+            slope_max,
+            tan_yaw_max: by_speed.min(by_clamp).min(0.2f64.tan()),
+        }
+    }
+
+    /// The factor by which the locus' curvature can exceed the profile's at `tan_yaw` (at most
+    /// `1 / LOCUS_MIN_SPEED / cos^3(30°)` within the accepted yaw); 1 without yaw.
+    pub fn kappa_scale(&self, tan_yaw: f64) -> f64 {
+        if tan_yaw == 0.0 {
+            return 1.0;
+        }
+        let t2 = tan_yaw * tan_yaw;
+        let f = (1.0 - t2 * self.k).max(LOCUS_MIN_SPEED);
+        let st = (tan_yaw.abs() * self.slope_max).min(0.5);
+        let c2 = 1.0 - st * st;
+        // 1 / cos^2(yaw) = 1 + tan^2(yaw)
+        (1.0 + t2) / (c2 * c2.sqrt() * f)
+    }
 }
 
 /// \[m\] length of the window over which curvature bounds are taken ahead of a point; at least
@@ -98,12 +182,21 @@ fn kappa_ahead(c: &ArcCurve) -> Vec<f64> {
 }
 
 impl WheelRailPair {
-    /// \[1/m\] bound on the relative curvature of the pair over the window ahead of (s_w, s_r).
+    /// \[1/m\] bound on the relative curvature of the pair over the window ahead of (s_w, s_r),
+    /// the wheel's part scaled by `wheel_scale` (the yawed locus' [`LocusLimits::kappa_scale`]).
     #[inline]
-    pub fn kappa_bound(&self, s_w: f64, s_r: f64) -> f64 {
+    pub fn kappa_bound(&self, s_w: f64, s_r: f64, wheel_scale: f64) -> f64 {
+        let [w, r] = self.kappa_ahead(s_w, s_r);
+        wheel_scale * w + r
+    }
+
+    /// \[1/m\] the bounds on the wheel profile's and the rail's curvature over the window ahead
+    /// of (s_w, s_r).
+    #[inline]
+    pub fn kappa_ahead(&self, s_w: f64, s_r: f64) -> [f64; 2] {
         let iw = ((s_w * self.wheel_inv_ds) as usize).min(self.wheel_kappa_ahead.len() - 1);
         let ir = ((s_r * self.rail_inv_ds) as usize).min(self.rail_kappa_ahead.len() - 1);
-        self.wheel_kappa_ahead[iw] + self.rail_kappa_ahead[ir]
+        [self.wheel_kappa_ahead[iw], self.rail_kappa_ahead[ir]]
     }
 }
 
@@ -160,7 +253,9 @@ impl WheelRailPair {
         let rail_inv_ds = 1.0 / rail.ds();
         let rail_kappa_ahead = kappa_ahead(&rail);
         let largest = |k: &[f64]| k.iter().fold(0.0f64, |m, &x| m.max(x));
-        let kappa_max = largest(&wheel_kappa_ahead) + largest(&rail_kappa_ahead);
+        let (wheel_kappa_max, rail_kappa_max) =
+            (largest(&wheel_kappa_ahead), largest(&rail_kappa_ahead));
+        let locus = LocusLimits::new(&wheel, s_tip, spec.r0);
         let wheel_tree = ArcTree::new(&wheel, s_tip, wheel.length(), spec.r0);
         let rail_tree = ArcTree::new(&rail, 0.0, rail.length(), 0.0);
         Ok(WheelRailPair {
@@ -178,7 +273,9 @@ impl WheelRailPair {
             rail_inv_ds,
             wheel_tree,
             rail_tree,
-            kappa_max,
+            wheel_kappa_max,
+            rail_kappa_max,
+            locus,
         })
     }
 
@@ -188,5 +285,84 @@ impl WheelRailPair {
         let dy = y_side - self.rail_placement.y_origin;
         let dz = z_side - self.rail_placement.z_origin;
         c * dy - s * dz
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::contact_format::manchester_benchmark_pair;
+    use crate::geometry::{PoseCtx, locus};
+    use crate::pose::WheelsetPose;
+
+    /// The largest turn between successive chords of the yawed locus (cosine; < 0 where the
+    /// locus reverses) and its largest curvature (change of the chord angle per locus arc
+    /// length), over the travelled profile at 20 µm spacing.
+    fn locus_shape(pair: &super::WheelRailPair, yaw: f64) -> (f64, f64) {
+        let ctx = PoseCtx::new(
+            pair,
+            &WheelsetPose {
+                yaw,
+                roll: 0.004,
+                ..Default::default()
+            },
+        );
+        let h = 20e-6;
+        let n = ((pair.wheel.length() - pair.wheel_s_tip) / h) as usize;
+        let pts: Vec<[f64; 2]> = (0..=n)
+            .map(|i| {
+                let p = locus(pair, &ctx, pair.wheel_s_tip + i as f64 * h).p;
+                [p[1], p[2]]
+            })
+            .collect();
+        let chord = |i: usize| {
+            let d = [pts[i + 1][0] - pts[i][0], pts[i + 1][1] - pts[i][1]];
+            let l = d[0].hypot(d[1]);
+            ([d[0] / l, d[1] / l], l)
+        };
+        let (mut cos_min, mut kappa) = (1.0f64, 0.0f64);
+        for i in 0..n - 1 {
+            let ((u, la), (v, lb)) = (chord(i), chord(i + 1));
+            let c = u[0] * v[0] + u[1] * v[1];
+            cos_min = cos_min.min(c);
+            if c > 0.0 {
+                let turn = (u[0] * v[1] - u[1] * v[0]).atan2(c).abs();
+                kappa = kappa.max(turn / (0.5 * (la + lb)));
+            }
+        }
+        (cos_min, kappa)
+    }
+
+    #[test]
+    fn the_yawed_locus_is_regular_up_to_the_yaw_limit_and_folds_past_the_cusp() {
+        let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+        let pair = manchester_benchmark_pair(&root).unwrap();
+        let l = pair.locus;
+        // The S1002 flange root: rho rho'' about 880 (K carries 2 % more), the cusp at
+        // tan^2(yaw) K = 1, i.e. near 33.7 mrad.
+        assert!(l.k > 800.0 && l.k < 1000.0, "{l:?}");
+        let limit = l.tan_yaw_max.atan();
+        let cusp = (1.02 / l.k).sqrt().atan();
+        assert!(limit > 0.028 && limit < cusp, "limit {limit} cusp {cusp}");
+        for yaw in [-limit, -0.6 * limit, 0.3 * limit, limit] {
+            let (cos_min, kappa) = locus_shape(&pair, yaw);
+            // regular: the chords turn by at most a few degrees over 20 µm
+            assert!(
+                cos_min > 0.99,
+                "yaw {yaw}: the locus turns back ({cos_min})"
+            );
+            // its curvature within the bound the searches use
+            let bound = l.kappa_scale(yaw.tan()) * pair.wheel_kappa_max;
+            assert!(
+                kappa <= 1.02 * bound,
+                "yaw {yaw}: curvature {kappa} > bound {bound}"
+            );
+            // the bound is needed: beyond the profile's own curvature near the limit
+            if yaw.abs() == limit {
+                assert!(kappa > 2.0 * pair.wheel_kappa_max, "{kappa}");
+            }
+        }
+        // past the cusp (2 % beyond the exact one) the locus reverses near the flange root
+        let (cos_min, _) = locus_shape(&pair, 1.02 * cusp);
+        assert!(cos_min < 0.0, "no fold at {} rad: {cos_min}", 1.02 * cusp);
     }
 }

@@ -88,9 +88,10 @@ pub(crate) fn patch_frame(
         let x0 = (m0[0] - m1[0]) * t[0] + (m0[1] - m1[1]) * t[1];
         let x2 = (m2[0] - m1[0]) * t[0] + (m2[1] - m1[1]) * t[1];
         let (y0, y1, y2) = (-pairs[k - 1].gap, -p.gap, -pairs[k + 1].gap);
-        // Parabola through (x0,y0), (0,y1), (x2,y2).
+        // Parabola through (x0,y0), (0,y1), (x2,y2), where the neighbours lie on either side
+        // of the deepest pair along the tangent (at extreme poses they need not).
         let d = x0 * x2 * (x0 - x2);
-        if d.abs() > 1e-30 {
+        if x0 < 0.0 && x2 > 0.0 && d.abs() > 1e-30 {
             let a = (x2 * (y0 - y1) - x0 * (y2 - y1)) / d;
             let b = (x0 * x0 * (y2 - y1) - x2 * x2 * (y0 - y1)) / d;
             if a < 0.0 {

@@ -92,7 +92,7 @@ pub(crate) fn search(
                 scratch
                     .candidates
                     .sort_unstable_by(|a, b| a.s_r[0].total_cmp(&b.s_r[0]));
-                m.store(ctx, WARM_MARGIN, &scratch.candidates);
+                m.store(pair, ctx, WARM_MARGIN, &scratch.candidates);
             }
             if !recheck(pair, ctx, BROAD_DEPTH, m.leaves(), scratch) {
                 m.invalidate();

@@ -35,7 +35,6 @@
 use crate::broad::BroadMemory;
 use crate::geometry::{
     FAR_GAP, IsoPair, PoseCtx, RunEnd, TravelOptions, TravelStats, anchored_run, interpolate_s_w,
-    kb_at,
 };
 use crate::pair::WheelRailPair;
 use crate::pose::{mat_t_vec, mat_vec};
@@ -56,13 +55,23 @@ struct Bound {
     lb: f64,
     /// \[m\] the pair's wheel point in wheelset axes, relative to the wheel centre
     body: [f64; 3],
-    /// \[1/m\] bound on the relative curvature over the window ahead
-    kb: f64,
+    /// \[1/m\] bounds on the wheel profile's and the rail's curvature over the window ahead (the
+    /// wheel's is scaled by the locus factor of the pose it is used at)
+    kappa: [f64; 2],
     /// the pair's normal in wheelset axes (rotates with the wheel)
     n_body: [f64; 3],
     /// |sine of the angle between the two tangents|, where the pair was near contact (gap up to
     /// `FAR_GAP` when travelled); `None` elsewhere
     near_ts: Option<f64>,
+}
+
+impl Bound {
+    /// \[1/m\] bound on the relative curvature over the window ahead at the pose `ctx` (as
+    /// [`crate::geometry::kb_at`]).
+    #[inline]
+    fn kb(&self, ctx: &PoseCtx) -> f64 {
+        (ctx.kappa_scale * self.kappa[0] + self.kappa[1]).max(1.0)
+    }
 }
 
 /// Warm-start memory of one wheel (one per wheel: it describes that wheel's last pose).
@@ -171,7 +180,7 @@ impl WarmStart {
                 Some(ts) => {
                     let n = mat_vec(&ctx.r, b.n_body);
                     let normal = (n[1] * d_y + n[2] * d_z).abs();
-                    len.min(normal + len * (2.0 * ts + 0.02) + b.kb * len * len)
+                    len.min(normal + len * (2.0 * ts + 0.02) + b.kb(ctx) * len * len)
                 }
                 None => len,
             };
@@ -191,7 +200,7 @@ impl WarmStart {
         for i in 0..n - 1 {
             let (a, b) = (&self.bounds[i], &self.bounds[i + 1]);
             let h = b.s_r - a.s_r;
-            if a.lb.min(b.lb) - 0.125 * a.kb.max(b.kb) * h * h > 0.0 {
+            if a.lb.min(b.lb) - 0.125 * a.kb(ctx).max(b.kb(ctx)) * h * h > 0.0 {
                 continue;
             }
             let k0 = (a.s_r / hs + 1e-9).floor() as i64 - 2;
@@ -273,7 +282,7 @@ fn bound_of(pair: &WheelRailPair, ctx: &PoseCtx, p: &IsoPair) -> Bound {
         s_w: p.s_w,
         lb: p.gap - 2e-3 * p.gap.abs() - 1e-9,
         body,
-        kb: kb_at(pair, p.s_w, p.s_r),
+        kappa: pair.kappa_ahead(p.s_w, p.s_r),
         n_body,
         near_ts: (p.gap <= FAR_GAP).then_some(p.tangent_sin.abs()),
     }
