@@ -1,5 +1,7 @@
 //! Repeated evaluations of one benchmark case, for profiling with perf or callgrind:
-//! `cargo run --release -p railsim-contact --example profile_eval -- [model] [step_mm] [n]`.
+//! `cargo run --release -p railsim-contact --example profile_eval -- [model] [step_mm] [n]`;
+//! with `SEQ=1`, warm-started evaluations along the pose sequence of the `pose_sequence_55kN`
+//! benchmark instead.
 use std::path::PathBuf;
 
 use railsim_contact::contact_format::{manchester_benchmark_pair, parse_cases_csv, solve_case};
@@ -47,6 +49,10 @@ fn main() {
             }
         }
     }
+    if std::env::var("SEQ").is_ok() {
+        pose_sequence(&c, n);
+        return;
+    }
     let t0 = std::time::Instant::now();
     let mut pairs = 0u64;
     let mut corr = 0u64;
@@ -85,5 +91,47 @@ fn main() {
         pairs as f64 / n as f64,
         corr as f64 / n as f64,
         reseeds as f64 / n as f64
+    );
+}
+
+/// `SEQ=1`: warm-started evaluations of the right wheel at 55 kN along the pose sequence of the
+/// `pose_sequence_55kN` benchmark (400 poses over one period of a 3 mm, 1 mrad oscillation).
+fn pose_sequence(c: &WheelRailContact, n: usize) {
+    use railsim_contact::{Side, WarmStart, WheelsetPose, WheelsetVelocity};
+    let vel = WheelsetVelocity {
+        vx: 55.0,
+        spin: -55.0 / 0.46,
+        ..Default::default()
+    };
+    let mut ws = ContactWorkspace::new();
+    let m = 400;
+    let poses: Vec<WheelsetPose> = (0..m)
+        .map(|k| {
+            let phase = 2.0 * std::f64::consts::PI * k as f64 / m as f64;
+            let mut pose = WheelsetPose {
+                y: 3e-3 * phase.sin(),
+                z: 0.0,
+                roll: 0.0,
+                yaw: 1e-3 * phase.cos(),
+            };
+            pose.z = c
+                .evaluate_with_load(Side::Right, &pose, &vel, 55e3, 1e-8, &mut ws)
+                .unwrap()
+                .z;
+            pose
+        })
+        .collect();
+    let mut warm = WarmStart::new();
+    let t0 = std::time::Instant::now();
+    for k in 0..n {
+        c.evaluate_warm(Side::Right, &poses[k % m], &vel, &mut warm, &mut ws)
+            .unwrap();
+    }
+    let dt = t0.elapsed().as_secs_f64() / n as f64;
+    println!(
+        "pose sequence: {:.2} µs per warm-started evaluation, {} warm, {} cold",
+        dt * 1e6,
+        warm.warm_count,
+        warm.cold_count
     );
 }

@@ -27,7 +27,7 @@ pub enum ContactError {
     /// The wheelset is yawed beyond the angle up to which the wheel's contact locus is a
     /// regular curve (`railsim_contact::pair::LocusLimits`).
     #[error(
-        "wheelset yaw [rad] = {yaw} is out of range for this wheel profile: expected |yaw| <= {limit:.4} rad (beyond it the yawed wheel's contact locus folds near the flange root, docs/models/contact.md §3.1)"
+        "wheelset yaw [rad] = {yaw} is out of range for this wheel profile: expected |yaw| <= {limit:.4} rad (beyond it the yawed wheel's contact locus folds near the flange root, docs/models/contact.md §2)"
     )]
     YawBeyondLocus {
         /// \[rad\] the yaw found

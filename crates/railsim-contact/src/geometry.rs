@@ -24,7 +24,7 @@
 //! `f = 1 - tan^2(yaw) (rho'^2 + rho rho'')`, and folds where `f = 0` (a cusp; S1002: 33.7 mrad of
 //! yaw, at the flange root). A pair accepts yaw only while `f >= 0.2` everywhere, and the
 //! curvature bounds of the searches take the locus' curvature, up to
-//! `1 / (cos^3(theta) cos^2(yaw) f)` times the profile's ([`PoseCtx::kappa_scale`],
+//! `1 / (cos^3(theta) cos^2(yaw) f)` times the profile's (`PoseCtx::kappa_scale`,
 //! [`crate::pair::LocusLimits`]).
 //!
 //! # Isosceles pairs

@@ -89,7 +89,7 @@ pub struct WheelRailPair {
 /// locus is a regular curve, turning the same way as the profile, while `f > 0` everywhere, i.e.
 /// `T^2 K < 1` with `K` the largest `rho'^2 + rho rho''` over the travelled profile; where
 /// `f = 0` it has a cusp (for the S1002 wheel at the flange root, where `rho rho''` reaches
-/// about 950, near 33 mrad of yaw), beyond which the projected outline of the wheel is the
+/// about 880, at 33.7 mrad of yaw), beyond which the projected outline of the wheel is the
 /// envelope of a folded locus, which the 2-D search does not model. Its curvature is
 /// `cos(yaw) |rho''| / (cos^3(theta) f (cos^2(yaw) + rho'^2 / cos^2(theta))^(3/2))`, at most
 /// `1 / (cos^3(theta) cos^2(yaw) f)` times the profile's `|rho''| / (1 + rho'^2)^(3/2)`:
