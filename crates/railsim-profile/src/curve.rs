@@ -44,8 +44,8 @@ impl ArcCurve {
     /// Fits a [`SmoothingSpline`] with parameter `smoothing` to the profile points and
     /// resamples it every `ds` \[m\] of arc length (use [`DEFAULT_DS`] = 0.05 mm).
     pub fn from_profile(p: &Profile, smoothing: f64, ds: f64) -> Result<Self, ProfileError> {
-        let sp = SmoothingSpline::fit(&p.points, None, smoothing)?;
-        Self::from_spline(&sp, ds).map_err(|e| match e {
+        // errors of the fit and the resampling name the profile
+        let named = |e| match e {
             ProfileError::InvalidArgument {
                 what,
                 found,
@@ -58,7 +58,9 @@ impl ArcCurve {
                 expected,
             },
             other => other,
-        })
+        };
+        let sp = SmoothingSpline::fit(&p.points, None, smoothing).map_err(named)?;
+        Self::from_spline(&sp, ds).map_err(named)
     }
 
     /// Resamples a spline every `ds` \[m\] (see [`ArcCurve::from_profile`]).

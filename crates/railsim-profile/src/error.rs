@@ -16,6 +16,15 @@ fn other(line: &Option<usize>, index: &usize) -> String {
     }
 }
 
+/// A number for a message: fixed-point when moderate, with an exponent when huge or tiny.
+fn short(v: f64) -> String {
+    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// Everything that can go wrong while reading, building or transforming a profile.
 ///
 /// Every variant names its source (a file name, or the profile name for in-memory data).
@@ -56,6 +65,22 @@ pub enum ProfileError {
         what: String,
         /// the value found
         value: f64,
+    },
+    /// A coordinate is finite but far outside any wheel or rail profile.
+    #[error("{}: {what} = {} mm (profile frame) is out of range, expected |{what}| <= {limit_mm} mm", at(.source_name, .line, .index), short(*.value_mm))]
+    OutOfRange {
+        /// file or profile name
+        source_name: String,
+        /// 1-based line number, if the data came from a file
+        line: Option<usize>,
+        /// 0-based point index
+        index: usize,
+        /// which coordinate (`y` or `z`)
+        what: String,
+        /// \[mm\] the value found
+        value_mm: f64,
+        /// \[mm\] the largest magnitude accepted
+        limit_mm: f64,
     },
     /// Fewer than four points.
     #[error("{source_name}: expected at least 4 profile points, found {found}")]

@@ -174,6 +174,10 @@ impl Profile {
 /// Checks a point list: count, finiteness, strictly monotonic y in the direction `dir`
 /// (+1 increasing, -1 decreasing), and no self-intersection when monotonicity fails.
 /// `lines` gives the 1-based file line of each point; coordinates are in metres.
+/// \[m\] largest coordinate magnitude of a profile point: wheel and rail profiles (a whole rail
+/// is 172 mm high) lie well within it; a larger value is a unit or data error.
+pub const MAX_COORDINATE: f64 = 1.0;
+
 pub(crate) fn validate(
     name: &str,
     points: &[[f64; 2]],
@@ -196,6 +200,16 @@ pub(crate) fn validate(
                     index: i,
                     what: what.into(),
                     value: p[k],
+                });
+            }
+            if p[k].abs() > MAX_COORDINATE {
+                return Err(ProfileError::OutOfRange {
+                    source_name: name.into(),
+                    line: line(i),
+                    index: i,
+                    what: what.into(),
+                    value_mm: p[k] * 1e3,
+                    limit_mm: MAX_COORDINATE * 1e3,
                 });
             }
         }

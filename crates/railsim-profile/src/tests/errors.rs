@@ -85,7 +85,7 @@ fn repeated_and_backward_points() {
     let e = Profile::new(
         "p",
         ProfileKind::Rail,
-        vec![[0.0, 0.0], [1.0, 0.0], [0.5, 1.0], [2.0, 0.0]],
+        vec![[0.0, 0.0], [1e-3, 0.0], [0.5e-3, 1e-3], [2e-3, 0.0]],
     )
     .unwrap_err();
     assert!(
@@ -196,4 +196,21 @@ fn table_reader() {
     // Descending rows are accepted and sorted.
     let p = parse_table_mm("3 0\n2 1\n1 0\n0 1\n", "t.csv", ProfileKind::Rail).unwrap();
     assert_eq!(p.points[0][0], 0.0);
+}
+
+#[test]
+fn absurd_coordinates() {
+    // 1e300 mm is finite but no profile: a unit or data error, located (it used to pass the
+    // reader and fail in the spline fit without a line)
+    let e = wheel("0 0\n1 0\n2 1e300\n3 0\n").unwrap_err();
+    assert!(
+        matches!(&e, ProfileError::OutOfRange { line: Some(11), what, .. } if what == "z"),
+        "{e:?}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "profiles/x.prw:11: z = -1e300 mm (profile frame) is out of range, expected |z| <= 1000 mm"
+    );
+    // a whole rail, 172 mm high, is well within the limit
+    assert!(wheel("0 0\n1 -172\n2 -172.5\n3 -100\n").is_ok());
 }
