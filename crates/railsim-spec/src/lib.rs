@@ -211,6 +211,16 @@ fn key_in_value(value: &DeValue<'_>, offset: usize, prefix: &str) -> Option<Stri
     None
 }
 
+/// A number for a message: as Rust prints it when moderate, with an exponent when huge or tiny
+/// (`1e30`, not thirty-one digits).
+pub fn short_number(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-3..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// Levenshtein distance between two strings (characters).
 pub fn edit_distance(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();

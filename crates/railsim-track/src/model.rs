@@ -3,6 +3,7 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use railsim_spec::short_number;
 use toml::Spanned;
 
 use crate::alignment::{Alignment, Segment, SegmentInput, SegmentKind, TrackFrame};
@@ -139,7 +140,10 @@ impl TrackModel {
             sink.invalid(
                 &span_of(&spec.gauge_mm),
                 "gauge_mm",
-                format!("gauge_mm = {gauge_mm} must be between 600 and 2000 (a plausible track gauge in mm)"),
+                format!(
+                    "gauge_mm = {} must be between 600 and 2000 (a plausible track gauge in mm)",
+                    short_number(gauge_mm)
+                ),
             );
         }
         // Rail inclination.
@@ -198,7 +202,10 @@ impl TrackModel {
                     sink.invalid(
                         &span_of(v),
                         "cant_base_mm",
-                        format!("cant_base_mm = {b} must be between gauge_mm and gauge_mm + 300"),
+                        format!(
+                            "cant_base_mm = {} must be between gauge_mm and gauge_mm + 300",
+                            short_number(b)
+                        ),
                     );
                 }
                 b
@@ -459,7 +466,8 @@ fn check_segment(
                 &span_of(v),
                 "gradient_permille",
                 format!(
-                    "{label}: gradient_permille = {g} must be between -{MAX_GRADIENT_PERMILLE} and {MAX_GRADIENT_PERMILLE}"
+                    "{label}: gradient_permille = {} must be between -{MAX_GRADIENT_PERMILLE} and {MAX_GRADIENT_PERMILLE}",
+                    short_number(g)
                 ),
             );
         } else {
@@ -509,7 +517,8 @@ fn check_segment(
                     &span_of(v),
                     "radius_m",
                     format!(
-                        "{label}: radius_m = {r} is tighter than the minimum radius {min_radius} m"
+                        "{label}: radius_m = {} is tighter than the minimum radius {min_radius} m",
+                        short_number(r)
                     ),
                 );
             } else {
@@ -541,7 +550,10 @@ fn check_segment(
             sink.invalid(
                 &span_of(v),
                 "cant_mm",
-                format!("{label}: cant_mm = {c} must be between -{MAX_CANT_MM} and {MAX_CANT_MM}"),
+                format!(
+                    "{label}: cant_mm = {} must be between -{MAX_CANT_MM} and {MAX_CANT_MM}",
+                    short_number(c)
+                ),
             );
         } else {
             cant_mm = c;
@@ -756,8 +768,9 @@ fn check_irregularities(
                     &span_of(v),
                     "step_m",
                     format!(
-                        "irregularities: step_m = {st} must be at most wavelength_min_m / 4 = {}",
-                        a / 4.0
+                        "irregularities: step_m = {} must be at most wavelength_min_m / 4 = {}",
+                        short_number(st),
+                        short_number(a / 4.0)
                     ),
                 );
                 ok = false;
@@ -770,7 +783,7 @@ fn check_irregularities(
                         sink.invalid(
                             &span_of(v),
                             "taper_m",
-                            format!("irregularities: taper_m = {t} must be between 0 and half the series length ({max} m)"),
+                            format!("irregularities: taper_m = {} must be between 0 and half the series length ({max} m)", short_number(t)),
                         );
                         ok = false;
                     }
@@ -823,7 +836,7 @@ fn check_irregularities(
                 sink.invalid(
                     &span,
                     "components",
-                    format!("irregularities: {samples:.0} samples × {components} components is too much work; use fewer components, a larger step_m or a shorter length_m"),
+                    format!("irregularities: {} samples × {} components is too much work; use fewer components, a larger step_m or a shorter length_m", short_number(samples.round()), short_number(components as f64)),
                 );
                 return None;
             }

@@ -4,6 +4,7 @@ use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use railsim_spec::short_number;
 use toml::Spanned;
 
 use crate::error::{Sink, VehicleError, did_you_mean};
@@ -20,6 +21,10 @@ pub const MAX_REACH_WHEELSET: f64 = 2.0;
 pub const MAX_HALF_WIDTH: f64 = 2.5;
 /// \[m\] range of z of an attachment point or centre of gravity (track level to roof).
 pub const Z_RANGE: (f64, f64) = (-0.5, 6.0);
+/// \[kg\] plausible mass of one body or wheelset (a loaded 4-axle wagon is about 90 t).
+pub const MASS_RANGE: (f64, f64) = (1.0, 1e6);
+/// \[kg·m²\] largest plausible principal moment of inertia (a 26 m coach body: about 2e6).
+pub const MAX_INERTIA: f64 = 1e8;
 /// Built-in wheel profile names (besides `"cone:λ"`).
 pub const BUILTIN_WHEEL_PROFILES: [&str; 1] = ["s1002"];
 /// The reserved name of the track-following frame, usable as a force element's end.
@@ -741,6 +746,20 @@ impl Compiler<'_> {
         let m = self
             .req(mass, table, label, "mass_kg", "a positive mass in kg")
             .and_then(|v| self.positive(v, label, "mass_kg", "kg"));
+        if let (Some(x), Some(v)) = (m, mass)
+            && !(MASS_RANGE.0..=MASS_RANGE.1).contains(&x)
+        {
+            self.err(
+                &v.span(),
+                "mass_kg",
+                format!(
+                    "{label}: mass_kg = {} kg is implausible for one body (expected {} to {} kg)",
+                    short_number(x),
+                    MASS_RANGE.0,
+                    short_number(MASS_RANGE.1)
+                ),
+            );
+        }
         let inertia = self
             .req(
                 inertia,
@@ -809,6 +828,18 @@ impl Compiler<'_> {
         } else {
             "inertia_kgm2"
         };
+        if let Some(x) = d.iter().find(|x| **x > MAX_INERTIA) {
+            self.err(
+                &v.span(),
+                "inertia_kgm2",
+                format!(
+                    "{label}: inertia_kgm2 {d:?}: {} kg·m² is implausible for one body (expected at most {} kg·m²)",
+                    short_number(*x),
+                    short_number(MAX_INERTIA)
+                ),
+            );
+            return None;
+        }
         if d.iter().any(|x| *x <= 0.0) {
             self.err(
                 &v.span(),

@@ -452,3 +452,44 @@ fn the_format_documentation_example_compiles() {
     ));
     v.static_equilibrium().unwrap();
 }
+
+#[test]
+fn implausible_masses_and_inertias_are_located() {
+    // (found by random edits of the Manchester vehicle: a 1e30 kg bogie compiled and failed only
+    // in the wheel-load search of the initial state)
+    let text = r#"name = "absurd"
+[[body]]
+name = "bogie"
+mass_kg = 1e30
+inertia_kgm2 = [1722, 1476, 3067]
+position_m = [0, 0, 0.6]
+
+[[body]]
+name = "frame"
+mass_kg = 1e-30
+inertia_kgm2 = [1e30, 1e30, 1e30]
+position_m = [0, 0, 0.6]
+"#;
+    let p = problems(text);
+    expect(
+        &p,
+        4,
+        &[
+            "body 'bogie'",
+            "mass_kg = 1e30 kg",
+            "implausible",
+            "1 to 1e6 kg",
+        ],
+    );
+    expect(&p, 10, &["body 'frame'", "mass_kg", "implausible"]);
+    expect(
+        &p,
+        11,
+        &[
+            "body 'frame'",
+            "inertia_kgm2",
+            "implausible",
+            "at most 1e8 kg·m²",
+        ],
+    );
+}

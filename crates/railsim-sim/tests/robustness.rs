@@ -1,0 +1,126 @@
+//! Randomly damaged vehicle files: every one is a located error, fails to find its initial state
+//! with a message, or runs (to the end or to a stop that names time, body and quantity), never a
+//! panic or a non-finite state.
+
+use std::path::PathBuf;
+
+use railsim_sim::{RunOptions, Scene, SimError, Simulation};
+
+/// Knuth's 64-bit LCG, uniform in [0, 1).
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn pick(&mut self, n: usize) -> usize {
+        ((self.next() * n as f64) as usize).min(n - 1)
+    }
+}
+
+/// Byte ranges (line, start, end) of the numbers outside comments.
+fn numbers(text: &str) -> Vec<(usize, usize, usize)> {
+    let mut out = vec![];
+    for (ln, line) in text.lines().enumerate() {
+        let b = line.split('#').next().unwrap_or("").as_bytes();
+        let mut i = 0;
+        while i < b.len() {
+            let starts = b[i].is_ascii_digit()
+                || (b[i] == b'-' && b.get(i + 1).is_some_and(|c| c.is_ascii_digit()));
+            let glued = i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
+            if !starts {
+                i += 1;
+                continue;
+            }
+            let s = i;
+            i += 1;
+            while i < b.len() && (b[i].is_ascii_alphanumeric() || b"._+-".contains(&b[i])) {
+                i += 1;
+            }
+            if !glued {
+                out.push((ln, s, i));
+            }
+        }
+    }
+    out
+}
+
+/// One or two numbers of `text` replaced: by 0, its negative, 1e30, nan, 1e-30, or 100, 0.01 or
+/// 3 times itself.
+fn mutate(text: &str, spans: &[(usize, usize, usize)], rng: &mut Lcg) -> String {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    for _ in 0..1 + rng.pick(2) {
+        let (ln, s, e) = spans[rng.pick(spans.len())];
+        let v: f64 = lines[ln][s..e].parse().unwrap_or(1.0);
+        let new = match rng.pick(8) {
+            0 => "0".to_string(),
+            1 => format!("{}", -v),
+            2 => "1e30".to_string(),
+            3 => "nan".to_string(),
+            4 => format!("{}", v * 100.0),
+            5 => format!("{}", v * 0.01),
+            6 => "1e-30".to_string(),
+            _ => format!("{}", v * 3.0),
+        };
+        lines[ln] = format!("{}{}{}", &lines[ln][..s], new, &lines[ln][e..]);
+    }
+    lines.join("\n")
+}
+
+#[test]
+fn damaged_vehicle_files_give_located_errors_or_run() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let vehicle = std::fs::read_to_string(root.join("vehicles/manchester_vehicle1.toml")).unwrap();
+    let spans = numbers(&vehicle);
+    assert!(spans.len() > 100);
+    let dir = std::env::temp_dir().join(format!("railsim-robustness-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let track = root.join("tracks/straight.toml");
+    let scene_text = format!(
+        "vehicle = \"v.toml\"\ntrack = \"{}\"\nspeed_kmh = 198\nduration_s = 0.05\n",
+        track.display()
+    );
+    let mut rng = Lcg(3);
+    let (mut located, mut initial, mut stopped, mut ran) = (0, 0, 0, 0);
+    for k in 0..60 {
+        let text = mutate(&vehicle, &spans, &mut rng);
+        std::fs::write(dir.join("v.toml"), &text).unwrap();
+        let scene = match Scene::from_toml_str(&scene_text, "s.toml", &dir) {
+            Ok(s) => s,
+            Err(e) => {
+                // the problem is in the vehicle file, with line and column
+                assert!(e.to_string().contains("v.toml:"), "{k}: {e}");
+                located += 1;
+                continue;
+            }
+        };
+        let result = Simulation::new(&scene).and_then(|mut sim| {
+            let opts = RunOptions {
+                no_log: true,
+                ..Default::default()
+            };
+            sim.run(&scene, &opts, &mut |_, _| {}, &mut |s| {
+                assert!(s.t.is_finite());
+            })
+        });
+        match result {
+            Ok(_) => ran += 1,
+            Err(SimError::Initial { .. }) => initial += 1,
+            Err(SimError::Stopped { body, quantity, .. }) => {
+                assert!(!body.is_empty() && !quantity.is_empty());
+                stopped += 1;
+            }
+            Err(e) => panic!("{k}: unexpected error {e}\n{text}"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    println!(
+        "{located} located errors, {initial} without an initial state, {stopped} stopped, {ran} ran"
+    );
+    assert!(located > 10 && ran > 10);
+}
