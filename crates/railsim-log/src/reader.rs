@@ -134,19 +134,33 @@ fn io_err<'p>(
     }
 }
 
+/// How many bytes to hand a reader that asks for `need` at `pos` of a file of `len` bytes: never
+/// more than the file still holds (at least 1, so that the end of the file is seen), since a
+/// damaged length field can ask for exabytes, which the reader would allocate.
+fn read_size(need: usize, pos: u64, len: u64) -> usize {
+    let left = usize::try_from(len.saturating_sub(pos)).unwrap_or(usize::MAX);
+    need.min(left).max(1)
+}
+
 /// Reads the summary section, or `None` when the file has no valid footer.
 fn read_summary(path: &Path, file: &mut File) -> Result<Option<mcap::Summary>> {
+    let len = file
+        .metadata()
+        .map_err(io_err(path, "reading the summary"))?
+        .len();
     let mut reader = SummaryReader::new();
+    let mut pos: u64 = 0;
     while let Some(event) = reader.next_event() {
         match event {
             Ok(SummaryReadEvent::ReadRequest(need)) => {
                 let n = file
-                    .read(reader.insert(need))
+                    .read(reader.insert(read_size(need, pos, len)))
                     .map_err(io_err(path, "reading the summary"))?;
+                pos += n as u64;
                 reader.notify_read(n);
             }
             Ok(SummaryReadEvent::SeekRequest(to)) => {
-                let pos = file.seek(to).map_err(io_err(path, "seeking the summary"))?;
+                pos = file.seek(to).map_err(io_err(path, "seeking the summary"))?;
                 reader.notify_seeked(pos);
             }
             // No footer, or a damaged one: treat the file as unfinished and scan it.
@@ -165,6 +179,10 @@ fn scan(
     mut on_record: impl FnMut(Record<'_>) -> Result<()>,
 ) -> Result<ScanEnd> {
     let mut file = File::open(path).map_err(io_err(path, "opening the log"))?;
+    let len = file
+        .metadata()
+        .map_err(io_err(path, "reading the log"))?
+        .len();
     let options = LinearReaderOptions::default()
         .with_skip_end_magic(!finished)
         // A chunk's messages are only handed out once the whole chunk is present and its CRC
@@ -176,7 +194,7 @@ fn scan(
         match event {
             Ok(LinearReadEvent::ReadRequest(need)) => {
                 let n = file
-                    .read(reader.insert(need))
+                    .read(reader.insert(read_size(need, consumed, len)))
                     .map_err(io_err(path, "reading the log"))?;
                 consumed += n as u64;
                 reader.notify_read(n);
