@@ -567,3 +567,20 @@ fn damaged_profile_files_are_located_errors_or_work() {
     println!("{read_ok} of 1200 damaged files read, {built} pairs built, {evaluated} evaluations");
     assert!(read_ok > 150 && built > 150 && evaluated > 8 * 140);
 }
+
+#[test]
+fn absurd_values_are_printed_short() {
+    let c = mbench_contact(ContactModelKind::Polach, 1e-3);
+    let mut ws = ContactWorkspace::new();
+    let pose = WheelsetPose {
+        roll: 1e300,
+        ..Default::default()
+    };
+    let e = c
+        .evaluate(Side::Left, &pose, &rolling(), &mut ws)
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "wheelset roll [rad] = 1e300 is out of range: expected |roll| <= 0.2 rad"
+    );
+}

@@ -15,7 +15,7 @@ pub enum ContactError {
         value: f64,
     },
     /// An input is outside its physically meaningful range.
-    #[error("{what} = {value} is out of range: expected {expected}")]
+    #[error("{what} = {} is out of range: expected {expected}", railsim_profile::short_number(*.value))]
     OutOfRange {
         /// Name of the quantity.
         what: &'static str,

@@ -16,9 +16,10 @@ fn other(line: &Option<usize>, index: &usize) -> String {
     }
 }
 
-/// A number for a message: fixed-point when moderate, with an exponent when huge or tiny.
-fn short(v: f64) -> String {
-    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
+/// A number for a message: as Rust prints it when moderate, with an exponent when huge or tiny
+/// (`1e300`, not three hundred digits).
+pub fn short_number(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-3..1e6).contains(&v.abs()) {
         format!("{v}")
     } else {
         format!("{v:e}")
@@ -67,7 +68,7 @@ pub enum ProfileError {
         value: f64,
     },
     /// A coordinate is finite but far outside any wheel or rail profile.
-    #[error("{}: {what} = {} mm (profile frame) is out of range, expected |{what}| <= {limit_mm} mm", at(.source_name, .line, .index), short(*.value_mm))]
+    #[error("{}: {what} = {} mm (profile frame) is out of range, expected |{what}| <= {limit_mm} mm", at(.source_name, .line, .index), short_number(*.value_mm))]
     OutOfRange {
         /// file or profile name
         source_name: String,

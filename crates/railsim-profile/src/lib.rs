@@ -47,7 +47,7 @@ mod rail;
 mod spline;
 
 pub use curve::{ArcCurve, CurvePoint, DEFAULT_DS};
-pub use error::ProfileError;
+pub use error::{ProfileError, short_number};
 pub use io::{parse_simpack, parse_table_mm, read_simpack, read_table_mm};
 pub use profile::{Profile, ProfileKind};
 pub use rail::{RailPlacement, place_rail};
