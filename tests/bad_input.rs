@@ -584,3 +584,43 @@ fn absurd_values_are_printed_short() {
         "wheelset roll [rad] = 1e300 is out of range: expected |roll| <= 0.2 rad"
     );
 }
+
+/// The pair's numbers are checked against plausible ranges: an infinite flange-back coordinate
+/// used to pass and made `halfspace` allocate gigabytes before failing.
+#[test]
+fn implausible_pair_options_are_rejected() {
+    use railsim_contact::contact_format::manchester_benchmark_spec;
+    use railsim_contact::{PairSpec, WheelRailPair};
+    use railsim_profile::{ProfileKind, read_simpack};
+    let wheel = read_simpack(
+        &crate::common::repo("vehicles/profiles/MBench_S1002_v3.prw"),
+        ProfileKind::Wheel,
+    )
+    .unwrap();
+    let rail = read_simpack(
+        &crate::common::repo("tracks/profiles/MBench_UIC60_v3.prr"),
+        ProfileKind::Rail,
+    )
+    .unwrap();
+    let base = manchester_benchmark_spec(wheel, rail);
+    assert!(WheelRailPair::new(&base).is_ok());
+    let cases: [(&str, fn(&mut PairSpec)); 7] = [
+        ("flange_back_y", |s| s.flange_back_y = f64::INFINITY),
+        ("gauge", |s| s.gauge = 1e300),
+        ("r0", |s| s.r0 = 46.0),
+        ("flange_back_distance", |s| s.flange_back_distance = 0.0),
+        ("gauge_depth", |s| s.gauge_depth = 0.2),
+        ("inclination", |s| s.inclination = 0.5),
+        ("curve_ds", |s| s.curve_ds = 1e-9),
+    ];
+    for (key, spoil) in cases {
+        let mut spec = base.clone();
+        spoil(&mut spec);
+        let e = WheelRailPair::new(&spec).unwrap_err();
+        assert!(
+            matches!(&e, ContactError::BadOption { key: k, .. } if *k == key),
+            "{key}: {e}"
+        );
+        assert!(e.to_string().len() < 200, "{e}");
+    }
+}

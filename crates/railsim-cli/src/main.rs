@@ -261,7 +261,10 @@ fn load_profile(path: &Path, kind: ProfileKind) -> Result<Profile> {
 
 fn positive(name: &str, v: f64) -> Result<f64> {
     if !(v.is_finite() && v > 0.0) {
-        bail!("{name}: expected a positive number, found {v}");
+        bail!(
+            "{name}: expected a positive number, found {}",
+            railsim_profile::short_number(v)
+        );
     }
     Ok(v)
 }

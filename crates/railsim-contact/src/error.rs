@@ -2,6 +2,16 @@
 
 use thiserror::Error;
 
+/// `v` with `decimals` decimals when moderate, with an exponent when huge (a message about an
+/// absurd input stays short).
+fn fixed(v: f64, decimals: usize) -> String {
+    if v.abs() < 1e9 {
+        format!("{v:.decimals$}")
+    } else {
+        railsim_profile::short_number(v)
+    }
+}
+
 /// Everything that can go wrong in a contact evaluation. Every variant names what was found and
 /// what was expected.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -37,7 +47,8 @@ pub enum ContactError {
     },
     /// The wheel penetrates the rail by more than the plausibility limit.
     #[error(
-        "absurd penetration on the {side} wheel: {found_mm:.3} mm of interpenetration, expected at most {limit_mm:.1} mm"
+        "absurd penetration on the {side} wheel: {} mm of interpenetration, expected at most {limit_mm:.1} mm",
+        fixed(*.found_mm, 3)
     )]
     AbsurdPenetration {
         /// Which wheel.
@@ -48,7 +59,7 @@ pub enum ContactError {
         limit_mm: f64,
     },
     /// The prescribed vertical load could not be reached.
-    #[error("could not reach the vertical load {target_n:.1} N on the {side} wheel: {reason}")]
+    #[error("could not reach the vertical load {} N on the {side} wheel: {reason}", fixed(*.target_n, 1))]
     LoadNotReached {
         /// Which wheel.
         side: &'static str,

@@ -75,14 +75,14 @@ impl TravelOptions {
         if !(self.step.is_finite() && self.step >= 1e-6 && self.step <= 5e-3) {
             return Err(ContactError::BadOption {
                 key: "step",
-                value: format!("{} mm", self.step * 1e3),
+                value: format!("{} mm", railsim_profile::short_number(self.step * 1e3)),
                 expected: "a travelling step between 0.001 and 5 mm".into(),
             });
         }
         if !(self.max_step.is_finite() && self.max_step >= self.step) {
             return Err(ContactError::BadOption {
                 key: "max_step",
-                value: format!("{} mm", self.max_step * 1e3),
+                value: format!("{} mm", railsim_profile::short_number(self.max_step * 1e3)),
                 expected: "a finite value not smaller than the step".into(),
             });
         }

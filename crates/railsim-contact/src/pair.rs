@@ -203,25 +203,66 @@ impl WheelRailPair {
 impl WheelRailPair {
     /// Build the pair: splines, arc-length curves and the rail placement.
     pub fn new(spec: &PairSpec) -> Result<Self, ContactError> {
-        for (what, v) in [
-            ("r0", spec.r0),
-            ("flange_back_distance", spec.flange_back_distance),
-            ("gauge", spec.gauge),
-            ("gauge_depth", spec.gauge_depth),
-            ("curve_ds", spec.curve_ds),
+        // Plausible ranges (the vehicle and track files check the same quantities): beyond them
+        // a value is a unit or data error, and an infinite or huge one would size the searches'
+        // grids and trees.
+        for (what, v, lo, hi, expected) in [
+            ("r0", spec.r0, 0.1, 1.0, "a wheel radius from 0.1 to 1 m"),
+            (
+                "flange_back_distance",
+                spec.flange_back_distance,
+                0.5,
+                2.0,
+                "a flange-back distance from 0.5 to 2 m",
+            ),
+            (
+                "flange_back_y",
+                spec.flange_back_y,
+                -0.2,
+                0.2,
+                "the flange back's profile coordinate, within ±0.2 m",
+            ),
+            (
+                "gauge",
+                spec.gauge,
+                0.6,
+                2.0,
+                "a track gauge from 0.6 to 2 m",
+            ),
+            (
+                "gauge_depth",
+                spec.gauge_depth,
+                1e-3,
+                0.03,
+                "a gauge measuring depth from 1 to 30 mm below the rail top",
+            ),
+            (
+                "inclination",
+                spec.inclination,
+                -0.2,
+                0.2,
+                "a rail inclination within ±0.2 rad (1:5)",
+            ),
+            (
+                "curve_ds",
+                spec.curve_ds,
+                1e-6,
+                1e-3,
+                "a curve spacing from 0.001 to 1 mm",
+            ),
         ] {
-            if !(v.is_finite() && v > 0.0) {
+            if !(v.is_finite() && (lo..=hi).contains(&v)) {
                 return Err(ContactError::BadOption {
                     key: what,
-                    value: format!("{v}"),
-                    expected: "a positive finite length in metres".into(),
+                    value: format!("{} m", railsim_profile::short_number(v)),
+                    expected: expected.into(),
                 });
             }
         }
         if !(spec.mu.is_finite() && spec.mu > 0.0 && spec.mu < 2.0) {
             return Err(ContactError::BadOption {
                 key: "mu",
-                value: format!("{}", spec.mu),
+                value: railsim_profile::short_number(spec.mu),
                 expected: "a friction coefficient in (0, 2)".into(),
             });
         }
