@@ -604,7 +604,8 @@ fn implausible_pair_options_are_rejected() {
     .unwrap();
     let base = manchester_benchmark_spec(wheel, rail);
     assert!(WheelRailPair::new(&base).is_ok());
-    let cases: [(&str, fn(&mut PairSpec)); 7] = [
+    type Spoil = fn(&mut PairSpec);
+    let cases: [(&str, Spoil); 7] = [
         ("flange_back_y", |s| s.flange_back_y = f64::INFINITY),
         ("gauge", |s| s.gauge = 1e300),
         ("r0", |s| s.r0 = 46.0),
