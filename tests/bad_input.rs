@@ -15,6 +15,22 @@ fn rolling() -> WheelsetVelocity {
     }
 }
 
+/// The numbers a patch reports: forces, spin moment, peak pressure, size, penetration, angle.
+fn patch_numbers(p: &railsim_contact::PatchResult) -> [f64; 9] {
+    let f = &p.forces;
+    [
+        f.fn_,
+        f.fx,
+        f.fs,
+        f.mz,
+        f.p_max,
+        f.length,
+        f.width,
+        p.penetration,
+        p.contact_angle,
+    ]
+}
+
 #[test]
 fn lifted_wheel_has_no_patches() {
     let c = mbench_contact(ContactModelKind::Stripes, 0.2e-3);
@@ -116,17 +132,7 @@ fn results_are_finite_over_a_sweep() {
                     assert!(s.force_track.iter().all(|f| f.is_finite()));
                     for p in &ws.patches {
                         let f = &p.forces;
-                        for v in [
-                            f.fn_,
-                            f.fx,
-                            f.fs,
-                            f.mz,
-                            f.p_max,
-                            f.length,
-                            f.width,
-                            p.penetration,
-                            p.contact_angle,
-                        ] {
+                        for v in patch_numbers(p) {
                             assert!(v.is_finite(), "{model:?} y={} yaw={yaw}: {p:?}", pose.y);
                         }
                         assert!(f.fn_ > 0.0);
@@ -415,16 +421,7 @@ fn random_inputs_give_errors_or_finite_results() {
             assert!(s.force_track.iter().all(|f| f.is_finite()), "{what}");
             for p in &ws.patches {
                 let f = &p.forces;
-                for v in [
-                    f.fn_,
-                    f.fx,
-                    f.fs,
-                    f.mz,
-                    f.p_max,
-                    f.length,
-                    f.width,
-                    p.penetration,
-                ] {
+                for v in patch_numbers(p) {
                     assert!(v.is_finite(), "{what}: {p:?}");
                 }
                 // Kalker's linear theory is not bounded by friction: at these creepages its

@@ -520,9 +520,9 @@ fn bad_input_gives_errors_naming_the_file() {
     log.finish().unwrap();
 }
 
-#[test]
-fn truncated_at_any_byte_reads_a_prefix_or_fails_cleanly() {
-    let path = temp_path("cut_source.mcap");
+/// A 120-step log in small (2 kB) compressed chunks at `name`, and its bytes.
+fn small_chunk_log(name: &str) -> (PathBuf, Vec<u8>) {
+    let path = temp_path(name);
     write_log(
         &path,
         120,
@@ -533,6 +533,12 @@ fn truncated_at_any_byte_reads_a_prefix_or_fails_cleanly() {
         },
     );
     let bytes = std::fs::read(&path).unwrap();
+    (path, bytes)
+}
+
+#[test]
+fn truncated_at_any_byte_reads_a_prefix_or_fails_cleanly() {
+    let (path, bytes) = small_chunk_log("cut_source.mcap");
     let full = LogReader::open(&path).unwrap();
     let all: Vec<(u64, WheelsetMessage)> = full.read_topic("/wheelsets/1", None).unwrap();
     let cut = temp_path("cut.mcap");
@@ -566,17 +572,7 @@ fn truncated_at_any_byte_reads_a_prefix_or_fails_cleanly() {
 /// damaged copies of a `railsim run` log aborted `railsim replay`.
 #[test]
 fn damaged_logs_read_or_fail_cleanly() {
-    let path = temp_path("damage_source.mcap");
-    write_log(
-        &path,
-        120,
-        WriterOptions {
-            chunk_size: 2048,
-            flush_every: 25,
-            zstd: true,
-        },
-    );
-    let bytes = std::fs::read(&path).unwrap();
+    let (_, bytes) = small_chunk_log("damage_source.mcap");
     let damaged = temp_path("damaged.mcap");
     let mut x: u64 = 5;
     let mut rnd = |n: usize| {
