@@ -169,11 +169,7 @@ impl PoseCtx {
             c: [0.0, pose.y, pair.r0 + pose.z],
             tan_yaw,
             yawed,
-            kappa_scale: if yawed {
-                pair.locus.kappa_scale(tan_yaw)
-            } else {
-                1.0
-            },
+            kappa_scale: pair.locus.kappa_scale(if yawed { tan_yaw } else { 0.0 }),
         }
     }
 

@@ -450,23 +450,16 @@ pub(crate) fn travel_windows(
     for &(k0, k1, c) in &windows[..n] {
         let first = &cands[c];
         let guess = first.s_w_est - (first.s_r_est - k0 as f64 * hs);
+        let start = out.len();
         if anchored_run(pair, ctx, opts, k0, guess, RunEnd::At(k1), out, stats).is_none() {
             return false;
         }
-    }
-    // Every window must begin and end outside the wheel: a zone cut by a window's end would be
-    // incomplete.
-    let mut prev_end = f64::NEG_INFINITY;
-    let mut start = 0;
-    for (n, p) in out.iter().enumerate() {
-        let new_window = p.s_r > prev_end + 1.5 * hs;
-        if new_window && n > 0 && (out[start].gap < 0.0 || out[n - 1].gap < 0.0) {
+        // Every window must begin and end outside the wheel: a zone cut by a window's end
+        // would be incomplete.
+        let run = &out[start..];
+        if run.first().is_none_or(|p| p.gap < 0.0) || run.last().is_none_or(|p| p.gap < 0.0) {
             return false;
         }
-        if new_window {
-            start = n;
-        }
-        prev_end = p.s_r;
     }
-    !(out.len() < 3 || out[start].gap < 0.0 || out[out.len() - 1].gap < 0.0)
+    out.len() >= 3
 }
