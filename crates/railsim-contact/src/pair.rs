@@ -332,7 +332,7 @@ impl WheelRailPair {
 #[cfg(test)]
 mod tests {
     use crate::contact_format::manchester_benchmark_pair;
-    use crate::geometry::{PoseCtx, locus};
+    use crate::geometry::{PoseCtx, kb_at, locus};
     use crate::pose::WheelsetPose;
 
     /// The largest turn between successive chords of the yawed locus (cosine; < 0 where the
@@ -371,6 +371,33 @@ mod tests {
             }
         }
         (cos_min, kappa)
+    }
+
+    /// The pose carries the locus factor at its yaw, and the travelling's curvature bound uses
+    /// it (1 without yaw).
+    #[test]
+    fn the_travelling_bound_takes_the_locus_curvature_at_the_pose() {
+        let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+        let pair = manchester_benchmark_pair(&root).unwrap();
+        let at = |yaw: f64| {
+            PoseCtx::new(
+                &pair,
+                &WheelsetPose {
+                    yaw,
+                    ..Default::default()
+                },
+            )
+        };
+        let f = pair.locus.kappa_scale(0.02f64.tan());
+        assert!(f > 1.5, "{f}");
+        let (yawed, straight) = (at(0.02), at(0.0));
+        assert_eq!(yawed.kappa_scale, f);
+        assert_eq!(straight.kappa_scale, 1.0);
+        let (s_w, s_r) = (pair.wheel_s_tip + 20e-3, 30e-3);
+        let [w, r] = pair.kappa_ahead(s_w, s_r);
+        assert!(w > 10.0, "{w}");
+        assert_eq!(kb_at(&pair, &yawed, s_w, s_r), (f * w + r).max(1.0));
+        assert_eq!(kb_at(&pair, &straight, s_w, s_r), (w + r).max(1.0));
     }
 
     #[test]
