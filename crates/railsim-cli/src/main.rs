@@ -20,6 +20,18 @@ use railsim_profile::conicity::{
 };
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
 
+/// `println!` to standard output that returns the write error from the enclosing function
+/// (which returns `anyhow::Result`) instead of panicking: a closed pipe (`railsim replay LOG |
+/// head`) ends the command quietly ([`broken_pipe`]).
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            return Err(anyhow::Error::from(e));
+        }
+    }};
+}
+
 mod replay;
 mod run;
 
@@ -214,11 +226,21 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(code) => code,
+        Err(e) if broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("railsim: {e:#}");
             ExitCode::from(2)
         }
     }
+}
+
+/// Whether `e` is the standard output closed by its reader (`| head`): not a failure of the
+/// command, which ends quietly with success, as Unix tools do.
+fn broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }
 
 fn parse_inclination(s: &str) -> Result<f64> {
@@ -370,10 +392,10 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
         )?
     };
     pose.z = summary.z;
-    print_patches(&contact, side, &pose, &summary, &ws.patches);
+    print_patches(&contact, side, &pose, &summary, &ws.patches)?;
     if let Some(out) = &a.out {
         write_single(out, side, &pose, &ws.patches)?;
-        println!("wrote {}", out.display());
+        outln!("wrote {}", out.display());
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -384,8 +406,8 @@ fn print_patches(
     pose: &WheelsetPose,
     summary: &railsim_contact::WheelSummary,
     patches: &[PatchResult],
-) {
-    println!(
+) -> Result<()> {
+    outln!(
         "{} wheel, model {}, step {} mm: y = {:.3} mm, z = {:.4} mm, roll = {:.3} mrad, yaw = {:.3} mrad; {} patch(es), {} isosceles pairs",
         side.name(),
         contact.opts.model.name(),
@@ -398,10 +420,10 @@ fn print_patches(
         summary.travel.pairs
     );
     if patches.is_empty() {
-        println!("no contact");
-        return;
+        outln!("no contact");
+        return Ok(());
     }
-    println!(
+    outln!(
         "{:>5} {:>11} {:>11} {:>9} {:>9} {:>10} {:>10} {:>10} {:>9} {:>9} {:>9} {:>10}",
         "patch",
         "y_rail[mm]",
@@ -418,7 +440,7 @@ fn print_patches(
     );
     for (i, p) in patches.iter().enumerate() {
         let f = &p.forces;
-        println!(
+        outln!(
             "{:>5} {:>11.3} {:>11.3} {:>9.3} {:>9.3} {:>10.1} {:>10.1} {:>10.1} {:>9.3} {:>9.3} {:>9.3} {:>10.1}",
             i + 1,
             p.y_rail_profile * 1e3,
@@ -434,10 +456,13 @@ fn print_patches(
             f.p_max * 1e-6
         );
     }
-    println!(
+    outln!(
         "total force on the wheel, track frame: Fx = {:.1} N, Fy = {:.1} N, Fz = {:.1} N",
-        summary.force_track[0], summary.force_track[1], summary.force_track[2]
+        summary.force_track[0],
+        summary.force_track[1],
+        summary.force_track[2]
     );
+    Ok(())
 }
 
 const SINGLE_COLUMNS: [&str; 17] = [
@@ -603,7 +628,7 @@ fn run_batch(
         }
     }
     std::fs::write(out, s).with_context(|| format!("writing {}", out.display()))?;
-    println!(
+    outln!(
         "{} cases, {} patch rows written to {}",
         list.len(),
         n_rows,
@@ -624,15 +649,20 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
     };
     let ys: Vec<f64> = (-400..=400).map(|i| i as f64 * 25e-6).collect();
     let samples = rolling_radius_difference(&wheel, &rail, &setup, &ys)?;
-    println!(
+    outln!(
         "{:>8} {:>10} {:>12} {:>12} {:>10} {:>10}",
-        "y[mm]", "Δr[mm]", "S_left[mm]", "S_right[mm]", "γL[°]", "γR[°]"
+        "y[mm]",
+        "Δr[mm]",
+        "S_left[mm]",
+        "S_right[mm]",
+        "γL[°]",
+        "γR[°]"
     );
     for s in samples
         .iter()
         .filter(|s| ((s.y_ws * 1e3 * 2.0).round() - s.y_ws * 2e3).abs() < 1e-9 && s.y_ws >= 0.0)
     {
-        println!(
+        outln!(
             "{:>8.2} {:>10.4} {:>12.3} {:>12.3} {:>10.3} {:>10.3}",
             s.y_ws * 1e3,
             s.delta_r * 1e3,
@@ -643,9 +673,12 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
         );
     }
     let e0 = 0.5 * (setup.flange_back_spacing - 2.0 * setup.flange_back_y);
-    println!(
+    outln!(
         "{:>14} {:>12} {:>12} {:>14}",
-        "amplitude[mm]", "λe harmonic", "λe kinematic", "wavelength[m]"
+        "amplitude[mm]",
+        "λe harmonic",
+        "λe kinematic",
+        "wavelength[m]"
     );
     for &amp in &a.amplitudes_mm {
         let amp_m = positive("--amplitudes-mm", amp)? * 1e-3;
@@ -656,8 +689,8 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
         let h = equivalent_conicity_harmonic(f, amp_m);
         let k = equivalent_conicity_kinematic(f, amp_m, e0, setup.r0);
         match k {
-            Some((lk, l)) => println!("{amp:>14.2} {h:>12.4} {lk:>12.4} {l:>14.2}"),
-            None => println!("{amp:>14.2} {h:>12.4} {:>12} {:>14}", "-", "-"),
+            Some((lk, l)) => outln!("{amp:>14.2} {h:>12.4} {lk:>12.4} {l:>14.2}"),
+            None => outln!("{amp:>14.2} {h:>12.4} {:>12} {:>14}", "-", "-"),
         }
     }
     Ok(ExitCode::SUCCESS)

@@ -16,6 +16,7 @@ use railsim_log::export::{
     Scalar, csv_file_name, export_csv, export_csv_files, flatten_json, summarize, units_of,
 };
 use railsim_log::{LogError, LogReader, Query, ns_to_s, s_to_ns};
+use railsim_profile::short_number;
 
 /// DejaVu Sans (Bitstream Vera licence, see `assets/SOURCE.md`): the plots' only font, so that
 /// drawing text needs no system font library.
@@ -105,16 +106,16 @@ fn rerun(reader: &railsim_log::LogReader) -> Result<ExitCode> {
     };
     let summary = sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {})?;
     let digest = format!("{:016x}", summary.digest);
-    println!(
+    outln!(
         "re-ran {} ({:.3} s simulated): state digest {digest}, logged {logged}",
         scene_path.display(),
         summary.t_end
     );
     if &digest == logged {
-        println!("the re-run agrees with the log: identical states at every sample");
+        outln!("the re-run agrees with the log: identical states at every sample");
         Ok(ExitCode::SUCCESS)
     } else {
-        println!("the re-run DIFFERS from the log");
+        outln!("the re-run DIFFERS from the log");
         Ok(ExitCode::from(1))
     }
 }
@@ -172,7 +173,14 @@ fn flat(e: LogError) -> anyhow::Error {
 fn time_range(from_s: Option<f64>, to_s: Option<f64>) -> Result<(Option<u64>, Option<u64>)> {
     let to_ns = |name: &str, t: Option<f64>| -> Result<Option<u64>> {
         t.map(|t| {
-            s_to_ns(t).ok_or_else(|| anyhow!("{name}: expected a time >= 0 in seconds, found {t}"))
+            s_to_ns(t).ok_or_else(|| {
+                anyhow!(
+                    "{name}: expected a time from 0 to {:.2e} s (the range of the log's \
+                     nanosecond clock), found {}",
+                    u64::MAX as f64 * 1e-9,
+                    short_number(t)
+                )
+            })
         })
         .transpose()
     };
@@ -183,8 +191,8 @@ fn time_range(from_s: Option<f64>, to_s: Option<f64>) -> Result<(Option<u64>, Op
     {
         bail!(
             "--from-s {} is after --to-s {}",
-            from_s.unwrap_or_default(),
-            to_s.unwrap_or_default()
+            short_number(from_s.unwrap_or_default()),
+            short_number(to_s.unwrap_or_default())
         );
     }
     Ok((from, to))
@@ -238,14 +246,14 @@ fn seconds(t_ns: Option<u64>) -> String {
 }
 
 /// Prints rows as left-aligned first columns and right-aligned numeric columns.
-fn print_table(header: &[&str], rows: &[Vec<String>], left: usize, indent: &str) {
+fn print_table(header: &[&str], rows: &[Vec<String>], left: usize, indent: &str) -> Result<()> {
     let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
     for row in rows {
         for (w, cell) in widths.iter_mut().zip(row) {
             *w = (*w).max(cell.chars().count());
         }
     }
-    let line = |cells: &mut dyn Iterator<Item = &str>| {
+    let line = |cells: &mut dyn Iterator<Item = &str>| -> Result<()> {
         let mut s = String::from(indent);
         for (i, (cell, w)) in cells.zip(&widths).enumerate() {
             if i > 0 {
@@ -260,12 +268,14 @@ fn print_table(header: &[&str], rows: &[Vec<String>], left: usize, indent: &str)
                 s.push_str(cell);
             }
         }
-        println!("{}", s.trim_end());
+        outln!("{}", s.trim_end());
+        Ok(())
     };
-    line(&mut header.iter().copied());
+    line(&mut header.iter().copied())?;
     for row in rows {
-        line(&mut row.iter().map(String::as_str));
+        line(&mut row.iter().map(String::as_str))?;
     }
+    Ok(())
 }
 
 fn list(reader: &LogReader, query: &Query) -> Result<()> {
@@ -274,41 +284,41 @@ fn list(reader: &LogReader, query: &Query) -> Result<()> {
     } else {
         "truncated, read up to its last complete chunk"
     };
-    println!(
+    outln!(
         "log {} ({status}): {} messages on {} channels",
         reader.path().display(),
         reader.message_count(),
         reader.channels().len()
     );
     match reader.time_range() {
-        Some((first, last)) => println!(
+        Some((first, last)) => outln!(
             "time {} s to {} s",
             seconds(Some(first)),
             seconds(Some(last))
         ),
-        None => println!("no messages"),
+        None => outln!("no messages"),
     }
     match reader.scene() {
         Some(scene) => {
             let name = scene.get("name").map_or("(unnamed)", String::as_str);
-            println!("scene {name}: {} keys", scene.len());
+            outln!("scene {name}: {} keys", scene.len());
             let width = scene.keys().map(|k| k.chars().count()).max().unwrap_or(0);
             for (k, v) in scene {
                 let mut v = v.replace('\n', " ");
                 if v.chars().count() > 70 {
                     v = v.chars().take(67).collect::<String>() + "...";
                 }
-                println!("  {k:<width$} = {v}");
+                outln!("  {k:<width$} = {v}");
             }
         }
-        None => println!("scene: none recorded"),
+        None => outln!("scene: none recorded"),
     }
     if let Some(toml) = reader.scene_toml().map_err(flat)? {
-        println!("scene TOML attached ({} bytes)", toml.len());
+        outln!("scene TOML attached ({} bytes)", toml.len());
     }
 
-    println!();
-    println!("channels:");
+    outln!();
+    outln!("channels:");
     let rows: Vec<Vec<String>> = reader
         .channels()
         .iter()
@@ -328,26 +338,28 @@ fn list(reader: &LogReader, query: &Query) -> Result<()> {
         &rows,
         2,
         "  ",
-    );
+    )?;
 
     let stats = summarize(reader, query).map_err(flat)?;
-    println!();
+    outln!();
     match (query.start_ns, query.end_ns) {
-        (None, None) => println!("statistics (numeric fields):"),
-        (s, e) => println!(
+        (None, None) => outln!("statistics (numeric fields):"),
+        (s, e) => outln!(
             "statistics (numeric fields) from {} s to {} s:",
             s.map_or("start".to_owned(), |t| format!("{}", ns_to_s(t))),
             e.map_or("end".to_owned(), |t| format!("{}", ns_to_s(t)))
         ),
     }
     for topic in &stats {
-        println!();
-        println!(
+        outln!();
+        outln!(
             "{} ({}, {} messages)",
-            topic.topic, topic.schema_name, topic.messages
+            topic.topic,
+            topic.schema_name,
+            topic.messages
         );
         if topic.fields.is_empty() {
-            println!("  no numeric fields in range");
+            outln!("  no numeric fields in range");
             continue;
         }
         let rows: Vec<Vec<String>> = topic
@@ -363,7 +375,7 @@ fn list(reader: &LogReader, query: &Query) -> Result<()> {
                 ]
             })
             .collect();
-        print_table(&["field", "unit", "min", "max", "mean"], &rows, 2, "  ");
+        print_table(&["field", "unit", "min", "max", "mean"], &rows, 2, "  ")?;
     }
     Ok(())
 }
@@ -396,7 +408,7 @@ fn write_csv(reader: &LogReader, query: &Query, out: &Path) -> Result<()> {
         };
         let file = File::create(out).with_context(|| format!("creating {}", out.display()))?;
         let export = export_csv(reader, &topic, range, file).map_err(flat)?;
-        println!("{topic}: {} rows to {}", export.rows, out.display());
+        outln!("{topic}: {} rows to {}", export.rows, out.display());
         return Ok(());
     }
     // Two topics that map to one file name would overwrite each other: refuse before writing.
@@ -417,7 +429,7 @@ fn write_csv(reader: &LogReader, query: &Query, out: &Path) -> Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let written = export_csv_files(reader, query, out).map_err(flat)?;
     for (topic, file, rows) in &written {
-        println!("{topic}: {rows} rows to {}", file.display());
+        outln!("{topic}: {rows} rows to {}", file.display());
     }
     Ok(())
 }
@@ -451,6 +463,12 @@ fn parse_signal(reader: &LogReader, spec: &str) -> Result<Signal> {
             available_topics(reader)
         )
     })?;
+    if channel.message_count == 0 {
+        bail!(
+            "{}: --plot {spec}: the log has no messages on topic '{topic}'",
+            reader.path().display()
+        );
+    }
     let units = units_of(channel);
     let unit_key: Vec<&str> = field
         .split('.')
@@ -658,7 +676,7 @@ fn plot(
         .iter()
         .flat_map(|s| s.series.iter().map(Vec::len))
         .sum();
-    println!(
+    outln!(
         "plotted {} signal(s), {samples} samples, {} s to {} s, to {}",
         signals.len(),
         num(t0),

@@ -107,22 +107,22 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
         eprintln!();
     }
     let summary = result.context("railsim run")?;
-    print_summary(&summary, a.timing);
+    print_summary(&summary, a.timing)?;
     Ok(ExitCode::SUCCESS)
 }
 
-fn print_summary(s: &RunSummary, timing: bool) {
-    println!(
+fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
+    outln!(
         "simulated {:.3} s in {:.2} s: real-time factor {:.3}",
         s.t_end,
         s.wall,
         s.real_time_factor()
     );
     for (i, y) in s.max_lateral.iter().enumerate() {
-        println!("wheelset {i}: max |lateral displacement| {:.2} mm", y * 1e3);
+        outln!("wheelset {i}: max |lateral displacement| {:.2} mm", y * 1e3);
     }
     let side = |x: railsim_contact::Side| x.name();
-    println!(
+    outln!(
         "max Y/Q {:.3} at a sample (wheelset {}, {} wheel), {:.3} as a 2 m sliding mean (wheelset {}, {} wheel); max Q {:.1} kN (wheelset {}, {} wheel)",
         s.max_y_over_q.0,
         s.max_y_over_q.1,
@@ -135,22 +135,26 @@ fn print_summary(s: &RunSummary, timing: bool) {
         side(s.max_q.2)
     );
     let st = &s.stats;
-    println!(
+    outln!(
         "integrator: {} steps, {} rejected, {} right-hand sides, {} Jacobians, {} LU",
-        st.steps, st.rejected, st.rhs_evals, st.jacobians, st.lu_factorizations
+        st.steps,
+        st.rejected,
+        st.rhs_evals,
+        st.jacobians,
+        st.lu_factorizations
     );
     let (warm, cold) = s.contact_searches;
     if warm + cold > 0 {
-        println!(
+        outln!(
             "contact searches: {warm} warm-started, {cold} cold ({:.1} % warm)",
             100.0 * warm as f64 / (warm + cold) as f64
         );
     }
-    println!("samples {}; state digest {:016x}", s.samples, s.digest);
+    outln!("samples {}; state digest {:016x}", s.samples, s.digest);
     if timing {
         let c = &s.cost;
         let other = (s.wall - c.rhs - s.logging).max(0.0);
-        println!(
+        outln!(
             "cost: contact {:.2} s ({:.0} %), suspension {:.2} s ({:.0} %), rest of rhs {:.2} s, integrator and loop {:.2} s, logging {:.2} s",
             c.contact,
             100.0 * c.contact / s.wall,
@@ -162,11 +166,12 @@ fn print_summary(s: &RunSummary, timing: bool) {
         );
     }
     if let Some(log) = &s.log {
-        println!(
+        outln!(
             "log: {} ({} messages, {:.1} MB)",
             log.path.display(),
             log.messages,
             log.bytes as f64 / 1e6
         );
     }
+    Ok(())
 }

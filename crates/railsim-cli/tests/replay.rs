@@ -299,6 +299,54 @@ fn bad_input_exits_2_with_a_message() {
     assert!(err.contains("--from-s 0.3 is after --to-s 0.1"), "{err}");
     let (code, _, err) = railsim(&["replay", log, "--from-s", "-1"]);
     assert_eq!(code, 2, "{err}");
+    // beyond the nanosecond clock, printed short
+    let (code, _, err) = railsim(&["replay", log, "--to-s", "1e300"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--to-s: expected a time from 0 to 1.84e10 s") && err.contains("found 1e300"),
+        "{err}"
+    );
+    // a channel without messages: said so, not "no samples in the time range"
+    let empty = dir.join("empty.mcap");
+    let mut writer =
+        LogWriter::create(&empty, &LogHeader::new(), WriterOptions::default()).unwrap();
+    writer.channel::<WheelsetMessage>("/wheelsets/0").unwrap();
+    writer.finish().unwrap();
+    let empty = empty.to_str().unwrap();
+    let plot = [
+        "replay",
+        empty,
+        "--plot",
+        "/wheelsets/0:y_over_q_left",
+        "--png",
+        png,
+    ];
+    let (code, _, err) = railsim(&plot);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("the log has no messages on topic '/wheelsets/0'"),
+        "{err}"
+    );
     assert!(!Path::new(png).exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Output into a pipe whose reader has gone (`railsim replay LOG | head`): a quiet, successful
+/// end, not a panic (`println!` panics on the broken pipe).
+#[test]
+fn a_closed_output_pipe_ends_quietly() {
+    let dir = temp_dir("pipe");
+    let log = sample_log(&dir);
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_railsim"))
+        .args(["replay", log.to_str().unwrap()])
+        .stdout(writer)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(err.is_empty(), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -42,6 +42,16 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
     // 0.5 s at 200 Hz: 101 samples on each of the scene's three topic kinds.
     assert_eq!(reader.channel("/bodies/ws").unwrap().message_count, 101);
     assert_eq!(reader.channel("/wheelsets/0").unwrap().message_count, 101);
+    // the scene logs no contact topic: no empty contact channels either
+    assert!(
+        reader.channel("/contact/0/left").is_none(),
+        "{:?}",
+        reader
+            .channels()
+            .iter()
+            .map(|c| &c.topic)
+            .collect::<Vec<_>>()
+    );
     assert!(reader.metadata().contains_key("railsim_sources"));
     let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
     assert_eq!(code, 0, "{out}{err}");

@@ -670,13 +670,14 @@ impl LoopState {
     }
 }
 
-/// The MCAP log of a run.
+/// The MCAP log of a run: the channels of the topics chosen in the scene (empty or `None` for
+/// the others).
 struct Recorder {
     writer: LogWriter,
     bodies: Vec<Channel<BodyState>>,
     contact: Vec<Channel<PatchMessage>>,
     wheelsets: Vec<Channel<WheelsetMessage>>,
-    tf: Channel<FrameTransform>,
+    tf: Option<Channel<FrameTransform>>,
     /// Patches written per wheel at the current sample.
     patch_count: Vec<u32>,
 }
@@ -711,12 +712,14 @@ impl Recorder {
             header = header.metadata("railsim_sources", sources.clone());
         }
         let mut writer = LogWriter::create(path, &header, WriterOptions::default())?;
+        // Channels of the chosen topics only (`[log] topics`): a reader lists no empty ones.
+        let want = |t: Topic| scene.log.topics.contains(&t);
         let mut bodies = Vec::new();
-        for mm in &model.members {
+        for mm in model.members.iter().filter(|_| want(Topic::Bodies)) {
             bodies.push(writer.channel::<BodyState>(&topics::body(&mm.name))?);
         }
         let mut contact = Vec::new();
-        for w in &model.wheels {
+        for w in model.wheels.iter().filter(|_| want(Topic::Contact)) {
             let side = match w.side {
                 Side::Left => LogSide::Left,
                 Side::Right => LogSide::Right,
@@ -725,10 +728,12 @@ impl Recorder {
                 .push(writer.channel::<PatchMessage>(&topics::contact(w.wheelset_number, side))?);
         }
         let mut wheelsets = Vec::new();
-        for n in 0..model.wheels.len() / 2 {
+        for n in (0..model.wheels.len() / 2).filter(|_| want(Topic::Wheelsets)) {
             wheelsets.push(writer.channel::<WheelsetMessage>(&topics::wheelset(n as u32))?);
         }
-        let tf = writer.channel::<FrameTransform>(topics::TF)?;
+        let tf = want(Topic::Tf)
+            .then(|| writer.channel::<FrameTransform>(topics::TF))
+            .transpose()?;
         Ok(Recorder {
             writer,
             bodies,
@@ -770,9 +775,9 @@ impl Recorder {
                 if want(Topic::Bodies) {
                     self.writer.write(&self.bodies[i], t_ns, &msg)?;
                 }
-                if want(Topic::Tf) {
+                if let Some(channel) = &self.tf {
                     let tf = FrameTransform::from_body(t_ns, "track", &msg);
-                    self.writer.write(&self.tf, t_ns, &tf)?;
+                    self.writer.write(channel, t_ns, &tf)?;
                 }
             }
         }
