@@ -228,10 +228,26 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) if broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("railsim: {e:#}");
+            eprintln!("railsim: {}", message(&e));
             ExitCode::from(2)
         }
     }
+}
+
+/// The error and its causes joined by ": ", each cause left out when the text before it already
+/// ends with it (the library errors print their own source, as `LogError::Io` does).
+fn message(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let c = cause.to_string();
+        if text.is_empty() {
+            text = c;
+        } else if !text.ends_with(&c) {
+            text.push_str(": ");
+            text.push_str(&c);
+        }
+    }
+    text
 }
 
 /// Whether `e` is the standard output closed by its reader (`| head`): not a failure of the
@@ -647,6 +663,19 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
         flange_back_y: a.pair.flange_back_y_mm * 1e-3,
         r0: positive("--r0-mm", a.pair.r0_mm)? * 1e-3,
     };
+    // Checked before anything is printed. Δr(y) is sampled over ±10 mm, so amplitudes up to
+    // 9.9 mm.
+    let mut amplitudes = Vec::with_capacity(a.amplitudes_mm.len());
+    for &amp in &a.amplitudes_mm {
+        let amp_m = positive("--amplitudes-mm", amp)? * 1e-3;
+        if amp_m > 0.0099 {
+            bail!(
+                "--amplitudes-mm: expected amplitudes up to 9.9 mm, found {}",
+                railsim_profile::short_number(amp)
+            );
+        }
+        amplitudes.push((amp, amp_m));
+    }
     let ys: Vec<f64> = (-400..=400).map(|i| i as f64 * 25e-6).collect();
     let samples = rolling_radius_difference(&wheel, &rail, &setup, &ys)?;
     outln!(
@@ -680,11 +709,7 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
         "λe kinematic",
         "wavelength[m]"
     );
-    for &amp in &a.amplitudes_mm {
-        let amp_m = positive("--amplitudes-mm", amp)? * 1e-3;
-        if amp_m > 0.0099 {
-            bail!("--amplitudes-mm: expected amplitudes up to 9.9 mm, found {amp}");
-        }
+    for &(amp, amp_m) in &amplitudes {
         let f = |y: f64| delta_r_interp(&samples, y);
         let h = equivalent_conicity_harmonic(f, amp_m);
         let k = equivalent_conicity_kinematic(f, amp_m, e0, setup.r0);

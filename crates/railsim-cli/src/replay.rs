@@ -159,14 +159,8 @@ fn open_log(path: &Path) -> Result<LogReader> {
             "{}: not an MCAP file ({what}; an MCAP log starts with the bytes \\x89MCAP0\\r\\n)",
             path.display()
         ),
-        other => flat(other),
+        other => other.into(),
     })
-}
-
-/// A log error as a one-line message: its `Display` already includes its cause, which `{:#}`
-/// would otherwise print a second time.
-fn flat(e: LogError) -> anyhow::Error {
-    anyhow!("{e}")
 }
 
 /// `--from-s` / `--to-s` as an inclusive nanosecond range.
@@ -313,7 +307,7 @@ fn list(reader: &LogReader, query: &Query) -> Result<()> {
         }
         None => outln!("scene: none recorded"),
     }
-    if let Some(toml) = reader.scene_toml().map_err(flat)? {
+    if let Some(toml) = reader.scene_toml()? {
         outln!("scene TOML attached ({} bytes)", toml.len());
     }
 
@@ -340,7 +334,7 @@ fn list(reader: &LogReader, query: &Query) -> Result<()> {
         "  ",
     )?;
 
-    let stats = summarize(reader, query).map_err(flat)?;
+    let stats = summarize(reader, query)?;
     outln!();
     match (query.start_ns, query.end_ns) {
         (None, None) => outln!("statistics (numeric fields):"),
@@ -407,7 +401,7 @@ fn write_csv(reader: &LogReader, query: &Query, out: &Path) -> Result<()> {
             ),
         };
         let file = File::create(out).with_context(|| format!("creating {}", out.display()))?;
-        let export = export_csv(reader, &topic, range, file).map_err(flat)?;
+        let export = export_csv(reader, &topic, range, file)?;
         outln!("{topic}: {} rows to {}", export.rows, out.display());
         return Ok(());
     }
@@ -427,7 +421,7 @@ fn write_csv(reader: &LogReader, query: &Query, out: &Path) -> Result<()> {
         }
     }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    let written = export_csv_files(reader, query, out).map_err(flat)?;
+    let written = export_csv_files(reader, query, out)?;
     for (topic, file, rows) in &written {
         outln!("{topic}: {rows} rows to {}", file.display());
     }
@@ -554,7 +548,7 @@ fn read_signal(
                 signal.topic,
                 fields.join(", ")
             ),
-            None => flat(e),
+            None => e.into(),
         })
 }
 

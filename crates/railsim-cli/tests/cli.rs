@@ -69,3 +69,38 @@ fn conicity_reports_the_check_value() {
     let lambda: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
     assert!((lambda - 0.185).abs() < 0.01, "{line}");
 }
+
+/// Amplitudes are checked before anything is printed: an error leaves standard output empty.
+#[test]
+fn conicity_checks_the_amplitudes_before_printing() {
+    for (amp, want) in [
+        ("50", "expected amplitudes up to 9.9 mm, found 50"),
+        ("1e300", "expected amplitudes up to 9.9 mm, found 1e300"),
+        ("0", "expected a positive number, found 0"),
+    ] {
+        let (code, out, err) = railsim(&["conicity", "--amplitudes-mm", &format!("3,{amp}")]);
+        assert_eq!(code, 2, "{amp}: {err}");
+        assert!(err.contains(want), "{amp}: {err}");
+        assert!(out.is_empty(), "{amp}: printed before the error:\n{out}");
+    }
+}
+
+/// An error whose text already ends with its cause is printed once, not twice
+/// (`railsim run --out DIR`).
+#[test]
+fn an_error_prints_its_cause_once() {
+    let dir = std::env::temp_dir();
+    let (code, _, err) = railsim(&[
+        "run",
+        "scenes/free_wheelset_klingel.toml",
+        "--duration-s",
+        "0.01",
+        "--out",
+        dir.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    let line = err.lines().last().unwrap();
+    assert!(line.contains("creating the log"), "{err}");
+    assert_eq!(line.matches("os error").count(), 1, "{line}");
+}
