@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 
-use railsim_sim::{RunOptions, RunSummary, Scene, Simulation};
+use railsim_sim::{RunOptions, RunSummary, Scene, Simulation, Y_OVER_Q_WINDOW};
 
 /// The built-in default scene, from the repository this binary was built in.
 pub const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/default.toml");
@@ -122,14 +122,14 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         outln!("wheelset {i}: max |lateral displacement| {:.2} mm", y * 1e3);
     }
     let side = |x: railsim_contact::Side| x.name();
+    let at = |m: Option<(f64, u32, railsim_contact::Side)>, what: &str| match m {
+        Some((v, n, sd)) => format!("{v:.3} {what} (wheelset {n}, {} wheel)", side(sd)),
+        None => format!("none {what} (the run covered less than {Y_OVER_Q_WINDOW} m)"),
+    };
     outln!(
-        "max Y/Q {:.3} at a sample (wheelset {}, {} wheel), {:.3} as a 2 m sliding mean (wheelset {}, {} wheel); max Q {:.1} kN (wheelset {}, {} wheel)",
-        s.max_y_over_q.0,
-        s.max_y_over_q.1,
-        side(s.max_y_over_q.2),
-        s.max_y_over_q_2m.0,
-        s.max_y_over_q_2m.1,
-        side(s.max_y_over_q_2m.2),
+        "max Y/Q {}, {}; max Q {:.1} kN (wheelset {}, {} wheel)",
+        at(s.max_y_over_q, "at a sample"),
+        at(s.max_y_over_q_2m, "as a 2 m sliding mean"),
         s.max_q.0 * 1e-3,
         s.max_q.1,
         side(s.max_q.2)
@@ -143,6 +143,13 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         st.jacobians,
         st.lu_factorizations
     );
+    if st.trial_failures > 0 {
+        outln!(
+            "integrator: {} step attempts rejected because the model could not be evaluated at a \
+             trial state (e.g. a contact beyond its limits), retried shorter",
+            st.trial_failures
+        );
+    }
     let (warm, cold) = s.contact_searches;
     if warm + cold > 0 {
         outln!(

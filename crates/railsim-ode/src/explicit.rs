@@ -1,7 +1,8 @@
 //! One generic explicit Runge–Kutta stepper driven by a [`ButcherTableau`].
 
 use crate::integrator::{
-    Integrator, Work, check_finite, clip_step, eval_rhs, initial_step, step_too_small, wrms,
+    Integrator, TRIAL_FAILURE_SHRINK, Work, check_finite, clip_step, eval_rhs, initial_step,
+    step_too_small, trial_failure, wrms,
 };
 use crate::tableau::ButcherTableau;
 use crate::{OdeSystem, StopReason};
@@ -133,10 +134,12 @@ impl Integrator {
             )?;
         }
         let t = self.t;
-        loop {
+        // the last failed evaluation at a trial state of this step (adaptive only)
+        let mut trial: Option<StopReason> = None;
+        'attempt: loop {
             let (h, last) = clip_step(t, self.t_end, self.h_max, self.h);
             if step_too_small(t, h) {
-                return Err(StopReason::StepTooSmall { t, h });
+                return Err(trial.unwrap_or(StopReason::StepTooSmall { t, h }));
             }
             w.k[0].copy_from_slice(&self.f);
             for i in 1..s {
@@ -149,14 +152,26 @@ impl Integrator {
                     }
                     w.xs[m] = self.x[m] + h * acc;
                 }
-                eval_rhs(
+                let stage = eval_rhs(
                     sys,
                     &mut self.stats,
                     t + tab.c[i] * h,
                     &w.xs,
                     &mut rest[0],
                     t,
-                )?;
+                );
+                match stage {
+                    Ok(()) => {}
+                    // an overshoot of the trial step: reject it, retry shorter
+                    Err(e) if w.adaptive && trial_failure(&e) => {
+                        self.stats.trial_failures += 1;
+                        w.reject = true;
+                        self.h = h * TRIAL_FAILURE_SHRINK;
+                        trial = Some(e);
+                        continue 'attempt;
+                    }
+                    Err(e) => return Err(e),
+                }
             }
             for m in 0..n {
                 let mut acc = 0.0;
@@ -165,7 +180,17 @@ impl Integrator {
                 }
                 w.x_new[m] = self.x[m] + h * acc;
             }
-            check_finite(&w.x_new, t)?;
+            match check_finite(&w.x_new, t) {
+                Ok(()) => {}
+                Err(e) if w.adaptive => {
+                    self.stats.trial_failures += 1;
+                    w.reject = true;
+                    self.h = h * TRIAL_FAILURE_SHRINK;
+                    trial = Some(e);
+                    continue 'attempt;
+                }
+                Err(e) => return Err(e),
+            }
             let mut h_next = self.h;
             if let (true, Some(e)) = (w.adaptive, tab.e) {
                 for m in 0..n {
@@ -191,7 +216,7 @@ impl Integrator {
                     self.stats.rejected += 1;
                     w.reject = true;
                     self.h = h / (fac11 / SAFE).min(1.0 / FAC_MIN);
-                    continue;
+                    continue 'attempt;
                 }
             }
             // accept

@@ -513,6 +513,18 @@ pub(crate) fn step_too_small(t: f64, h: f64) -> bool {
     h.is_nan() || h <= 10.0 * f64::EPSILON * t.abs() || h < 1e-300
 }
 
+/// \[-\] step-size factor after a failed evaluation at a trial state.
+pub(crate) const TRIAL_FAILURE_SHRINK: f64 = 0.25;
+
+/// Whether a stop reason from [`eval_rhs`] at a trial state may be an overshoot of the step
+/// (a failed or non-finite evaluation) that a smaller step avoids.
+pub(crate) fn trial_failure(reason: &StopReason) -> bool {
+    matches!(
+        reason,
+        StopReason::RhsFailed { .. } | StopReason::NonFinite { .. }
+    )
+}
+
 /// Evaluates the right-hand side, counting it and checking the output.
 /// `t_step` is the start of the step, reported for non-finite values.
 pub(crate) fn eval_rhs<S: OdeSystem + ?Sized>(
@@ -580,10 +592,21 @@ pub(crate) fn initial_step<S: OdeSystem + ?Sized>(
         (dny / dnf).sqrt() * 0.01
     };
     h = h.min(h_max).min(span);
-    for i in 0..n {
-        x1[i] = x[i] + h * f0[i];
+    // The explicit Euler probe may overshoot into a region the system cannot evaluate:
+    // shorter probes until one succeeds (or the step cannot be reduced).
+    loop {
+        for i in 0..n {
+            x1[i] = x[i] + h * f0[i];
+        }
+        match eval_rhs(sys, stats, t + h, x1, f1, t) {
+            Ok(()) => break,
+            Err(e) if trial_failure(&e) && !step_too_small(t, h * TRIAL_FAILURE_SHRINK) => {
+                stats.trial_failures += 1;
+                h *= TRIAL_FAILURE_SHRINK;
+            }
+            Err(e) => return Err(e),
+        }
     }
-    eval_rhs(sys, stats, t + h, x1, f1, t)?;
     let mut der2 = 0.0;
     for i in 0..n {
         let sk = atol[i] + rtol * x[i].abs();

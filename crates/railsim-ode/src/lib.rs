@@ -69,8 +69,13 @@ pub trait OdeSystem {
     /// Writes `f(t, x)` into `dxdt` (both slices have length [`OdeSystem::dim`]).
     ///
     /// Return an [`RhsError`] when the model cannot be evaluated (a derailment, a
-    /// failed inner solver, …); the integrator then stops with
-    /// [`StopReason::RhsFailed`] naming the time.
+    /// failed inner solver, …). At an accepted state (the start of a run, the end of an
+    /// accepted step) the integrator then stops with [`StopReason::RhsFailed`] naming the
+    /// time. At a trial state inside a step (a stage, a Newton iterate, the initial-step
+    /// probe) the adaptive methods treat it, like a non-finite result there, as an overshoot:
+    /// they reject the step and retry with a quarter of it, and stop with that error only when
+    /// the step can no longer be reduced (the solution itself reaches the failing region). The
+    /// fixed-step methods stop at once.
     fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), RhsError>;
 
     /// \[unit of x_i / unit of atol\] scale of the absolute tolerance for state variable `i`:
@@ -228,6 +233,9 @@ pub struct Stats {
     pub newton_iterations: usize,
     /// \[-\] step attempts abandoned because Newton diverged or converged too slowly.
     pub newton_failures: usize,
+    /// \[-\] step attempts abandoned because the right-hand side failed or was not finite at
+    /// a trial state (adaptive methods; see [`OdeSystem::rhs`]).
+    pub trial_failures: usize,
 }
 
 /// Why a run stopped. Every variant except [`StopReason::Reached`] leaves the state at

@@ -11,7 +11,8 @@
 use faer::{Mat, c64};
 
 use crate::integrator::{
-    Integrator, Work, check_finite, clip_step, eval_rhs, initial_step, step_too_small,
+    Integrator, TRIAL_FAILURE_SHRINK, Work, check_finite, clip_step, eval_rhs, initial_step,
+    step_too_small, trial_failure,
 };
 use crate::linalg::DenseLu;
 use crate::{OdeSystem, StopReason};
@@ -249,6 +250,8 @@ enum Newton {
     /// Converging, but too slowly for the step: retry with h multiplied by this.
     Slow(f64),
     Diverged,
+    /// The right-hand side failed (or was not finite) at an iterate: retry with a shorter step.
+    TrialFailed,
 }
 
 impl Integrator {
@@ -286,11 +289,13 @@ impl Integrator {
         for i in 0..n {
             w.scal[i] = self.atol_v[i] + rtol * self.x[i].abs();
         }
+        // the last failed evaluation at a trial state of this step
+        let mut trial: Option<StopReason> = None;
         loop {
             let (h, last) = clip_step(t, self.t_end, self.h_max, self.h);
             self.h = h;
             if step_too_small(t, h) {
-                return Err(StopReason::StepTooSmall { t, h });
+                return Err(trial.unwrap_or(StopReason::StepTooSmall { t, h }));
             }
             if w.need_jac {
                 self.stats.jacobians += 1;
@@ -361,7 +366,7 @@ impl Integrator {
             let mut dynold = 0.0;
             let mut thqold = 0.0;
             let mut newt = 0;
-            let outcome = loop {
+            let outcome = 'newton: loop {
                 if newt >= NIT {
                     break Newton::Diverged;
                 }
@@ -369,7 +374,16 @@ impl Integrator {
                     for i in 0..n {
                         w.xs[i] = self.x[i] + w.z[k][i];
                     }
-                    eval_rhs(sys, &mut self.stats, t + c[k] * h, &w.xs, &mut w.g[k], t)?;
+                    let stage = eval_rhs(sys, &mut self.stats, t + c[k] * h, &w.xs, &mut w.g[k], t);
+                    match stage {
+                        Ok(()) => {}
+                        // a Newton iterate the system cannot evaluate
+                        Err(e) if trial_failure(&e) => {
+                            trial = Some(e);
+                            break 'newton Newton::TrialFailed;
+                        }
+                        Err(e) => return Err(e),
+                    }
                 }
                 for i in 0..n {
                     let g = [w.g[0][i], w.g[1][i], w.g[2][i]];
@@ -433,6 +447,15 @@ impl Integrator {
             };
             let newt = match outcome {
                 Newton::Converged(k) => k,
+                Newton::TrialFailed => {
+                    self.stats.trial_failures += 1;
+                    if w.fixed {
+                        return Err(trial.unwrap_or(StopReason::NewtonFailed { t, h }));
+                    }
+                    w.reject = true;
+                    self.h *= TRIAL_FAILURE_SHRINK;
+                    continue;
+                }
                 Newton::Slow(hhfac) => {
                     self.stats.newton_failures += 1;
                     w.reject = true;
@@ -475,7 +498,17 @@ impl Integrator {
                     for i in 0..n {
                         w.xs[i] = self.x[i] + w.err[i];
                     }
-                    eval_rhs(sys, &mut self.stats, t, &w.xs, &mut w.g[0], t)?;
+                    match eval_rhs(sys, &mut self.stats, t, &w.xs, &mut w.g[0], t) {
+                        Ok(()) => {}
+                        Err(e) if trial_failure(&e) => {
+                            self.stats.trial_failures += 1;
+                            trial = Some(e);
+                            w.reject = true;
+                            self.h *= TRIAL_FAILURE_SHRINK;
+                            continue;
+                        }
+                        Err(e) => return Err(e),
+                    }
                     for i in 0..n {
                         w.err[i] = w.g[0][i] + w.err_f[i];
                         w.xs[i] = self.x[i] + w.z[2][i];
@@ -508,7 +541,17 @@ impl Integrator {
                 for i in 0..n {
                     w.xs[i] = self.x[i] + w.z[2][i];
                 }
-                check_finite(&w.xs, t)?;
+                match check_finite(&w.xs, t) {
+                    Ok(()) => {}
+                    Err(e) if !w.fixed => {
+                        self.stats.trial_failures += 1;
+                        trial = Some(e);
+                        w.reject = true;
+                        self.h *= TRIAL_FAILURE_SHRINK;
+                        continue;
+                    }
+                    Err(e) => return Err(e),
+                }
                 w.first = false;
                 self.t_prev = t;
                 self.x_prev.copy_from_slice(&self.x);

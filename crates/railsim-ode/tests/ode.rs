@@ -859,3 +859,112 @@ fn bogacki_shampine_has_order_three_and_controls_its_error() {
         .is_err()
     );
 }
+
+/// x' = λ (1 − x), x(0) = 0, λ = 200: x = 1 − e^(−λt) approaches 1 from below and never reaches
+/// it. The system cannot be evaluated above `limit` (like a contact model asked for an absurd
+/// penetration); a step too long for the fast mode overshoots there at a trial state.
+struct Overshoot {
+    limit: f64,
+}
+
+impl OdeSystem for Overshoot {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&mut self, _t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), RhsError> {
+        if x[0] > self.limit {
+            return Err(RhsError(format!("x = {} beyond {}", x[0], self.limit)));
+        }
+        dxdt[0] = 200.0 * (1.0 - x[0]);
+        Ok(())
+    }
+}
+
+/// A failure at a trial state (a stage, a Newton iterate, the initial-step probe) rejects the
+/// step of an adaptive method instead of stopping the run; where the solution itself reaches
+/// the failing region the run still stops with the system's error, at that time.
+#[test]
+fn a_failure_at_a_trial_state_rejects_the_step() {
+    let adaptive = [
+        Method::DormandPrince {
+            rtol: 1e-6,
+            atol: 1e-9,
+            h0: Some(0.05),
+            h_max: f64::INFINITY,
+        },
+        Method::dormand_prince(1e-6, 1e-9),
+        Method::Radau5 {
+            rtol: 1e-6,
+            atol: 1e-9,
+            h0: Some(0.05),
+            h_max: f64::INFINITY,
+            jacobian_reuse: 0.001,
+        },
+    ];
+    for (k, m) in adaptive.into_iter().enumerate() {
+        // The solution stays below 1; the first trial steps overshoot past 1.001 (with the
+        // automatic initial step, from x0 = 0.999, its explicit Euler probe does).
+        let x0 = if k == 1 { 0.999 } else { 0.0 };
+        let mut sys = Overshoot { limit: 1.001 };
+        let mut integ = Integrator::new(m, 1).unwrap();
+        let mut x = [x0];
+        let (r, stats) = integ
+            .integrate(&mut sys, 0.0, &mut x, 0.2, &mut go)
+            .unwrap();
+        assert_eq!(r, StopReason::Reached, "{m:?}: {stats:?}");
+        assert!(
+            stats.trial_failures > 0,
+            "{m:?}: no failed trial: {stats:?}"
+        );
+        let exact = 1.0 - (1.0 - x0) * (-200.0f64 * 0.2).exp();
+        assert!((x[0] - exact).abs() < 1e-5, "{m:?}: {} vs {exact}", x[0]);
+        eprintln!(
+            "{m:?}: {} failed trials, {} steps",
+            stats.trial_failures, stats.steps
+        );
+
+        // The solution crosses 0.5 at t* = ln 2 / 200: the run stops there with the error.
+        let mut sys = Overshoot { limit: 0.5 };
+        let mut integ = Integrator::new(m, 1).unwrap();
+        let mut x = [0.0];
+        let mut last = 0.0;
+        let (r, _) = integ
+            .integrate(&mut sys, 0.0, &mut x, 0.2, &mut |t, _| {
+                last = t;
+                ControlFlow::Continue(())
+            })
+            .unwrap();
+        let t_star = 2f64.ln() / 200.0;
+        match r {
+            StopReason::RhsFailed { t, msg } => {
+                assert!(
+                    (t - t_star).abs() < 1e-6,
+                    "{m:?}: stopped at {t}, crossing {t_star}"
+                );
+                assert!(msg.contains("beyond 0.5"), "{msg}");
+            }
+            other => panic!("{m:?}: {other:?}"),
+        }
+        assert!(
+            (last - t_star).abs() < 1e-6 && x[0] <= 0.5,
+            "{m:?}: {last} {x:?}"
+        );
+    }
+    // Fixed-step methods cannot shorten the step: they stop at the first failure.
+    for m in [
+        Method::Rk4 { h: 0.05 },
+        Method::Radau5Fixed {
+            h: 0.05,
+            rtol: 1e-6,
+            atol: 1e-9,
+        },
+    ] {
+        let mut sys = Overshoot { limit: 1.001 };
+        let mut integ = Integrator::new(m, 1).unwrap();
+        let mut x = [0.0];
+        let (r, _) = integ
+            .integrate(&mut sys, 0.0, &mut x, 0.2, &mut go)
+            .unwrap();
+        assert!(matches!(r, StopReason::RhsFailed { .. }), "{m:?}: {r:?}");
+    }
+}

@@ -29,7 +29,7 @@ pub mod spec;
 
 pub use error::{Problem, SceneError, SimError, SourceMap};
 pub use model::SimModel;
-pub use run::{RunOptions, RunSummary, Sample, Simulation};
+pub use run::{RunOptions, RunSummary, Sample, Simulation, Y_OVER_Q_WINDOW};
 pub use scene::{
     InitialDisturbance, LogOptions, RigidWheelbase, RunLength, Scene, SpeedProfile, Topic,
     longest_rigid_wheelbase, required_curve_radius,

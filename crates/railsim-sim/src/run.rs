@@ -72,10 +72,12 @@ pub struct RunSummary {
     pub wall: f64,
     /// \[m\] per wheelset (numbered from the front): largest |lateral displacement|.
     pub max_lateral: Vec<f64>,
-    /// \[-\] largest Y/Q of any wheel at a sample, with its wheelset and side.
-    pub max_y_over_q: (f64, u32, Side),
-    /// \[-\] largest 2 m sliding mean of Y/Q of any wheel (EN 14363), with wheelset and side.
-    pub max_y_over_q_2m: (f64, u32, Side),
+    /// \[-\] largest Y/Q of any wheel at a sample, with its wheelset and side (`None`
+    /// without samples).
+    pub max_y_over_q: Option<(f64, u32, Side)>,
+    /// \[-\] largest 2 m sliding mean of Y/Q of any wheel (EN 14363), with wheelset and side;
+    /// `None` when the run covered less than one window (`Y_OVER_Q_WINDOW`).
+    pub max_y_over_q_2m: Option<(f64, u32, Side)>,
     /// \[N\] largest Q of any wheel, with its wheelset and side.
     pub max_q: (f64, u32, Side),
     /// Integrator statistics.
@@ -559,8 +561,8 @@ pub const Y_OVER_Q_WINDOW: f64 = 2.0;
 /// Maxima and digest carried through the loop.
 struct LoopState {
     max_lateral: Vec<f64>,
-    max_yq: (f64, u32, Side),
-    max_yq_2m: (f64, u32, Side),
+    max_yq: Option<(f64, u32, Side)>,
+    max_yq_2m: Option<(f64, u32, Side)>,
     max_q: (f64, u32, Side),
     /// Per wheel (2 × wheelset number + side): (distance, Y/Q) samples of the last 2 m and their sum.
     window: Vec<(std::collections::VecDeque<(f64, f64)>, f64)>,
@@ -573,8 +575,8 @@ impl LoopState {
     fn new(model: &SimModel) -> LoopState {
         LoopState {
             max_lateral: vec![0.0; model.wheels.len() / 2],
-            max_yq: (0.0, 0, Side::Left),
-            max_yq_2m: (0.0, 0, Side::Left),
+            max_yq: None,
+            max_yq_2m: None,
             max_q: (0.0, 0, Side::Left),
             window: vec![(std::collections::VecDeque::new(), 0.0); model.wheels.len()],
             digest: 0xcbf2_9ce4_8422_2325,
@@ -641,8 +643,8 @@ impl LoopState {
             .into_iter()
             .enumerate()
             {
-                if yqv > self.max_yq.0 {
-                    self.max_yq = (yqv, number, side);
+                if self.max_yq.is_none_or(|m| yqv > m.0) {
+                    self.max_yq = Some((yqv, number, side));
                 }
                 let (buf, sum) = &mut self.window[2 * number as usize + k];
                 buf.push_back((dist, yqv));
@@ -658,8 +660,8 @@ impl LoopState {
                     .front()
                     .is_some_and(|&(d0, _)| dist - d0 >= 0.95 * Y_OVER_Q_WINDOW);
                 let mean = *sum / buf.len() as f64;
-                if full && mean > self.max_yq_2m.0 {
-                    self.max_yq_2m = (mean, number, side);
+                if full && self.max_yq_2m.is_none_or(|m| mean > m.0) {
+                    self.max_yq_2m = Some((mean, number, side));
                 }
                 if q > self.max_q.0 {
                     self.max_q = (q, number, side);

@@ -124,3 +124,34 @@ fn damaged_vehicle_files_give_located_errors_or_run() {
     );
     assert!(located > 10 && ran > 10);
 }
+
+/// At walking pace the creep forces act as very stiff dampers (creepages are slip velocities over
+/// the rolling speed, 0.01 m/s here): a trial stage of Dormand–Prince overshoots to a negative
+/// rolling speed, which the contact model cannot evaluate. That rejects the step (it stopped the
+/// run at t = 0.1 ms before trial failures were retried); the run goes on with shorter steps.
+#[test]
+fn a_contact_failure_at_a_trial_stage_shortens_the_step() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene_text = format!(
+        "vehicle = \"{}\"\ntrack = \"{}\"\nspeed_kmh = 0.036\nduration_s = 0.0003\n\
+         freeze = [\"carbody.x\"]\n[integrator]\nmethod = \"dopri5\"\nrtol = 1e-4\natol = 1e-6\n",
+        root.join("vehicles/manchester_vehicle1.toml").display(),
+        root.join("tracks/straight.toml").display()
+    );
+    let scene = Scene::from_toml_str(&scene_text, "s.toml", &root).unwrap();
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let summary = Simulation::new(&scene)
+        .and_then(|mut sim| sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {}))
+        .unwrap();
+    assert!(
+        summary.stats.trial_failures > 0,
+        "no trial stage failed: {:?}",
+        summary.stats
+    );
+    // less than one 2 m window: no sliding mean of Y/Q
+    assert!(summary.max_y_over_q_2m.is_none());
+    assert!(summary.max_y_over_q.is_some());
+}
