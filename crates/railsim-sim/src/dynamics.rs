@@ -114,6 +114,8 @@ pub struct Workspace {
     pub cost: CostSplit,
     /// \[m\] axial deflection of each series spring-damper (0 for other elements).
     pub series_delta: Vec<f64>,
+    /// The wheel and the message of the last failed contact evaluation (for the stop error).
+    pub failure: Option<(String, String)>,
 }
 
 impl Workspace {
@@ -131,6 +133,7 @@ impl Workspace {
             timing: false,
             cost: CostSplit::default(),
             series_delta: vec![0.0; model.elements.len()],
+            failure: None,
         }
     }
 }
@@ -448,13 +451,13 @@ impl Dynamics<'_> {
             if let Some(t0) = timer {
                 self.ws.cost.contact += t0.elapsed().as_secs_f64();
             }
-            res.map_err(|e| {
-                RhsError(format!(
-                    "t = {t:.6} s: wheelset '{}', {} wheel: {e}",
-                    mm.name,
-                    wheel.side.name()
-                ))
-            })?;
+            if let Err(e) = res {
+                let body = format!("wheelset '{}', {} wheel", mm.name, wheel.side.name());
+                let quantity = format!("contact: {e}");
+                let message = format!("t = {t:.6} s: {body}: {quantity}");
+                self.ws.failure = Some((body, quantity));
+                return Err(RhsError(message));
+            }
             let RailFrame {
                 origin: o,
                 roll: delta,

@@ -282,6 +282,7 @@ impl Simulation {
         };
         dynamics.ws.timing = opts.timing;
         dynamics.ws.cost = CostSplit::default();
+        dynamics.ws.failure = None;
         // Every run starts with cold contact searches (runs of one simulation do not depend on
         // each other); the counters are read as differences.
         let searches = |ws: &Workspace| {
@@ -322,7 +323,7 @@ impl Simulation {
                     dynamics.ws.record = true;
                     let r = dynamics.rhs(ts, &xs, &mut dxs);
                     dynamics.ws.record = false;
-                    r.map_err(|e| stopped_rhs(ts, &e.0))?;
+                    r.map_err(|e| stopped_rhs(ts, e.0, dynamics.ws.failure.take()))?;
                     state.sample(&self.model, &dynamics.ws, ts, t_ns, &xs);
                     let sample = &state.sample;
                     check_limits(&self.model, sample)?;
@@ -341,7 +342,13 @@ impl Simulation {
                     StepOutcome::Accepted { t } => progress(t, t_end),
                     StepOutcome::Stop(StopReason::Reached) => {}
                     StepOutcome::Stop(reason) => {
-                        return Err(stopped_integrator(&self.model, reason, self.integ.t()));
+                        let failure = dynamics.ws.failure.take();
+                        return Err(stopped_integrator(
+                            &self.model,
+                            reason,
+                            self.integ.t(),
+                            failure,
+                        ));
                     }
                 }
             }
@@ -393,18 +400,26 @@ fn with_step_defaults(mut m: Method) -> Method {
     m
 }
 
-fn stopped_rhs(t: f64, msg: &str) -> SimError {
+/// The stop error of a failed right-hand side at `t`: the wheel and message of the failed
+/// contact evaluation (`Workspace::failure`), else the integrator's message.
+fn stopped_rhs(t: f64, msg: String, failure: Option<(String, String)>) -> SimError {
+    let (body, quantity) = failure.unwrap_or_else(|| ("model".into(), msg));
     SimError::Stopped {
         t,
-        body: "contact".into(),
-        quantity: msg.to_owned(),
+        body,
+        quantity,
         log: None,
     }
 }
 
-fn stopped_integrator(model: &SimModel, reason: StopReason, t_now: f64) -> SimError {
+fn stopped_integrator(
+    model: &SimModel,
+    reason: StopReason,
+    t_now: f64,
+    failure: Option<(String, String)>,
+) -> SimError {
     let (t, body, quantity) = match reason {
-        StopReason::RhsFailed { t, msg } => (t, "contact".to_owned(), msg),
+        StopReason::RhsFailed { t, msg } => return stopped_rhs(t, msg, failure),
         StopReason::NonFinite { t, index } => (
             t,
             model

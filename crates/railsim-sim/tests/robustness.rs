@@ -155,3 +155,37 @@ fn a_contact_failure_at_a_trial_stage_shortens_the_step() {
     assert!(summary.max_y_over_q_2m.is_none());
     assert!(summary.max_y_over_q.is_some());
 }
+
+/// A run whose solution reaches a contact limit stops there naming the wheel: a free S1002
+/// wheelset started at 3 mm and 20 mrad at 200 km/h hunts into flange contact until its yaw
+/// passes the profile's locus limit (29.4 mrad).
+#[test]
+fn a_contact_limit_reached_by_the_solution_stops_the_run_naming_the_wheel() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene_text = format!(
+        "vehicle = \"{}\"\ntrack = \"{}\"\nspeed_kmh = 200\nduration_s = 1\n\
+         [initial]\nlateral_offset_mm = 3\nyaw_mrad = 20\n",
+        root.join("vehicles/wheelset_free.toml").display(),
+        root.join("tracks/straight.toml").display()
+    );
+    let scene = Scene::from_toml_str(&scene_text, "s.toml", &root).unwrap();
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let result = Simulation::new(&scene)
+        .and_then(|mut sim| sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {}));
+    match result {
+        Err(SimError::Stopped {
+            t, body, quantity, ..
+        }) => {
+            assert!(body.starts_with("wheelset 'ws', "), "{body}: {quantity}");
+            assert!(
+                quantity.starts_with("contact: wheelset yaw [rad]"),
+                "{body}: {quantity}"
+            );
+            assert!(t > 0.5 && t < 1.0, "{t}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
