@@ -1,7 +1,7 @@
 //! One generic explicit Runge–Kutta stepper driven by a [`ButcherTableau`].
 
 use crate::integrator::{
-    Integrator, TRIAL_FAILURE_SHRINK, Work, check_finite, clip_step, eval_rhs, initial_step,
+    Integrator, Work, check_finite, clip_step, eval_rhs, initial_step, retry_shorter,
     step_too_small, trial_failure, wrms,
 };
 use crate::tableau::ButcherTableau;
@@ -142,6 +142,8 @@ impl Integrator {
                 return Err(trial.unwrap_or(StopReason::StepTooSmall { t, h }));
             }
             w.k[0].copy_from_slice(&self.f);
+            // the stages and the new state; a failure at one of these trial states ends them
+            let mut failed = None;
             for i in 1..s {
                 let (done, rest) = w.k.split_at_mut(i);
                 let a = tab.a[i];
@@ -160,36 +162,35 @@ impl Integrator {
                     &mut rest[0],
                     t,
                 );
-                match stage {
-                    Ok(()) => {}
-                    // an overshoot of the trial step: reject it, retry shorter
-                    Err(e) if w.adaptive && trial_failure(&e) => {
-                        self.stats.trial_failures += 1;
-                        w.reject = true;
-                        self.h = h * TRIAL_FAILURE_SHRINK;
-                        trial = Some(e);
-                        continue 'attempt;
+                if let Err(e) = stage {
+                    failed = Some(e);
+                    break;
+                }
+            }
+            if failed.is_none() {
+                for m in 0..n {
+                    let mut acc = 0.0;
+                    for (j, bj) in tab.b.iter().enumerate() {
+                        acc += bj * w.k[j][m];
                     }
-                    Err(e) => return Err(e),
+                    w.x_new[m] = self.x[m] + h * acc;
                 }
+                failed = check_finite(&w.x_new, t).err();
             }
-            for m in 0..n {
-                let mut acc = 0.0;
-                for (j, bj) in tab.b.iter().enumerate() {
-                    acc += bj * w.k[j][m];
+            if let Some(e) = failed {
+                if !(w.adaptive && trial_failure(&e)) {
+                    return Err(e);
                 }
-                w.x_new[m] = self.x[m] + h * acc;
-            }
-            match check_finite(&w.x_new, t) {
-                Ok(()) => {}
-                Err(e) if w.adaptive => {
-                    self.stats.trial_failures += 1;
-                    w.reject = true;
-                    self.h = h * TRIAL_FAILURE_SHRINK;
-                    trial = Some(e);
-                    continue 'attempt;
-                }
-                Err(e) => return Err(e),
+                // an overshoot of the trial step: reject it, retry shorter
+                retry_shorter(
+                    &mut self.stats,
+                    &mut self.h,
+                    h,
+                    &mut w.reject,
+                    &mut trial,
+                    e,
+                );
+                continue 'attempt;
             }
             let mut h_next = self.h;
             if let (true, Some(e)) = (w.adaptive, tab.e) {

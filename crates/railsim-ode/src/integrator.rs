@@ -525,6 +525,23 @@ pub(crate) fn trial_failure(reason: &StopReason) -> bool {
     )
 }
 
+/// After a failed evaluation `e` at a trial state of a step of length `h`: count it, mark the
+/// step rejected, make the next attempt a quarter as long (`h_next`) and keep `e` as the stop
+/// reason should the step become too small.
+pub(crate) fn retry_shorter(
+    stats: &mut Stats,
+    h_next: &mut f64,
+    h: f64,
+    reject: &mut bool,
+    trial: &mut Option<StopReason>,
+    e: StopReason,
+) {
+    stats.trial_failures += 1;
+    *reject = true;
+    *h_next = h * TRIAL_FAILURE_SHRINK;
+    *trial = Some(e);
+}
+
 /// Evaluates the right-hand side, counting it and checking the output.
 /// `t_step` is the start of the step, reported for non-finite values.
 pub(crate) fn eval_rhs<S: OdeSystem + ?Sized>(

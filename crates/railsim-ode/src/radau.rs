@@ -11,7 +11,7 @@
 use faer::{Mat, c64};
 
 use crate::integrator::{
-    Integrator, TRIAL_FAILURE_SHRINK, Work, check_finite, clip_step, eval_rhs, initial_step,
+    Integrator, Work, check_finite, clip_step, eval_rhs, initial_step, retry_shorter,
     step_too_small, trial_failure,
 };
 use crate::linalg::DenseLu;
@@ -251,7 +251,7 @@ enum Newton {
     Slow(f64),
     Diverged,
     /// The right-hand side failed (or was not finite) at an iterate: retry with a shorter step.
-    TrialFailed,
+    TrialFailed(StopReason),
 }
 
 impl Integrator {
@@ -378,10 +378,7 @@ impl Integrator {
                     match stage {
                         Ok(()) => {}
                         // a Newton iterate the system cannot evaluate
-                        Err(e) if trial_failure(&e) => {
-                            trial = Some(e);
-                            break 'newton Newton::TrialFailed;
-                        }
+                        Err(e) if trial_failure(&e) => break 'newton Newton::TrialFailed(e),
                         Err(e) => return Err(e),
                     }
                 }
@@ -447,13 +444,18 @@ impl Integrator {
             };
             let newt = match outcome {
                 Newton::Converged(k) => k,
-                Newton::TrialFailed => {
-                    self.stats.trial_failures += 1;
+                Newton::TrialFailed(e) => {
                     if w.fixed {
-                        return Err(trial.unwrap_or(StopReason::NewtonFailed { t, h }));
+                        return Err(e);
                     }
-                    w.reject = true;
-                    self.h *= TRIAL_FAILURE_SHRINK;
+                    retry_shorter(
+                        &mut self.stats,
+                        &mut self.h,
+                        h,
+                        &mut w.reject,
+                        &mut trial,
+                        e,
+                    );
                     continue;
                 }
                 Newton::Slow(hhfac) => {
@@ -501,10 +503,14 @@ impl Integrator {
                     match eval_rhs(sys, &mut self.stats, t, &w.xs, &mut w.g[0], t) {
                         Ok(()) => {}
                         Err(e) if trial_failure(&e) => {
-                            self.stats.trial_failures += 1;
-                            trial = Some(e);
-                            w.reject = true;
-                            self.h *= TRIAL_FAILURE_SHRINK;
+                            retry_shorter(
+                                &mut self.stats,
+                                &mut self.h,
+                                h,
+                                &mut w.reject,
+                                &mut trial,
+                                e,
+                            );
                             continue;
                         }
                         Err(e) => return Err(e),
@@ -544,10 +550,14 @@ impl Integrator {
                 match check_finite(&w.xs, t) {
                     Ok(()) => {}
                     Err(e) if !w.fixed => {
-                        self.stats.trial_failures += 1;
-                        trial = Some(e);
-                        w.reject = true;
-                        self.h *= TRIAL_FAILURE_SHRINK;
+                        retry_shorter(
+                            &mut self.stats,
+                            &mut self.h,
+                            h,
+                            &mut w.reject,
+                            &mut trial,
+                            e,
+                        );
                         continue;
                     }
                     Err(e) => return Err(e),
