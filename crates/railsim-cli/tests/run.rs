@@ -113,3 +113,39 @@ fn bad_scenes_exit_2_with_located_messages() {
     assert!(err.contains("no/such/scene.toml"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A stop with integrator settings that can produce it numerically carries a note saying so
+/// and how to tell: the default scene with fixed-step RK4 at 5 ms (beyond the explicit stability
+/// limit) "derails" at t = 0.03 s; at the shipped 2 ms no note would be printed.
+#[test]
+fn a_stop_with_a_long_fixed_step_notes_the_stability_limit() {
+    let dir = temp_dir("rk4-note");
+    let text = std::fs::read_to_string(root().join("scenes/default.toml")).unwrap();
+    let scenes = root().join("scenes");
+    let start = text.find("[integrator]").unwrap();
+    let end = start + text[start..].find("[log]").unwrap();
+    let text = format!(
+        "{}[integrator]\nmethod = \"rk4\"\nstep_s = 0.005\n\n{}",
+        &text[..start],
+        &text[end..]
+    )
+    .replace("\"../", &format!("\"{}/../", scenes.display()));
+    let scene = dir.join("rk4.toml");
+    std::fs::write(&scene, text).unwrap();
+    let (code, _, err) = railsim(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--duration-s",
+        "0.06",
+        "--no-log",
+        "--quiet",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("simulation stopped at t = "), "{err}");
+    assert!(
+        err.contains("note: the run used a fixed explicit step of 5 ms")
+            && err.contains("rerun with a smaller step_s"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
