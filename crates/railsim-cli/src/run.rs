@@ -170,14 +170,15 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         outln!("wheelset {i}: max |lateral displacement| {:.2} mm", y * 1e3);
     }
     let side = |x: railsim_contact::Side| x.name();
-    let at = |m: Option<(f64, u32, railsim_contact::Side)>, what: &str| match m {
+    let at = |m: Option<(f64, u32, railsim_contact::Side)>, what: &str, none: &str| match m {
         Some((v, n, sd)) => format!("{v:.3} {what} (wheelset {n}, {} wheel)", side(sd)),
-        None => format!("none {what} (the run covered less than {Y_OVER_Q_WINDOW} m)"),
+        None => format!("none {what} ({none})"),
     };
+    let short = format!("the run covered less than {Y_OVER_Q_WINDOW} m");
     outln!(
         "max Y/Q {}, {}; max Q {:.1} kN (wheelset {}, {} wheel)",
-        at(s.max_y_over_q, "at a sample"),
-        at(s.max_y_over_q_2m, "as a 2 m sliding mean"),
+        at(s.max_y_over_q, "at a sample", "no samples"),
+        at(s.max_y_over_q_2m, "as a 2 m sliding mean", &short),
         s.max_q.0 * 1e-3,
         s.max_q.1,
         side(s.max_q.2)

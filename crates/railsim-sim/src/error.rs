@@ -49,7 +49,7 @@ pub enum SimError {
     Stopped {
         /// \[s\] time of the last good state (or of the failed evaluation).
         t: f64,
-        /// The body, wheelset or wheel concerned ("integrator" when none).
+        /// The body, wheelset or wheel concerned ("integrator" or "model" when none).
         body: String,
         /// What went wrong, with the value.
         quantity: String,
