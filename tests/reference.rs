@@ -4,6 +4,7 @@
 
 mod bad_input;
 mod common;
+mod conformal_jump;
 mod hertz_reference;
 mod klingel;
 mod mbench;
