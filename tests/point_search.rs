@@ -265,6 +265,7 @@ fn the_point_search_agrees_with_the_travelling_up_to_the_yaw_limit() {
     let (mut ws_a, mut ws_b) = (ContactWorkspace::new(), ContactWorkspace::new());
     let mut rng = Lcg(20261122);
     let (mut both_ok, mut both_err, mut loaded, mut yawed) = (0, 0, 0, 0);
+    let (mut minor, mut count_diff) = (0.0f64, 0);
     for k in 0..4000 {
         let side = if k % 2 == 0 { Side::Left } else { Side::Right };
         // a quarter of the poses within 5 % of the yaw limit
@@ -294,8 +295,26 @@ fn the_point_search_agrees_with_the_travelling_up_to_the_yaw_limit() {
             .map(|s| s.force_track[2]);
         match (&a, &b) {
             (Ok(fa), Ok(fb)) => {
-                let (pa, pb) = (&ws_a.patches, &ws_b.patches);
+                // (wells of a wide zone carry shares of their Hertz solutions; a well less
+                // prominent than the point search's estimates can resolve, with a share of a
+                // few per cent, may be seen by the travelling only: the patches that carry at
+                // least 2 % of the load are compared)
+                let (pa, pb) = (
+                    main_patches(&ws_a.patches, 0.02),
+                    main_patches(&ws_b.patches, 0.02),
+                );
                 assert_eq!(pa.len(), pb.len(), "{side:?} {pose:?}: patches");
+                let small = |all: &[PatchResult], main: &[PatchResult]| {
+                    let t: f64 = all.iter().map(|q| q.forces.fn_).sum();
+                    let m: f64 = main.iter().map(|q| q.forces.fn_).sum();
+                    if t > 0.0 { (t - m) / t } else { 0.0 }
+                };
+                minor = minor
+                    .max(small(&ws_a.patches, &pa))
+                    .max(small(&ws_b.patches, &pb));
+                if ws_a.patches.len() != ws_b.patches.len() {
+                    count_diff += 1;
+                }
                 for (x, y) in pa.iter().zip(pb.iter()) {
                     let d = (x.penetration - y.penetration).abs();
                     assert!(
@@ -328,7 +347,11 @@ fn the_point_search_agrees_with_the_travelling_up_to_the_yaw_limit() {
     // the sample covers contact, near-limit yaw and absurd presses
     println!(
         "{both_ok} poses evaluated by both ({loaded} in contact, {yawed} of them within 5 % of the \
-         yaw limit), {both_err} errors from both"
+         yaw limit), {both_err} errors from both; {count_diff} with different numbers of \
+         patches, the patches below 2 % of the load carrying at most {:.2} % of it",
+        minor * 100.0
     );
     assert!(loaded > 1500 && yawed > 300 && both_err > 300);
+    // the wells one search sees and the other does not are small
+    assert!(minor < 0.02, "{minor}");
 }

@@ -994,6 +994,9 @@ pub struct Zone {
     pub last: usize,
     /// index of the deepest pair
     pub deepest: usize,
+    /// \[-\] the part of its Hertz solution the zone carries (`crate::wells`; 1 for STRIPES and
+    /// the half-space model, which solve the whole zone)
+    pub share: f64,
 }
 
 /// Split the travelled pairs into penetrated zones (patches).
@@ -1080,5 +1083,6 @@ fn split_run(
         first,
         last,
         deepest: deepest(pairs, first, last),
+        share: 1.0,
     });
 }

@@ -28,6 +28,7 @@ pub mod point;
 pub mod pose;
 pub mod stripes;
 pub mod warm;
+pub mod wells;
 
 pub use error::ContactError;
 pub use geometry::{IsoPair, TravelOptions, TravelStats};

@@ -28,10 +28,11 @@ use crate::pair::WheelRailPair;
 use crate::patch::{
     PatchFrame, WheelKinematics, longitudinal_curvature, patch_frame, reference_point,
 };
-use crate::point::{self, PointOptions};
+use crate::point;
 use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
 use crate::stripes::{self, Local, Strip, StripesVariant, Tangential};
 use crate::warm::WarmStart;
+use crate::wells::{WellScratch, split_into_wells};
 
 /// The contact models, selected by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -65,6 +66,13 @@ impl ContactModelKind {
         ContactModelKind::Stripes,
         ContactModelKind::Halfspace,
     ];
+    /// Whether the model solves each well with a Hertz ellipse (`linear`, `polach`, `fastsim`).
+    pub fn is_hertz(self) -> bool {
+        matches!(
+            self,
+            ContactModelKind::Linear | ContactModelKind::Polach | ContactModelKind::Fastsim
+        )
+    }
     /// The model's name as used in files and on the command line.
     pub fn name(self) -> &'static str {
         match self {
@@ -244,6 +252,21 @@ pub struct PatchForces {
     pub n_elements: u32,
 }
 
+impl PatchForces {
+    /// The forces, moment and pressure times `share` (a well's share of its Hertz solution,
+    /// `crate::wells`); the patch's dimensions stay.
+    fn scaled(mut self, share: f64) -> PatchForces {
+        if share != 1.0 {
+            self.fn_ *= share;
+            self.fx *= share;
+            self.fs *= share;
+            self.mz *= share;
+            self.p_max *= share;
+        }
+        self
+    }
+}
+
 /// A solved patch with its geometry, in the side frame and in the track frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PatchResult {
@@ -317,6 +340,7 @@ pub struct ContactWorkspace {
     /// Patch results of the last evaluation.
     pub patches: Vec<PatchResult>,
     halfspace: Option<HalfspaceScratch>,
+    wells: WellScratch,
 }
 
 struct HalfspaceScratch {
@@ -425,11 +449,8 @@ impl WheelRailContact {
         let sp = pose.to_side(side);
         let sv = vel.to_side(side);
         let ctx = PoseCtx::new(&self.pair, &sp);
-        let point_search = self.opts.hertz_search == HertzSearch::Point
-            && matches!(
-                self.opts.model,
-                ContactModelKind::Polach | ContactModelKind::Fastsim | ContactModelKind::Linear
-            );
+        let point_search =
+            self.opts.hertz_search == HertzSearch::Point && self.opts.model.is_hertz();
         let mut found = None;
         if point_search {
             // (the travelling's memory would describe an older pose)
@@ -448,17 +469,24 @@ impl WheelRailContact {
             }
             found = result?;
         }
+        // the point search's pairs are its wells' exact minima, one per zone, with their shares
+        let searched = found.is_some();
         let stats = match found {
             Some(stats) => stats,
             None => {
                 // (a point-search model keeps no travelling memory: its fallback travels cold,
                 // windowed, with or without a warm start)
                 let warm = if point_search { None } else { warm };
-                self.travel_zones(&sp, &ctx, warm, ws)
-                    .map_err(|()| ContactError::NoOverlap {
+                let stats = self.travel_zones(&sp, &ctx, warm, ws).map_err(|()| {
+                    ContactError::NoOverlap {
                         side: side.name(),
                         y_mm: pose.y * 1e3,
-                    })?
+                    }
+                })?;
+                if self.opts.model.is_hertz() {
+                    split_into_wells(&ws.pairs, &mut ws.zones, &mut ws.wells);
+                }
+                stats
             }
         };
         let kin = WheelKinematics::new(&ctx, sp.roll, &sv);
@@ -466,7 +494,7 @@ impl WheelRailContact {
         let mut total = [0.0; 3];
         for zi in 0..ws.zones.len() {
             let zone = ws.zones[zi];
-            let frame = patch_frame(&self.pair, &ctx, &ws.pairs, &zone);
+            let frame = patch_frame(&self.pair, &ctx, &ws.pairs, &zone, !searched);
             if frame.delta0 > self.opts.max_penetration {
                 return Err(ContactError::AbsurdPenetration {
                     side: side.name(),
@@ -516,6 +544,8 @@ impl WheelRailContact {
                     (f, frame.delta0)
                 }
             };
+            // a well of a zone with several carries its share of its Hertz solution
+            let forces = forces.scaled(zone.share);
             if forces.fn_ <= 0.0 {
                 continue;
             }
@@ -636,15 +666,10 @@ impl WheelRailContact {
                 y_mm: pose.y * 1e3,
             });
         }
-        let opts = PointOptions {
-            split_angle: self.opts.split_angle,
-            split_depth_ratio: self.opts.split_depth_ratio,
-        };
         Ok(point::search(
             &self.pair,
             ctx,
             &self.opts.travel,
-            &opts,
             &mut ws.broad,
             memory,
             &mut ws.pairs,

@@ -69,19 +69,21 @@ pub(crate) fn mid(p: &IsoPair) -> [f64; 2] {
 }
 
 /// Locate the rigid contact pair of a zone: the seed's theta_C = 90 deg point, which is where
-/// the interpenetration is largest. Refined by a parabola through the deepest pair and its
-/// neighbours (in the lateral coordinate along the mean tangent).
+/// the interpenetration is largest. With `refine` (travelled pairs) refined by a parabola
+/// through the deepest pair and its neighbours (in the lateral coordinate along the mean
+/// tangent); the point search's pairs are exact minima, and its neighbours other wells.
 pub(crate) fn patch_frame(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
     pairs: &[IsoPair],
     zone: &Zone,
+    refine: bool,
 ) -> PatchFrame {
     let k = zone.deepest;
     let p = &pairs[k];
     let t = [p.n[1], -p.n[0]];
     let (mut frac, mut delta0, mut toward_next) = (0.0, -p.gap, true);
-    if k > 0 && k + 1 < pairs.len() {
+    if refine && k > 0 && k + 1 < pairs.len() {
         let m0 = mid(&pairs[k - 1]);
         let m1 = mid(p);
         let m2 = mid(&pairs[k + 1]);

@@ -29,13 +29,7 @@ use crate::geometry::{
     normal_and_gap, pair_at_rail, record, travel_error,
 };
 use crate::pair::WheelRailPair;
-
-/// Options of the search (from the contact options).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct PointOptions {
-    pub split_angle: f64,
-    pub split_depth_ratio: f64,
-}
+use crate::wells::{SHARE_MIN, drop_ripples, shares};
 
 /// \[m\] Newton stops when both arc lengths move less than this.
 const S_TOL: f64 = 1e-8;
@@ -69,7 +63,6 @@ pub(crate) fn search(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
     travel: &TravelOptions,
-    opts: &PointOptions,
     scratch: &mut BroadScratch,
     memory: Option<&mut BroadMemory>,
     pairs: &mut Vec<IsoPair>,
@@ -112,18 +105,11 @@ pub(crate) fn search(
     let mut i = 0;
     while i < cands.len() {
         let (j, _) = run_from(cands, i);
-        run_minima(pair, ctx, travel, opts, &cands[i..=j], pairs, &mut stats)?;
+        run_minima(pair, ctx, travel, &cands[i..=j], pairs, zones, &mut stats)?;
         i = j + 1;
     }
     if pairs.iter().any(|p| p.gap < -0.5 * BROAD_DEPTH) {
         return None;
-    }
-    for k in 0..pairs.len() {
-        zones.push(Zone {
-            first: k,
-            last: k,
-            deepest: k,
-        });
     }
     Some(stats)
 }
@@ -145,9 +131,9 @@ fn run_minima(
     pair: &WheelRailPair,
     ctx: &PoseCtx,
     travel: &TravelOptions,
-    opts: &PointOptions,
     run: &[Candidate],
     pairs: &mut Vec<IsoPair>,
+    zones: &mut Vec<Zone>,
     stats: &mut TravelStats,
 ) -> Option<()> {
     let lo = (run[0].s_r[0] - 1e-3).max(0.0);
@@ -181,10 +167,11 @@ fn run_minima(
         return None;
     }
     let prof = &prof[..m];
-    // Newton from the local maxima of the profile, deepest first. After the first, only where it
-    // can matter: where the estimates dip between the peak and every minimum found (to what the
-    // split rule could separate, plus the estimates' error: a separate patch), or where the peak
-    // may be deeper than a minimum found (the deeper one of a single patch).
+    // Newton from the local maxima of the profile, deepest first; every well of the run carries
+    // a share of its Hertz solution (`crate::wells`), so every peak at least 1 mm from the
+    // minima found is searched (a Newton search from a peak on the flank of a found well ends
+    // on that well). Wells less prominent than the estimates resolve can be missed; their
+    // shares are small (`tests/point_search.rs`).
     let mut mins = [IsoPair::default(); MAX_MINIMA];
     let mut n = 0;
     // deepest first, the later of equals first
@@ -208,15 +195,7 @@ fn run_minima(
         if d_j + err < 0.0 {
             break;
         }
-        let wanted = mins[..n].iter().all(|q| {
-            let (a, b) = (q.s_r.min(s_j), q.s_r.max(s_j));
-            let valley = prof
-                .iter()
-                .filter(|o| o.0 > a && o.0 < b)
-                .fold(f64::INFINITY, |v, o| v.min(o.1));
-            b - a >= 1e-3
-                && (valley <= opts.split_depth_ratio * d_j.min(-q.gap) + err || d_j + err >= -q.gap)
-        });
+        let wanted = mins[..n].iter().all(|q| (q.s_r - s_j).abs() >= 1e-3);
         if !peak || !wanted {
             continue;
         }
@@ -237,48 +216,60 @@ fn run_minima(
     }
     let mins = &mut mins[..n];
     mins.sort_by(|a, b| a.s_r.total_cmp(&b.s_r));
-    // Neighbouring penetrating minima are one zone (the deeper one) unless the largest gap
-    // between them is positive or the split rule of `find_zones` holds.
-    let angle = |p: &IsoPair| p.n[0].atan2(p.n[1]);
-    let mut current: Option<IsoPair> = None;
-    for &q in mins.iter().filter(|m| m.gap < 0.0) {
-        let Some(p) = current else {
-            current = Some(q);
-            continue;
-        };
-        // the largest gap between them: Newton from the shallowest estimate in between
-        let start = run
-            .iter()
-            .filter(|c| c.s_r_est > p.s_r && c.s_r_est < q.s_r)
-            .min_by(|a, b| a.depth.total_cmp(&b.depth))
-            .map_or(0.5 * (p.s_r + q.s_r), |c| c.s_r_est);
-        let f = (start - p.s_r) / (q.s_r - p.s_r);
-        let s_w0 = p.s_w + f * (q.s_w - p.s_w);
-        let (e, _, _, _) = extremum(
-            pair,
-            ctx,
-            travel,
-            start,
-            s_w0,
-            p.s_r,
-            q.s_r,
-            -1.0,
-            &[],
-            stats,
-        );
-        let hump = normal_and_gap(&e).1;
-        let separate = hump >= 0.0
-            || (-hump < opts.split_depth_ratio * (-p.gap).min(-q.gap)
-                && (angle(&p) - angle(&q)).abs() > opts.split_angle);
-        if separate {
-            pairs.push(p);
-            current = Some(q);
-        } else if q.gap < p.gap {
-            current = Some(q);
+    // The wells: the interpenetrating minima, and between neighbours the largest gap (Newton from
+    // the shallowest estimate in between), as depths; then their shares.
+    let mut depth = [0.0f64; MAX_MINIMA];
+    let mut well = [0usize; MAX_MINIMA];
+    let mut hump = [0.0f64; MAX_MINIMA];
+    let mut hump_at = [0usize; MAX_MINIMA];
+    let mut nw = 0;
+    for (k, q) in mins.iter().enumerate().filter(|(_, m)| m.gap < 0.0) {
+        if nw > 0 {
+            let p = &mins[well[nw - 1]];
+            let start = run
+                .iter()
+                .filter(|c| c.s_r_est > p.s_r && c.s_r_est < q.s_r)
+                .min_by(|a, b| a.depth.total_cmp(&b.depth))
+                .map_or(0.5 * (p.s_r + q.s_r), |c| c.s_r_est);
+            let f = (start - p.s_r) / (q.s_r - p.s_r);
+            let s_w0 = p.s_w + f * (q.s_w - p.s_w);
+            let (e, _, _, _) = extremum(
+                pair,
+                ctx,
+                travel,
+                start,
+                s_w0,
+                p.s_r,
+                q.s_r,
+                -1.0,
+                &[],
+                stats,
+            );
+            hump[nw - 1] = (-normal_and_gap(&e).1).max(0.0);
+            hump_at[nw - 1] = nw - 1;
         }
+        depth[nw] = -q.gap;
+        well[nw] = k;
+        nw += 1;
     }
-    if let Some(p) = current {
-        pairs.push(p);
+    let nw = drop_ripples(&mut depth, &mut well, &mut hump, &mut hump_at, nw);
+    let mut share = [0.0f64; MAX_MINIMA];
+    shares(
+        &depth[..nw],
+        &hump[..nw.saturating_sub(1)],
+        &mut share[..nw],
+    );
+    for k in 0..nw {
+        if share[k] < SHARE_MIN {
+            continue;
+        }
+        zones.push(Zone {
+            first: pairs.len(),
+            last: pairs.len(),
+            deepest: pairs.len(),
+            share: share[k],
+        });
+        pairs.push(mins[well[k]]);
     }
     Some(())
 }
