@@ -250,8 +250,8 @@ fn the_warm_point_search_gives_the_cold_result() {
 
 /// Up to the largest yaw the wheel's contact locus supports (29.9 mrad for the benchmark's
 /// S1002, `railsim_contact::pair::LocusLimits`), the point search and the travelling agree on
-/// every pose: the same error, or the same number of patches with the same penetrations and
-/// vertical force, also far outside the running range (roll to ±30 mrad, the wheel pressed up to
+/// every pose: the same error, or the same patches carrying at least 2 % of the load with the
+/// same penetrations, and the same vertical force, also far outside the running range (roll to ±30 mrad, the wheel pressed up to
 /// 4 mm into the rail, flange climbing). Before the curvature bounds took the yawed locus into account, and without the
 /// yaw limit, the broad phase missed deep flange contacts from 0.05 rad of yaw on (the travelling
 /// found 9.8 MN where the point search found no contact).

@@ -1013,20 +1013,28 @@ pub fn find_zones(
     zones: &mut Vec<Zone>,
 ) {
     zones.clear();
+    for (first, last) in interpenetrating_runs(pairs) {
+        split_run(pairs, first, last, split_angle, split_depth_ratio, zones);
+    }
+}
+
+/// The maximal runs of consecutive interpenetrating pairs (negative gap), as (first, last).
+pub(crate) fn interpenetrating_runs(pairs: &[IsoPair]) -> impl Iterator<Item = (usize, usize)> {
     let mut i = 0;
-    while i < pairs.len() {
-        if pairs[i].gap >= 0.0 {
+    std::iter::from_fn(move || {
+        while i < pairs.len() && pairs[i].gap >= 0.0 {
             i += 1;
-            continue;
+        }
+        if i == pairs.len() {
+            return None;
         }
         let first = i;
         while i + 1 < pairs.len() && pairs[i + 1].gap < 0.0 {
             i += 1;
         }
-        let last = i;
-        split_run(pairs, first, last, split_angle, split_depth_ratio, zones);
         i += 1;
-    }
+        Some((first, i - 1))
+    })
 }
 
 fn deepest(pairs: &[IsoPair], first: usize, last: usize) -> usize {

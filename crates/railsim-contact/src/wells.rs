@@ -20,7 +20,7 @@
 //! "Identification of contact patches"; contact-theory note §2.5); the interpolation is this
 //! crate's, measured against the half-space solution in docs/validation.md.
 
-use crate::geometry::{IsoPair, Zone};
+use crate::geometry::{IsoPair, Zone, interpenetrating_runs};
 
 /// \[-\] wells with a smaller share carry no patch (their load is below 0.1 % of their Hertz
 /// solution).
@@ -135,18 +135,7 @@ pub struct WellScratch {
 /// `zones`.
 pub(crate) fn split_into_wells(pairs: &[IsoPair], zones: &mut Vec<Zone>, s: &mut WellScratch) {
     zones.clear();
-    let mut i = 0;
-    while i < pairs.len() {
-        if pairs[i].gap >= 0.0 {
-            i += 1;
-            continue;
-        }
-        let first = i;
-        while i + 1 < pairs.len() && pairs[i + 1].gap < 0.0 {
-            i += 1;
-        }
-        let last = i;
-        i += 1;
+    for (first, last) in interpenetrating_runs(pairs) {
         s.depth.clear();
         s.well.clear();
         s.hump.clear();
