@@ -105,11 +105,7 @@ fn bench(c: &mut Criterion) {
     // (the step does not enter) and with the seed's travelling at each step, for comparison.
     let mut configs = Vec::new();
     for model in ContactModelKind::ALL {
-        let hertz = matches!(
-            model,
-            ContactModelKind::Linear | ContactModelKind::Polach | ContactModelKind::Fastsim
-        );
-        if hertz {
+        if model.is_hertz() {
             configs.push((model, None, 1.0e-3, HertzSearch::Point));
         }
         for step in [1.0e-3, 0.5e-3, 0.2e-3, 0.1e-3] {
@@ -184,11 +180,7 @@ fn bench(c: &mut Criterion) {
             })
             .collect();
         per_case.sort_by(f64::total_cmp);
-        let tree = search == HertzSearch::Point
-            && matches!(
-                model,
-                ContactModelKind::Linear | ContactModelKind::Polach | ContactModelKind::Fastsim
-            );
+        let tree = search == HertzSearch::Point && model.is_hertz();
         println!(
             "| {} | {} | {} | {:.3} | {:.4} | {:.1} | {:.2} | {:.3} | {:.3} | {:.1} | {:.1} |",
             model.name(),

@@ -221,7 +221,6 @@ fn run_minima(
     let mut depth = [0.0f64; MAX_MINIMA];
     let mut well = [0usize; MAX_MINIMA];
     let mut hump = [0.0f64; MAX_MINIMA];
-    let mut hump_at = [0usize; MAX_MINIMA];
     let mut nw = 0;
     for (k, q) in mins.iter().enumerate().filter(|(_, m)| m.gap < 0.0) {
         if nw > 0 {
@@ -246,13 +245,12 @@ fn run_minima(
                 stats,
             );
             hump[nw - 1] = (-normal_and_gap(&e).1).max(0.0);
-            hump_at[nw - 1] = nw - 1;
         }
         depth[nw] = -q.gap;
         well[nw] = k;
         nw += 1;
     }
-    let nw = drop_ripples(&mut depth, &mut well, &mut hump, &mut hump_at, nw);
+    let nw = drop_ripples(&mut depth, &mut well, &mut hump, nw);
     let mut share = [0.0f64; MAX_MINIMA];
     shares(
         &depth[..nw],

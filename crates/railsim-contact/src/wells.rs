@@ -67,14 +67,13 @@ pub fn shares(depth: &[f64], hump: &[f64], share: &mut [f64]) {
 /// Drops the wells of a run whose prominence is below the threshold (`PROMINENCE_ABS`,
 /// `PROMINENCE_REL`), least prominent first: each such well and the deeper of its two humps go;
 /// the shallower hump (the highest gap between its neighbours) now joins them. The first `n`
-/// entries of `depth` and `well` (the wells' depths and pair indices) and the first `n - 1` of
-/// `hump` and `hump_at` (the humps' depths and pair indices) are edited in place (nothing is
-/// allocated); returns the number of wells kept.
+/// entries of `depth` and `well` (the wells' depths and indices) and the first `n - 1` of `hump`
+/// (the humps' depths) are edited in place (nothing is allocated); returns the number of wells
+/// kept.
 pub fn drop_ripples(
     depth: &mut [f64],
     well: &mut [usize],
     hump: &mut [f64],
-    hump_at: &mut [usize],
     mut n: usize,
 ) -> usize {
     loop {
@@ -114,7 +113,6 @@ pub fn drop_ripples(
         depth.copy_within(i + 1..n, i);
         well.copy_within(i + 1..n, i);
         hump.copy_within(drop_hump + 1..n - 1, drop_hump);
-        hump_at.copy_within(drop_hump + 1..n - 1, drop_hump);
         n -= 1;
     }
 }
@@ -125,8 +123,14 @@ pub struct WellScratch {
     depth: Vec<f64>,
     well: Vec<usize>,
     hump: Vec<f64>,
-    hump_at: Vec<usize>,
     share: Vec<f64>,
+}
+
+/// The pair of largest gap strictly between pairs `a` and `b` (`a` if they are neighbours).
+fn hump_between(pairs: &[IsoPair], a: usize, b: usize) -> usize {
+    (a + 1..b)
+        .max_by(|&x, &y| pairs[x].gap.total_cmp(&pairs[y].gap))
+        .unwrap_or(a)
 }
 
 /// The Hertz models' zones of travelled `pairs`: every maximal run of interpenetrating pairs is
@@ -139,7 +143,6 @@ pub(crate) fn split_into_wells(pairs: &[IsoPair], zones: &mut Vec<Zone>, s: &mut
         s.depth.clear();
         s.well.clear();
         s.hump.clear();
-        s.hump_at.clear();
         for j in first..=last {
             let left = j == first || pairs[j].gap <= pairs[j - 1].gap;
             let right = j == last || pairs[j].gap < pairs[j + 1].gap;
@@ -147,23 +150,14 @@ pub(crate) fn split_into_wells(pairs: &[IsoPair], zones: &mut Vec<Zone>, s: &mut
                 continue;
             }
             if let Some(&a) = s.well.last() {
-                let m = (a + 1..j)
-                    .max_by(|&x, &y| pairs[x].gap.total_cmp(&pairs[y].gap))
-                    .unwrap_or(a);
-                s.hump.push((-pairs[m].gap).max(0.0));
-                s.hump_at.push(m);
+                s.hump
+                    .push((-pairs[hump_between(pairs, a, j)].gap).max(0.0));
             }
             s.depth.push(-pairs[j].gap);
             s.well.push(j);
         }
         let found = s.well.len();
-        let n = drop_ripples(
-            &mut s.depth,
-            &mut s.well,
-            &mut s.hump,
-            &mut s.hump_at,
-            found,
-        );
+        let n = drop_ripples(&mut s.depth, &mut s.well, &mut s.hump, found);
         s.share.clear();
         s.share.resize(n, 0.0);
         shares(&s.depth[..n], &s.hump[..n.saturating_sub(1)], &mut s.share);
@@ -171,9 +165,18 @@ pub(crate) fn split_into_wells(pairs: &[IsoPair], zones: &mut Vec<Zone>, s: &mut
             if s.share[k] < SHARE_MIN {
                 continue;
             }
+            // cut at the humps between the wells kept
             zones.push(Zone {
-                first: if k == 0 { first } else { s.hump_at[k - 1] + 1 },
-                last: if k + 1 == n { last } else { s.hump_at[k] },
+                first: if k == 0 {
+                    first
+                } else {
+                    hump_between(pairs, s.well[k - 1], s.well[k]) + 1
+                },
+                last: if k + 1 == n {
+                    last
+                } else {
+                    hump_between(pairs, s.well[k], s.well[k + 1])
+                },
                 deepest: s.well[k],
                 share: s.share[k],
             });
@@ -238,26 +241,14 @@ mod tests {
         // an interior ripple: it goes with its deeper hump
         let mut depth = [60e-6, 50e-6 + 1e-9, 55e-6];
         let mut hump = [50e-6, 30e-6];
-        let (mut index, mut at) = ([1, 5, 9], [3, 7]);
-        assert_eq!(
-            drop_ripples(&mut depth, &mut index, &mut hump, &mut at, 3),
-            2
-        );
-        assert_eq!(
-            (&index[..2], &hump[..1], &at[..1]),
-            (&[1, 9][..], &[30e-6][..], &[7][..])
-        );
+        let mut index = [1, 5, 9];
+        assert_eq!(drop_ripples(&mut depth, &mut index, &mut hump, 3), 2);
+        assert_eq!((&index[..2], &hump[..1]), (&[1, 9][..], &[30e-6][..]));
         // a flat bottom with two ripples of 1e-9 m and one real well
         let mut depth = [75e-6, 75e-6 + 1e-9, 74e-6];
         let mut hump = [75e-6 - 1e-10, 70e-6];
-        let (mut index, mut at) = ([3, 7, 20], [5, 12]);
-        assert_eq!(
-            drop_ripples(&mut depth, &mut index, &mut hump, &mut at, 3),
-            2
-        );
-        assert_eq!(
-            (&index[..2], &hump[..1], &at[..1]),
-            (&[7, 20][..], &[70e-6][..], &[12][..])
-        );
+        let mut index = [3, 7, 20];
+        assert_eq!(drop_ripples(&mut depth, &mut index, &mut hump, 3), 2);
+        assert_eq!((&index[..2], &hump[..1]), (&[7, 20][..], &[70e-6][..]));
     }
 }

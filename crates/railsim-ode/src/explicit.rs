@@ -2,7 +2,7 @@
 
 use crate::integrator::{
     Integrator, Work, check_finite, clip_step, eval_rhs, initial_step, retry_shorter,
-    step_too_small, trial_failure, wrms,
+    step_too_small, wrms,
 };
 use crate::tableau::ButcherTableau;
 use crate::{OdeSystem, StopReason};
@@ -178,7 +178,7 @@ impl Integrator {
                 failed = check_finite(&w.x_new, t).err();
             }
             if let Some(e) = failed {
-                if !(w.adaptive && trial_failure(&e)) {
+                if !w.adaptive {
                     return Err(e);
                 }
                 // an overshoot of the trial step: reject it, retry shorter

@@ -516,15 +516,6 @@ pub(crate) fn step_too_small(t: f64, h: f64) -> bool {
 /// \[-\] step-size factor after a failed evaluation at a trial state.
 pub(crate) const TRIAL_FAILURE_SHRINK: f64 = 0.25;
 
-/// Whether a stop reason from [`eval_rhs`] at a trial state may be an overshoot of the step
-/// (a failed or non-finite evaluation) that a smaller step avoids.
-pub(crate) fn trial_failure(reason: &StopReason) -> bool {
-    matches!(
-        reason,
-        StopReason::RhsFailed { .. } | StopReason::NonFinite { .. }
-    )
-}
-
 /// After a failed evaluation `e` at a trial state of a step of length `h`: count it, mark the
 /// step rejected, make the next attempt a quarter as long (`h_next`) and keep `e` as the stop
 /// reason should the step become too small.
@@ -542,7 +533,9 @@ pub(crate) fn retry_shorter(
     *trial = Some(e);
 }
 
-/// Evaluates the right-hand side, counting it and checking the output.
+/// Evaluates the right-hand side, counting it and checking the output. Its errors
+/// (`RhsFailed`, `NonFinite`) are what the adaptive methods treat as an overshoot at a trial
+/// state (`OdeSystem::rhs`).
 /// `t_step` is the start of the step, reported for non-finite values.
 pub(crate) fn eval_rhs<S: OdeSystem + ?Sized>(
     sys: &mut S,
@@ -617,7 +610,7 @@ pub(crate) fn initial_step<S: OdeSystem + ?Sized>(
         }
         match eval_rhs(sys, stats, t + h, x1, f1, t) {
             Ok(()) => break,
-            Err(e) if trial_failure(&e) && !step_too_small(t, h * TRIAL_FAILURE_SHRINK) => {
+            Err(_) if !step_too_small(t, h * TRIAL_FAILURE_SHRINK) => {
                 stats.trial_failures += 1;
                 h *= TRIAL_FAILURE_SHRINK;
             }

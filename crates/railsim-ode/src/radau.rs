@@ -12,7 +12,7 @@ use faer::{Mat, c64};
 
 use crate::integrator::{
     Integrator, Work, check_finite, clip_step, eval_rhs, initial_step, retry_shorter,
-    step_too_small, trial_failure,
+    step_too_small,
 };
 use crate::linalg::DenseLu;
 use crate::{OdeSystem, StopReason};
@@ -374,12 +374,11 @@ impl Integrator {
                     for i in 0..n {
                         w.xs[i] = self.x[i] + w.z[k][i];
                     }
-                    let stage = eval_rhs(sys, &mut self.stats, t + c[k] * h, &w.xs, &mut w.g[k], t);
-                    match stage {
-                        Ok(()) => {}
-                        // a Newton iterate the system cannot evaluate
-                        Err(e) if trial_failure(&e) => break 'newton Newton::TrialFailed(e),
-                        Err(e) => return Err(e),
+                    // a Newton iterate the system cannot evaluate: retry shorter
+                    if let Err(e) =
+                        eval_rhs(sys, &mut self.stats, t + c[k] * h, &w.xs, &mut w.g[k], t)
+                    {
+                        break 'newton Newton::TrialFailed(e);
                     }
                 }
                 for i in 0..n {
@@ -500,20 +499,16 @@ impl Integrator {
                     for i in 0..n {
                         w.xs[i] = self.x[i] + w.err[i];
                     }
-                    match eval_rhs(sys, &mut self.stats, t, &w.xs, &mut w.g[0], t) {
-                        Ok(()) => {}
-                        Err(e) if trial_failure(&e) => {
-                            retry_shorter(
-                                &mut self.stats,
-                                &mut self.h,
-                                h,
-                                &mut w.reject,
-                                &mut trial,
-                                e,
-                            );
-                            continue;
-                        }
-                        Err(e) => return Err(e),
+                    if let Err(e) = eval_rhs(sys, &mut self.stats, t, &w.xs, &mut w.g[0], t) {
+                        retry_shorter(
+                            &mut self.stats,
+                            &mut self.h,
+                            h,
+                            &mut w.reject,
+                            &mut trial,
+                            e,
+                        );
+                        continue;
                     }
                     for i in 0..n {
                         w.err[i] = w.g[0][i] + w.err_f[i];
