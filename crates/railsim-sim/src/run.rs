@@ -330,7 +330,7 @@ impl Simulation {
                     on_sample(sample);
                     if let Some(rec) = recorder.as_mut() {
                         let t0 = Instant::now();
-                        rec.write(&self.model, &dynamics.ws, sample, &scene.log.topics)?;
+                        rec.write(&self.model, &dynamics.ws, sample)?;
                         logging += t0.elapsed().as_secs_f64();
                     }
                     next += 1;
@@ -761,16 +761,10 @@ impl Recorder {
         })
     }
 
-    fn write(
-        &mut self,
-        model: &SimModel,
-        ws: &Workspace,
-        s: &Sample,
-        topics_wanted: &[Topic],
-    ) -> Result<(), SimError> {
+    fn write(&mut self, model: &SimModel, ws: &Workspace, s: &Sample) -> Result<(), SimError> {
         let t_ns = s.t_ns;
-        let want = |t: Topic| topics_wanted.contains(&t);
-        if want(Topic::Bodies) || want(Topic::Tf) {
+        // a topic is written where it has channels (`create`: the scene's topics)
+        if !self.bodies.is_empty() || self.tf.is_some() {
             for (i, mm) in model.members.iter().enumerate() {
                 let k = &ws.kin[i];
                 let q = k.q;
@@ -789,8 +783,8 @@ impl Recorder {
                     velocity: mul_t(&k.frame, k.vel),
                     angular_velocity: mul_t(&k.frame, k.omega),
                 };
-                if want(Topic::Bodies) {
-                    self.writer.write(&self.bodies[i], t_ns, &msg)?;
+                if let Some(channel) = self.bodies.get(i) {
+                    self.writer.write(channel, t_ns, &msg)?;
                 }
                 if let Some(channel) = &self.tf {
                     let tf = FrameTransform::from_body(t_ns, "track", &msg);
@@ -798,7 +792,7 @@ impl Recorder {
                 }
             }
         }
-        if want(Topic::Contact) {
+        if !self.contact.is_empty() {
             let count = &mut self.patch_count;
             count.fill(0);
             for p in &ws.patches {
@@ -832,7 +826,7 @@ impl Recorder {
                 self.writer.write(&self.contact[p.wheel], t_ns, &msg)?;
             }
         }
-        if want(Topic::Wheelsets) {
+        if !self.wheelsets.is_empty() {
             for msg in &s.wheelsets {
                 self.writer
                     .write(&self.wheelsets[msg.wheelset as usize], t_ns, msg)?;
