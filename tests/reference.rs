@@ -12,4 +12,5 @@ mod point_search;
 mod stripes_curved;
 mod stripes_hertz;
 mod travel;
+mod two_point;
 mod warm_start;

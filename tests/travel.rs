@@ -281,21 +281,23 @@ fn adjacent_refined_zones_share_no_pair() {
         f.sort_by(f64::total_cmp);
         f
     };
-    // At 1 mm both zones are refined to the 0.5 mm grid, so the loads must equal those at 0.5 mm
-    // (before the fix the shared node made one patch 74 kN instead of 26 kN).
-    let (coarse, half) = (fn_at(1.0e-3), fn_at(0.5e-3));
+    // Both zones are refined (at 1 mm to a grid that puts 12 pairs across each patch's contact),
+    // and the loads must agree with a fine step: before the fix the shared node made one patch
+    // 74 kN instead of 26 kN. Measured: 28.3 and 32.5 kN at 1 mm, 28.5 and 32.7 kN at 0.05 mm
+    // (before the contact-based refinement and the wells, the flange-root patch converged
+    // slowly: 30.4 kN at 1 mm, 27.3 kN at 0.05 mm).
+    let (coarse, fine) = (fn_at(1.0e-3), fn_at(0.05e-3));
+    eprintln!(
+        "patch loads: 1 mm {coarse:.0?}, 0.5 mm {:.0?}, 0.1 mm {:.0?}, 0.05 mm {fine:.0?}",
+        fn_at(0.5e-3),
+        fn_at(0.1e-3),
+    );
     assert_eq!(coarse.len(), 2, "{coarse:?}");
-    assert_eq!(half.len(), 2, "{half:?}");
-    for (c, h) in coarse.iter().zip(&half) {
+    assert_eq!(fine.len(), 2, "{fine:?}");
+    for (c, f) in coarse.iter().zip(&fine) {
         assert!(
-            c.is_finite() && (c / h - 1.0).abs() < 0.01,
-            "patch load {c:.0} N at 1 mm vs {h:.0} N at 0.5 mm"
+            c.is_finite() && (c / f - 1.0).abs() < 0.02,
+            "patch load {c:.0} N at 1 mm vs {f:.0} N at 0.05 mm"
         );
     }
-    // Reported: the flange-root patch converges slowly with the step (docs/validation.md §3).
-    eprintln!(
-        "patch loads: 1 mm {coarse:.0?}, 0.5 mm {half:.0?}, 0.1 mm {:.0?}, 0.05 mm {:.0?}",
-        fn_at(0.1e-3),
-        fn_at(0.05e-3)
-    );
 }

@@ -920,40 +920,77 @@ fn advance(
     Some((e, err))
 }
 
-/// Re-travel every zone resolved by fewer than `min_pairs` pairs with a step that gives it
-/// `min_pairs`, so that narrow patches (flange root, flange) are resolved whatever the base
-/// step. The refined pairs replace the zone's pairs; `scratch` is reused as the new list.
-/// Returns whether anything changed (the zones must then be found again).
+/// How many pairs resolve a zone, and the rail arc lengths of the pairs bounding them: the
+/// zone's pairs, or with `loaded` (STRIPES) only those inside its contact, where the
+/// interpenetration exceeds `(1 - eps0) delta0` (seed eq. 7–9; `eps0` from the Hertz
+/// coefficients of the deepest pair's profile curvatures): a flange zone is often much wider
+/// than the strip of it that carries load.
+fn resolution(pairs: &[IsoPair], z: &Zone, loaded: bool) -> (usize, f64, f64) {
+    let bounds = |a: usize, b: usize| {
+        let i0 = a.saturating_sub(1);
+        let i1 = (b + 1).min(pairs.len() - 1);
+        (b + 1 - a, pairs[i0].s_r, pairs[i1].s_r)
+    };
+    if !loaded {
+        return bounds(z.first, z.last);
+    }
+    let p = &pairs[z.deepest];
+    let a = crate::patch::longitudinal_curvature(p.rho, p.rho_slope);
+    let b = (0.5 * (p.kappa_w - p.kappa_r)).max(crate::patch::B_MIN);
+    let eps = railsim_elastic::stripes_epsilon(&railsim_elastic::hertz_coeffs_fast(a, b), a, b);
+    let threshold = (1.0 - eps) * -p.gap;
+    let inside = |i: &usize| -pairs[*i].gap > threshold;
+    match (
+        (z.first..=z.last).find(inside),
+        (z.first..=z.last).rev().find(inside),
+    ) {
+        (Some(a), Some(b)) => bounds(a, b),
+        _ => bounds(z.first, z.last),
+    }
+}
+
+/// Re-travel every zone resolved by fewer than `min_pairs` pairs (`resolution`: its pairs, or
+/// with `loaded` those in its contact) with a step that gives it `min_pairs`, so that narrow
+/// patches (flange root, flange) are resolved whatever the base step. The refined pairs replace
+/// the zone's pairs; `scratch` is reused as the new list. Returns whether anything changed (the
+/// zones must then be found again).
+#[allow(clippy::too_many_arguments)]
 pub fn refine_narrow_zones(
     pair: &WheelRailPair,
     pose: &WheelsetPose,
     opts: &TravelOptions,
     min_pairs: usize,
+    loaded: bool,
     pairs: &mut Vec<IsoPair>,
     zones: &[Zone],
     scratch: &mut Vec<IsoPair>,
     stats: &mut TravelStats,
 ) -> bool {
-    if !zones.iter().any(|z| z.last + 1 - z.first < min_pairs) {
+    if !zones
+        .iter()
+        .any(|z| resolution(pairs, z, loaded).0 < min_pairs)
+    {
         return false;
     }
     let ctx = PoseCtx::new(pair, pose);
     scratch.clear();
     let mut next = 0;
     for z in zones {
-        if z.last + 1 - z.first >= min_pairs {
+        let (count, s_a, s_b) = resolution(pairs, z, loaded);
+        if count >= min_pairs {
             continue;
         }
         let i0 = z.first.saturating_sub(1);
         let i1 = (z.last + 1).min(pairs.len() - 1);
         scratch.extend_from_slice(&pairs[next..=i0]);
-        // Rail-anchored pairs on the grid of step/n, n the smallest integer that gives the zone
-        // (with its two neighbours) at least `min_pairs` pairs: the positions stay independent
-        // of the pose for a given n, as in the travelling.
-        let (s_a, s_b) = (pairs[i0].s_r, pairs[i1].s_r);
+        // Rail-anchored pairs on the grid of step/n, n the smallest integer that gives the
+        // resolved part of the zone (with its two neighbours) at least `min_pairs` pairs: the
+        // positions stay independent of the pose for a given n, as in the travelling. The whole
+        // zone is re-travelled.
         let n = ((min_pairs + 1) as f64 * opts.step / (s_b - s_a).max(1e-9))
             .ceil()
             .clamp(1.0, 1e4);
+        let (s_a, s_b) = (pairs[i0].s_r, pairs[i1].s_r);
         let h = opts.step / n;
         // Two zones split from one run share a neighbour, which the first zone's refinement has
         // already passed: start after the last pair written.

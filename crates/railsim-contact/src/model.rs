@@ -484,7 +484,7 @@ impl WheelRailContact {
                     }
                 })?;
                 if self.opts.model.is_hertz() {
-                    split_into_wells(&ws.pairs, &mut ws.zones, &mut ws.wells);
+                    split_into_wells(&ws.pairs, &mut ws.zones, &mut ws.wells, false);
                 }
                 stats
             }
@@ -524,6 +524,7 @@ impl WheelRailContact {
                         &mut ws.strips,
                         &mut ws.local,
                         &mut ws.exact,
+                        &mut ws.wells,
                     )?,
                     frame.delta0,
                 ),
@@ -617,32 +618,39 @@ impl WheelRailContact {
         if !warm_travelled && ws.pairs.len() < 3 {
             return Err(());
         }
-        find_zones(
-            &ws.pairs,
-            self.opts.split_angle,
-            self.opts.split_depth_ratio,
-            &mut ws.zones,
-        );
+        self.zones(&ws.pairs, &mut ws.zones, &mut ws.wells);
         if self.opts.min_zone_pairs > 0
             && refine_narrow_zones(
                 &self.pair,
                 sp,
                 &self.opts.travel,
                 self.opts.min_zone_pairs,
+                self.opts.model == ContactModelKind::Stripes,
                 &mut ws.pairs,
                 &ws.zones,
                 &mut ws.pairs_scratch,
                 &mut stats,
             )
         {
-            find_zones(
-                &ws.pairs,
-                self.opts.split_angle,
-                self.opts.split_depth_ratio,
-                &mut ws.zones,
-            );
+            self.zones(&ws.pairs, &mut ws.zones, &mut ws.wells);
         }
         Ok(stats)
+    }
+
+    /// The zones of travelled pairs: STRIPES solves every well of a run as a patch with its
+    /// share (`crate::wells`, docs/models/contact.md §4.1), the half-space model the runs as
+    /// `find_zones` splits them; the Hertz models cut these into wells afterwards.
+    fn zones(&self, pairs: &[IsoPair], zones: &mut Vec<Zone>, wells: &mut WellScratch) {
+        if self.opts.model == ContactModelKind::Stripes {
+            split_into_wells(pairs, zones, wells, true);
+        } else {
+            find_zones(
+                pairs,
+                self.opts.split_angle,
+                self.opts.split_depth_ratio,
+                zones,
+            );
+        }
     }
 
     /// The single-point search of the Hertz models (`crate::point`): one pair per zone in

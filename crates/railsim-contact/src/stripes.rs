@@ -28,13 +28,15 @@
 //! (Kik & Piotrowski 2008, as CONTACT does).
 
 use railsim_elastic::{
-    Creepages, FastripPatch, Grid, SteadyRollingSolver, TractionBound, blended_flexibilities,
+    Creepages, FastripPatch, FlexibilityBlend, Grid, SteadyRollingSolver, TractionBound,
     fastrip_strip, fastsim_strip, hertz_coeffs_fast, kalker_coeffs, stripes_epsilon,
 };
 
 use crate::error::ContactError;
+use crate::geometry::{IsoPair, Zone};
 use crate::model::{PatchForces, PatchInput};
 use crate::patch::{B_MIN, longitudinal_curvature, mid};
+use crate::wells::{WellScratch, memberships};
 
 /// The tangential solution per strip.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -258,6 +260,8 @@ pub enum StripesVariant {
 #[derive(Clone, Copy, Debug)]
 pub struct Local {
     u: f64,
+    /// \[-\] membership in the patch's well (`memberships`)
+    chi: f64,
     l: f64,
     b: f64,
     hc: railsim_elastic::HertzCoeffs,
@@ -302,6 +306,9 @@ pub struct Strip {
     pub x: f64,
     /// index of the isosceles pair
     pub pair: usize,
+    /// \[-\] membership of the strip in the patch's well (1 inside its basin), the part of
+    /// its width `w` already counts
+    pub chi: f64,
 }
 
 /// Normal and tangential solution of one patch with STRIPES + FASTSIM per strip.
@@ -315,6 +322,7 @@ pub fn solve(
     strips: &mut Vec<Strip>,
     local: &mut Vec<Local>,
     exact: &mut ExactScratch,
+    wells: &mut WellScratch,
 ) -> Result<PatchForces, ContactError> {
     let fr = &input.frame;
     let pairs = input.pairs;
@@ -323,7 +331,9 @@ pub fn solve(
     let hc0 = hertz_coeffs_fast(fr.a_curv, fr.b_curv);
     let eps0 = stripes_epsilon(&hc0, fr.a_curv, fr.b_curv);
     let delta0 = fr.delta0;
-    let (lo, hi) = input.pair_range();
+    // The patch is a well of its run (`crate::wells`): its strips are the run's, each weighted by
+    // its membership in the well, and the patch carries the well's share (applied by the caller).
+    let (lo, hi) = run_range(pairs, input.zone);
     // Per pair: local curvatures and Hertz coefficients, the interpenetration along the pair's
     // own normal, the lateral coordinate as arc length along the patch (the chain of pair
     // midpoints), and u = virtual interpenetration (positive inside). Measuring along each
@@ -357,6 +367,7 @@ pub fn solve(
         };
         local.push(Local {
             u: d - (1.0 - eps) * delta0,
+            chi: 1.0,
             l: arc,
             b: b_i,
             hc,
@@ -364,6 +375,10 @@ pub fn solve(
             load: 0.0,
             width: 0.0,
         });
+    }
+    let chi = memberships(pairs, input.zone.deepest, lo, local.len(), wells);
+    for (li, c) in local.iter_mut().zip(chi) {
+        li.chi = *c;
     }
     // The arc-length coordinate from the frame's point (the deepest pair's lateral position in
     // the frame, where the two coordinates agree to second order).
@@ -418,6 +433,7 @@ pub fn solve(
             if cnt > 0.0 { sum / cnt } else { lin }
         };
         let (k0, k1) = (p0.k, p1.k);
+        let (c0, c1) = (p0.chi, p1.chi);
         let mut ua = p0.u;
         let mut la = p0.l;
         for j in 1..=SUB {
@@ -449,16 +465,20 @@ pub fn solve(
                     l_max = l_max.max(la.max(lb));
                 }
                 let kk = k0 + mid_t * (k1 - k0);
-                let load = kk * mean_u * len;
+                // a strip belonging partly to the well counts with part of its width
+                let part = len * (c0 + mid_t * (c1 - c0));
                 let target = if mid_t < 0.5 { k } else { k + 1 };
-                local[target].load += load;
-                local[target].width += len;
+                local[target].load += kk * mean_u * part;
+                local[target].width += part;
             }
             ua = ub;
             la = lb;
         }
     }
     strips.clear();
+    // the longest strip, its half-length weighted by its membership (continuous as a strip
+    // leaves the well)
+    let mut a_max: f64 = 0.0;
     for i in lo..=hi {
         let li = &local[i - lo];
         if li.load <= 0.0 || li.width <= 0.0 {
@@ -468,14 +488,17 @@ pub fn solve(
         // virtual interpenetration consistent with the strip's mean line load
         let h = q / li.k;
         let ac = (li.hc.n / li.hc.m).powi(2) * li.b;
+        let a = (h / ac).sqrt();
+        a_max = a_max.max(a * li.chi);
         strips.push(Strip {
             l: li.l,
             w: li.width,
             h,
             q,
-            a: (h / ac).sqrt(),
+            a,
             x: pairs[i].x - fr.wheel_point[0],
             pair: i,
+            chi: li.chi,
         });
     }
     if strips.is_empty() {
@@ -483,7 +506,6 @@ pub fn solve(
     }
     let mut f = PatchForces::default();
     let mut area = 0.0;
-    let mut a_max: f64 = 0.0;
     // Each strip's normal load acts along its own normal: the sum, in the frame's axes.
     let (mut load, mut load_n, mut load_t) = (0.0, 0.0, 0.0);
     for s in strips.iter() {
@@ -493,11 +515,11 @@ pub fn solve(
         load_n += w * (n[0] * fr.n[0] + n[1] * fr.n[1]);
         load_t += w * (n[0] * fr.t[0] + n[1] * fr.t[1]);
         let p0 = 2.0 * s.q / (std::f64::consts::PI * s.a);
-        f.p_max = f.p_max.max(p0);
+        f.p_max = f.p_max.max(p0 * s.chi);
         area += 2.0 * s.a * s.w;
-        a_max = a_max.max(s.a);
     }
-    f.width = (l_max - l_min).max(0.0);
+    // the strips' (membership-weighted) widths: the lateral extent of a connected patch
+    f.width = strips.iter().map(|s| s.w).sum();
     f.length = 2.0 * a_max;
     f.area = area;
     f.n_elements = strips.len() as u32;
@@ -516,7 +538,10 @@ pub fn solve(
     let r = (area / std::f64::consts::PI).sqrt();
     let a_eq = r * (len / wid).sqrt();
     let b_eq = r * (wid / len).sqrt();
-    let flex = blended_flexibilities(a_eq, b_eq, load, input.pair.mu, &input.creep, &mat)?;
+    // The creepage blend of the flexibilities (CONTACT's) is taken with each strip's own
+    // creepages: with the reference point's, a wide patch's flexibilities jumped when its deepest
+    // pair moved from one well to the other (Fx by 85 % on a flange-root zone, docs/models/contact.md §5).
+    let blend = FlexibilityBlend::new(a_eq, b_eq, load, input.pair.mu, &mat)?;
     let fastrip = match tangential {
         Tangential::Fastrip => {
             let c = kalker_coeffs(a_eq, b_eq, mat.nu)?;
@@ -542,20 +567,23 @@ pub fn solve(
         let t = [p.n[1], -p.n[0]];
         let creep: Creepages = input.kin.creepages([p.x, p.a[0], p.a[1]], t, p.n);
         let mu = input.pair.mu;
+        let flex = blend.at(&creep);
         let st = match &fastrip {
             Some(patch) => {
                 let p0 = peak_for_line_load(s.q, s.a, TractionBound::Elliptic);
-                fastrip_strip(0.0, s.w, s.x, s.a, p0, &creep, &flex, patch, mu, nx).0
+                fastrip_strip(0.0, s.w, 0.0, s.a, p0, &creep, &flex, patch, mu, nx).0
             }
             None => {
                 let p0 = peak_for_line_load(s.q, s.a, bound);
-                fastsim_strip(0.0, s.w, s.x, s.a, p0, bound, &creep, &flex, mu, nx)
+                fastsim_strip(0.0, s.w, 0.0, s.a, p0, bound, &creep, &flex, mu, nx)
             }
         };
         f.fx += st.fx;
         f.fs += st.fy * (t[0] * fr.t[0] + t[1] * fr.t[1]);
         f.fn_ += st.fy * (t[0] * fr.n[0] + t[1] * fr.n[1]);
-        f.mz += st.mz - s.l * st.fx;
+        // the strip solved about its own centre, where its creepages are taken (solved at
+        // its offset `s.x` from the reference point, the spin term phi x counted the lead twice)
+        f.mz += st.mz + s.x * st.fy - s.l * st.fx;
         n_adh += st.n_adhesion;
         n_cells += st.n_cells;
     }
@@ -565,4 +593,17 @@ pub fn solve(
         0.0
     };
     Ok(f)
+}
+
+/// The pairs a well's STRIPES solution runs over: the interpenetrating run that holds the well
+/// `zone`, plus one pair on each side for the edge interpolation.
+fn run_range(pairs: &[IsoPair], zone: Zone) -> (usize, usize) {
+    let (mut r0, mut r1) = (zone.first, zone.last);
+    while r0 > 0 && pairs[r0 - 1].gap < 0.0 {
+        r0 -= 1;
+    }
+    while r1 + 1 < pairs.len() && pairs[r1 + 1].gap < 0.0 {
+        r1 += 1;
+    }
+    (r0.saturating_sub(1), (r1 + 1).min(pairs.len() - 1))
 }

@@ -57,7 +57,12 @@ pub fn shares(depth: &[f64], hump: &[f64], share: &mut [f64]) {
             let d = depth[i];
             let h = connect(i).min(d);
             let c = if d > 0.0 { h / d } else { 1.0 };
-            let omega = if total > 0.0 { (d - h) / total } else { 0.0 };
+            // (no prominence anywhere in the group: a flat zone, shared equally)
+            let omega = if total > 0.0 {
+                (d - h) / total
+            } else {
+                1.0 / (end + 1 - start) as f64
+            };
             share[i] = (1.0 - c * (1.0 - omega)).clamp(0.0, 1.0);
         }
         start = end + 1;
@@ -117,13 +122,15 @@ pub fn drop_ripples(
     }
 }
 
-/// Reusable buffers of the travelling's split into wells (`split_into_wells`).
+/// Reusable buffers of the split into wells (`split_into_wells`, `run_wells`).
 #[derive(Clone, Debug, Default)]
 pub struct WellScratch {
     depth: Vec<f64>,
     well: Vec<usize>,
     hump: Vec<f64>,
     share: Vec<f64>,
+    owner: Vec<usize>,
+    chi: Vec<f64>,
 }
 
 /// The pair of largest gap strictly between pairs `a` and `b` (`a` if they are neighbours).
@@ -133,55 +140,205 @@ fn hump_between(pairs: &[IsoPair], a: usize, b: usize) -> usize {
         .unwrap_or(a)
 }
 
-/// The Hertz models' zones of travelled `pairs`: every maximal run of interpenetrating pairs is
-/// cut at the humps between its wells (the sampled local minima of the gap, ripples dropped),
-/// each well a zone with its share; wells with a share below [`SHARE_MIN`] carry none. Replaces
-/// `zones`.
-pub(crate) fn split_into_wells(pairs: &[IsoPair], zones: &mut Vec<Zone>, s: &mut WellScratch) {
+/// \[rad\] contact-angle differences below which two wells of one run are coupled fully...
+pub const COUPLED_ANGLE: f64 = 0.05;
+/// \[rad\] ... and above which not at all (STRIPES, `run_wells` with `coupling`).
+pub const DECOUPLED_ANGLE: f64 = 0.15;
+
+/// \[-\] How strongly two neighbouring wells whose peaks' contact angles differ by `dangle`
+/// \[rad\] act as one patch: 1 up to [`COUPLED_ANGLE`], 0 from [`DECOUPLED_ANGLE`] on, a C1
+/// smoothstep between.
+pub fn coupling(dangle: f64) -> f64 {
+    let t = ((dangle.abs() - COUPLED_ANGLE) / (DECOUPLED_ANGLE - COUPLED_ANGLE)).clamp(0.0, 1.0);
+    1.0 - t * t * (3.0 - 2.0 * t)
+}
+
+/// The wells of the interpenetrating run `first..=last` of `pairs` into `s`: their depths, peak
+/// pairs and the depths of the humps between them (ripples dropped, `drop_ripples`); returns
+/// their number. With `coupled` (STRIPES), each hump is raised toward the shallower of its two
+/// wells by their [`coupling`]: `h' = h + k (min(d_a, d_b) - h)`. Two wells of nearly the same
+/// contact angle (a wide tread zone) then act as one patch, as the elastic half-space makes them
+/// (the deeper well's deformation lifts the shallower one's surface; docs/validation.md §1),
+/// while a flange-root and a flange well, whose normals differ by half a radian, stay separate
+/// wells that share the load (docs/models/contact.md §4.1).
+pub(crate) fn run_wells(
+    pairs: &[IsoPair],
+    first: usize,
+    last: usize,
+    coupled: bool,
+    s: &mut WellScratch,
+) -> usize {
+    s.depth.clear();
+    s.well.clear();
+    s.hump.clear();
+    for j in first..=last {
+        let left = j == first || pairs[j].gap <= pairs[j - 1].gap;
+        let right = j == last || pairs[j].gap < pairs[j + 1].gap;
+        if !(left && right) {
+            continue;
+        }
+        if let Some(&a) = s.well.last() {
+            s.hump
+                .push((-pairs[hump_between(pairs, a, j)].gap).max(0.0));
+        }
+        s.depth.push(-pairs[j].gap);
+        s.well.push(j);
+    }
+    let found = s.well.len();
+    let n = drop_ripples(&mut s.depth, &mut s.well, &mut s.hump, found);
+    if coupled {
+        let angle = |i: usize| pairs[i].n[0].atan2(pairs[i].n[1]);
+        for k in 0..n.saturating_sub(1) {
+            let k_c = coupling(angle(s.well[k]) - angle(s.well[k + 1]));
+            let top = s.depth[k].min(s.depth[k + 1]);
+            s.hump[k] += k_c * (top - s.hump[k]).max(0.0);
+        }
+    }
+    n
+}
+
+/// The patch zones of travelled `pairs`: every maximal run of interpenetrating pairs is cut at
+/// the humps between its wells (the sampled local minima of the gap, ripples dropped), each well a
+/// zone with its share; wells with a share below [`SHARE_MIN`] carry none. Replaces `zones`.
+///
+/// Without `coupled` (the Hertz models) the zone of a well is its basin (between the humps next
+/// to it) and the wells' shares use the humps' depths. With `coupled` (STRIPES) the humps are
+/// raised by the wells' coupling (`run_wells`), and the basin of a well without a patch joins
+/// its neighbour across the higher hump, so that a run whose wells are all coupled is one zone,
+/// as before wells were used for STRIPES.
+pub(crate) fn split_into_wells(
+    pairs: &[IsoPair],
+    zones: &mut Vec<Zone>,
+    s: &mut WellScratch,
+    coupled: bool,
+) {
     zones.clear();
     for (first, last) in interpenetrating_runs(pairs) {
-        s.depth.clear();
-        s.well.clear();
-        s.hump.clear();
-        for j in first..=last {
-            let left = j == first || pairs[j].gap <= pairs[j - 1].gap;
-            let right = j == last || pairs[j].gap < pairs[j + 1].gap;
-            if !(left && right) {
-                continue;
-            }
-            if let Some(&a) = s.well.last() {
-                s.hump
-                    .push((-pairs[hump_between(pairs, a, j)].gap).max(0.0));
-            }
-            s.depth.push(-pairs[j].gap);
-            s.well.push(j);
-        }
-        let found = s.well.len();
-        let n = drop_ripples(&mut s.depth, &mut s.well, &mut s.hump, found);
+        let n = run_wells(pairs, first, last, coupled, s);
         s.share.clear();
         s.share.resize(n, 0.0);
         shares(&s.depth[..n], &s.hump[..n.saturating_sub(1)], &mut s.share);
+        // the owner of each well's basin: itself, or (coupled) the patch it joins
+        s.owner.clear();
+        s.owner.extend(0..n);
+        if coupled {
+            for k in 0..n {
+                if s.share[k] >= SHARE_MIN {
+                    continue;
+                }
+                // walk across the higher hump until a well with a patch
+                let mut j = k;
+                let mut guard = n;
+                while s.share[j] < SHARE_MIN && guard > 0 {
+                    let left = if j > 0 {
+                        s.hump[j - 1]
+                    } else {
+                        f64::NEG_INFINITY
+                    };
+                    let right = if j + 1 < n {
+                        s.hump[j]
+                    } else {
+                        f64::NEG_INFINITY
+                    };
+                    j = if left >= right && j > 0 {
+                        j - 1
+                    } else if j + 1 < n {
+                        j + 1
+                    } else {
+                        break;
+                    };
+                    guard -= 1;
+                }
+                s.owner[k] = j;
+            }
+        }
         for k in 0..n {
             if s.share[k] < SHARE_MIN {
                 continue;
             }
-            // cut at the humps between the wells kept
+            // the basins this well owns, cut at the humps between the wells kept
+            let lo = (0..n).find(|&b| s.owner[b] == k).unwrap_or(k);
+            let hi = (0..n).rev().find(|&b| s.owner[b] == k).unwrap_or(k);
             zones.push(Zone {
-                first: if k == 0 {
+                first: if lo == 0 {
                     first
                 } else {
-                    hump_between(pairs, s.well[k - 1], s.well[k]) + 1
+                    hump_between(pairs, s.well[lo - 1], s.well[lo]) + 1
                 },
-                last: if k + 1 == n {
+                last: if hi + 1 == n {
                     last
                 } else {
-                    hump_between(pairs, s.well[k], s.well[k + 1])
+                    hump_between(pairs, s.well[hi], s.well[hi + 1])
                 },
                 deepest: s.well[k],
                 share: s.share[k],
             });
         }
     }
+}
+
+/// STRIPES: each pair's membership `chi_i = min(1, H_i / d_i)` in the well whose peak is pair
+/// `peak`, returned for the pairs `lo..lo + count` (`[i - lo]`): `d_i` the pair's
+/// interpenetration, `H_i` the lowest (coupled, `run_wells`) hump between the pair's basin and
+/// the well's; 1 in the well's own basin and outside the run. A lone well is solved whole;
+/// wells separated by a positive gap do not overlap; a well that merges into its hump (or is born
+/// from a shoulder) is already counted in full by its neighbour's solution; the weights vary
+/// continuously with the pose (docs/models/contact.md §4.1).
+pub(crate) fn memberships<'s>(
+    pairs: &[IsoPair],
+    peak: usize,
+    lo: usize,
+    count: usize,
+    s: &'s mut WellScratch,
+) -> &'s [f64] {
+    s.chi.clear();
+    s.chi.resize(count, 1.0);
+    if count == 0 || pairs[peak].gap >= 0.0 {
+        return &s.chi;
+    }
+    let (mut first, mut last) = (peak, peak);
+    while first > 0 && pairs[first - 1].gap < 0.0 {
+        first -= 1;
+    }
+    while last + 1 < pairs.len() && pairs[last + 1].gap < 0.0 {
+        last += 1;
+    }
+    let n = run_wells(pairs, first, last, true, s);
+    let Some(own) = s.well[..n].iter().position(|&w| w == peak) else {
+        return &s.chi;
+    };
+    let hi = lo + count - 1;
+    let chi = &mut s.chi;
+    let depth = |i: usize| -pairs[i].gap;
+    let weight = |d: f64, h: f64| if d <= h { 1.0 } else { h / d };
+    // toward the start of the run: basin b < own lies beyond humps b..own-1
+    let mut h = f64::INFINITY;
+    for b in (0..own).rev() {
+        h = h.min(s.hump[b]);
+        let b_first = if b == 0 {
+            first
+        } else {
+            hump_between(pairs, s.well[b - 1], s.well[b]) + 1
+        };
+        let b_last = hump_between(pairs, s.well[b], s.well[b + 1]);
+        for i in b_first.max(lo)..=b_last.min(hi) {
+            chi[i - lo] = weight(depth(i), h);
+        }
+    }
+    let mut h = f64::INFINITY;
+    for b in own + 1..n {
+        h = h.min(s.hump[b - 1]);
+        let b_first = hump_between(pairs, s.well[b - 1], s.well[b]) + 1;
+        let b_last = if b + 1 == n {
+            last
+        } else {
+            hump_between(pairs, s.well[b], s.well[b + 1])
+        };
+        for i in b_first.max(lo)..=b_last.min(hi) {
+            chi[i - lo] = weight(depth(i), h);
+        }
+    }
+    &s.chi
 }
 
 #[cfg(test)]

@@ -72,33 +72,68 @@ pub fn blended_flexibilities(
     creep: &Creepages,
     mat: &Material,
 ) -> Result<Flexibilities, ElasticError> {
-    non_negative("n [N]", n)?;
-    non_negative("mu [-]", mu)?;
     creep.check()?;
-    let base = flexibilities(a, b, mat)?;
-    let c = kalker_coeffs(a, b, mat.nu)?;
-    let gab = a * b * mat.g;
-    let xi_s = mu * n / (gab * c.c11);
-    let eta_s = mu * n / (gab * c.c22);
-    let s_norm = xi_s.hypot(eta_s);
-    let w_norm = creep.xi.hypot(creep.eta);
-    if w_norm == 0.0 {
-        return Ok(base);
+    Ok(FlexibilityBlend::new(a, b, n, mu, mat)?.at(creep))
+}
+
+/// The creepage-independent part of [`blended_flexibilities`] for one patch, so that the blend
+/// can be taken with each strip's own creepages (`FlexibilityBlend::at`): the flexibilities of
+/// Kalker's coefficients and the saturation creepage `|(xi_s, eta_s)|`.
+#[derive(Clone, Copy, Debug)]
+pub struct FlexibilityBlend {
+    base: Flexibilities,
+    /// \[m\] semi-axis along the rolling direction
+    a: f64,
+    /// norm of the saturation creepages (xi_s, eta_s)
+    s_norm: f64,
+}
+
+impl FlexibilityBlend {
+    /// The blend for an ellipse of semi-axes `a` (rolling direction) and `b` \[m\] carrying the
+    /// normal load `n` \[N\] >= 0 with friction coefficient `mu` >= 0.
+    pub fn new(
+        a: f64,
+        b: f64,
+        n: f64,
+        mu: f64,
+        mat: &Material,
+    ) -> Result<FlexibilityBlend, ElasticError> {
+        non_negative("n [N]", n)?;
+        non_negative("mu [-]", mu)?;
+        let base = flexibilities(a, b, mat)?;
+        let c = kalker_coeffs(a, b, mat.nu)?;
+        let gab = a * b * mat.g;
+        let xi_s = mu * n / (gab * c.c11);
+        let eta_s = mu * n / (gab * c.c22);
+        Ok(FlexibilityBlend {
+            base,
+            a,
+            s_norm: xi_s.hypot(eta_s),
+        })
     }
-    let w = if s_norm > 0.0 {
-        (w_norm / (3.0 * s_norm)).clamp(0.0, 1.0)
-    } else {
-        1.0
-    };
-    let pf = creep.phi * 3.0 * PI * a / 32.0;
-    let (xi2, eta2, pf2) = (creep.xi * creep.xi, creep.eta * creep.eta, pf * pf);
-    let l_crss = (xi2 + eta2 + pf2) / (xi2 / base.l1 + eta2 / base.l2 + pf2 / base.l3);
-    let blend = |l: f64| (1.0 - w) * l + w * l_crss;
-    Ok(Flexibilities {
-        l1: blend(base.l1),
-        l2: blend(base.l2),
-        l3: blend(base.l3),
-    })
+
+    /// The flexibilities at the creepages `creep` (finite).
+    pub fn at(&self, creep: &Creepages) -> Flexibilities {
+        let base = self.base;
+        let w_norm = creep.xi.hypot(creep.eta);
+        if w_norm == 0.0 {
+            return base;
+        }
+        let w = if self.s_norm > 0.0 {
+            (w_norm / (3.0 * self.s_norm)).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let pf = creep.phi * 3.0 * PI * self.a / 32.0;
+        let (xi2, eta2, pf2) = (creep.xi * creep.xi, creep.eta * creep.eta, pf * pf);
+        let l_crss = (xi2 + eta2 + pf2) / (xi2 / base.l1 + eta2 / base.l2 + pf2 / base.l3);
+        let blend = |l: f64| (1.0 - w) * l + w * l_crss;
+        Flexibilities {
+            l1: blend(base.l1),
+            l2: blend(base.l2),
+            l3: blend(base.l3),
+        }
+    }
 }
 
 /// Shape of the pressure along a strip, which sets the traction bound `mu p(x)`.

@@ -35,8 +35,8 @@ pub mod steady;
 pub use error::ElasticError;
 pub use fastrip::{FastripPatch, StripMethod, fastrip_strip};
 pub use fastsim::{
-    Flexibilities, StripTraction, TractionBound, blended_flexibilities, fastsim_ellipse,
-    fastsim_strip, flexibilities,
+    Flexibilities, FlexibilityBlend, StripTraction, TractionBound, blended_flexibilities,
+    fastsim_ellipse, fastsim_strip, flexibilities,
 };
 pub use halfspace::{Grid, HalfspaceSolver, NormalSolution, love_influence};
 pub use hertz::{

@@ -1,0 +1,146 @@
+//! Two-point contact of STRIPES: a flange-root and a flange patch on the same wheel.
+//!
+//! In a tight curve the leading outer wheel runs in two-point contact at the R13 flange root and
+//! on the 70° flank, whose normals differ by half a radian. Until the wells of a run became
+//! STRIPES patches (docs/models/contact.md §4.1) the two were one zone or two depending on a
+//! threshold on the hump between them, the zone's deepest pair set the virtual penetration of
+//! both, and the strips' spin slip was counted from the patch's reference point: along a lateral
+//! sweep the lateral force jumped by −38 % where the zone split and the longitudinal force by
+//! +85 % where the deepest pair changed wells, and the Manchester vehicle bounced its leading
+//! wheels off the rail through a 150 m curve at 40 km/h (Q up to 374 kN; docs/validation.md §6).
+
+use railsim_contact::{
+    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, Side, WheelRailContact,
+    WheelRailPair, WheelsetPose, WheelsetVelocity,
+};
+
+use crate::common::{mbench_contact, rolling_30_m_s, tol_scale};
+
+/// S1002 on UIC60 1:40, gauge 1435 mm, flange-back 1360 mm (`railsim contact`'s defaults).
+fn standard_contact(model: ContactModelKind, step: f64) -> WheelRailContact {
+    let spec = PairSpec {
+        wheel: railsim_profile::analytic::s1002(),
+        rail: railsim_profile::analytic::uic60(),
+        r0: 0.46,
+        flange_back_distance: 1.36,
+        flange_back_y: -0.07,
+        gauge: 1.435,
+        gauge_depth: 0.014,
+        inclination: 1.0f64.atan2(40.0),
+        material: railsim_elastic::Material::new(82e9, 0.28).unwrap(),
+        mu: 0.3,
+        curve_ds: 5e-5,
+        smoothing: 0.0,
+    };
+    let mut opts = ContactOptions {
+        model,
+        ..Default::default()
+    };
+    opts.travel.step = step;
+    WheelRailContact::new(WheelRailPair::new(&spec).unwrap(), opts).unwrap()
+}
+
+/// The right wheel at 14.7 mrad angle of attack (the leading wheelset of the Manchester vehicle
+/// in the 150 m curve), swept 0.16 mm into flange contact at fixed height in 2 µm steps: the
+/// flange patch appears beside the flange-root patch and both grow to 100–170 kN. Flange contact
+/// is stiff (the force grows by up to 8 % of itself per step), so a jump is told from a steep
+/// rise by its neighbours: no step of a force component may exceed three times the larger of the
+/// two steps beside it (plus 0.2 % of |F|). The jumps this catches were −9 kN in Fy against
+/// neighbouring steps of about +1 kN (the split threshold) and +20 kN in Fx (the deepest pair
+/// changing wells).
+#[test]
+fn two_point_flange_contact_is_continuous_in_the_lateral_position() {
+    let contact = standard_contact(ContactModelKind::Stripes, 1e-3);
+    let vel = WheelsetVelocity {
+        vx: 11.11,
+        spin: 11.11 / 0.46,
+        ..Default::default()
+    };
+    let mut ws = ContactWorkspace::new();
+    let mut forces = Vec::new();
+    let mut two = 0;
+    for k in 0..=80 {
+        let pose = WheelsetPose {
+            y: -6.50e-3 - k as f64 * 2e-6,
+            z: 0.70e-3,
+            roll: 0.0,
+            yaw: -14.7e-3,
+        };
+        let s = contact.evaluate(Side::Right, &pose, &vel, &mut ws).unwrap();
+        two += usize::from(ws.patches.len() == 2);
+        forces.push(s.force_track);
+    }
+    let (mut worst, mut at) = (0.0f64, 0);
+    for k in 1..forces.len() - 1 {
+        let scale = forces[k].iter().map(|v| v * v).sum::<f64>().sqrt();
+        for c in 0..3 {
+            let step = |j: usize| (forces[j + 1][c] - forces[j][c]).abs();
+            let beside = if k + 1 < forces.len() - 1 {
+                step(k - 1).max(step(k + 1))
+            } else {
+                step(k - 1)
+            };
+            let r = step(k) / (3.0 * beside + 2e-3 * scale);
+            if r > worst {
+                (worst, at) = (r, k);
+            }
+        }
+    }
+    eprintln!(
+        "largest step against three times its neighbours: {worst:.2} at y = {:.3} mm; {two} of 81 \
+         poses with two patches",
+        -6.50 - at as f64 * 2e-3
+    );
+    assert!(two > 40, "two-point contact expected, {two} poses");
+    assert!(
+        worst < 1.0 * tol_scale(),
+        "a force component jumps at y = {:.3} mm ({worst:.2} times the bound)",
+        -6.50 - at as f64 * 2e-3
+    );
+}
+
+/// A flange contact at 50 kN (the left wheel of the benchmark profiles 6.4 mm toward its flange):
+/// the zone is 12–20 pairs wide at the default 1 mm step but its contact, where the
+/// interpenetration exceeds (1 − ε) δ0, only a third of that. When narrow zones were refined by
+/// their pair count, the 1 mm step carried 63–67 kN here where 0.1 mm gives 46–50 kN (+35 %), and
+/// the load jumped by 24 % where the zone fell below 12 pairs (the load iteration of
+/// `warm_start_gives_the_cold_patches` then failed to converge). Refined by the pairs in contact,
+/// the 1 mm step is within 7 % of 0.1 mm and continuous.
+#[test]
+fn a_flange_patch_is_resolved_by_the_pairs_in_its_contact() {
+    let vel = rolling_30_m_s();
+    let loads = |step: f64| -> Vec<f64> {
+        let contact = mbench_contact(ContactModelKind::Stripes, step);
+        let mut ws = ContactWorkspace::new();
+        (0..12)
+            .map(|i| {
+                let pose = WheelsetPose {
+                    y: 6.422_539_801_528_917e-3,
+                    z: 0.385e-3 + i as f64 * 1.5e-6,
+                    roll: 0.777_071_747_526_823_9e-3,
+                    yaw: 2.212_031_161_239_859e-3,
+                };
+                contact
+                    .evaluate(Side::Left, &pose, &vel, &mut ws)
+                    .unwrap()
+                    .force_track[2]
+            })
+            .collect()
+    };
+    let (coarse, fine) = (loads(1e-3), loads(0.1e-3));
+    eprintln!("Fz at 1 mm {coarse:.0?}\nFz at 0.1 mm {fine:.0?}");
+    for (i, (c, f)) in coarse.iter().zip(&fine).enumerate() {
+        assert!(
+            (c / f - 1.0).abs() < 0.10 * tol_scale(),
+            "pose {i}: {c:.0} N at 1 mm against {f:.0} N at 0.1 mm"
+        );
+    }
+    for w in coarse.windows(2) {
+        assert!(
+            (w[1] / w[0] - 1.0).abs() < 0.02 * tol_scale(),
+            "Fz jumps from {:.0} to {:.0} N in 1.5 µm",
+            w[0],
+            w[1]
+        );
+    }
+}
