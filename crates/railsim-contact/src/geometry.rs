@@ -1031,8 +1031,8 @@ pub struct Zone {
     pub last: usize,
     /// index of the deepest pair
     pub deepest: usize,
-    /// \[-\] the part of its Hertz solution the zone carries (`crate::wells`; 1 for STRIPES and
-    /// the half-space model, which solve the whole zone)
+    /// \[-\] the part of its solution the zone carries (`crate::wells`: a well of the Hertz
+    /// models or STRIPES; 1 for the half-space model, which solves whole zones)
     pub share: f64,
 }
 

@@ -103,13 +103,15 @@ pub struct ContactOptions {
     pub model: ContactModelKind,
     /// Travelling (geometry) options.
     pub travel: TravelOptions,
-    /// \[rad\] a penetrated run is split into two patches only if the contact angles of its two
-    /// penetration maxima differ by more than this
+    /// \[rad\] `halfspace`: a penetrated run is split into two patches only if the contact angles
+    /// of its two penetration maxima differ by more than this (STRIPES and the Hertz models cut
+    /// runs into wells instead, `crate::wells`)
     pub split_angle: f64,
     /// \[-\] ... and the penetration between them falls below this fraction of the smaller maximum
     pub split_depth_ratio: f64,
     /// A zone resolved by fewer travelled pairs than this is travelled again with a finer step
-    /// (narrow flange-root and flange patches); 0 disables the refinement.
+    /// (narrow flange-root and flange patches); 0 disables the refinement. STRIPES counts the
+    /// pairs in the zone's contact (`(1 - eps0) delta0` deep), the other models all its pairs.
     pub min_zone_pairs: usize,
     /// Which virtual-penetration ratio STRIPES uses.
     pub stripes_variant: StripesVariant,

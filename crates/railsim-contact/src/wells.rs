@@ -1,5 +1,5 @@
-//! Wells of an interpenetration zone and their shares, for the Hertz models
-//! (docs/models/contact.md §4.1).
+//! Wells of an interpenetration zone, their shares and (STRIPES) memberships, for the Hertz
+//! models and STRIPES (docs/models/contact.md §4.1).
 //!
 //! A Hertz patch describes one well: a local minimum of the gap with its depth and curvatures.
 //! A zone can hold several wells joined by penetrating humps (a wide conformal tread contact, or
