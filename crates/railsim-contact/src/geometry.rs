@@ -920,16 +920,16 @@ fn advance(
     Some((e, err))
 }
 
-/// How many pairs resolve a zone, and the rail arc lengths of the pairs bounding them: the
-/// zone's pairs, or with `loaded` (STRIPES) only those inside its contact, where the
+/// How many pairs resolve a zone, and the indices of the pairs bounding them: the zone's pairs,
+/// or with `loaded` (STRIPES) only those inside its contact, where the
 /// interpenetration exceeds `(1 - eps0) delta0` (seed eq. 7–9; `eps0` from the Hertz
 /// coefficients of the deepest pair's profile curvatures): a flange zone is often much wider
 /// than the strip of it that carries load.
-fn resolution(pairs: &[IsoPair], z: &Zone, loaded: bool) -> (usize, f64, f64) {
+fn resolution(pairs: &[IsoPair], z: &Zone, loaded: bool) -> (usize, usize, usize) {
     let bounds = |a: usize, b: usize| {
         let i0 = a.saturating_sub(1);
         let i1 = (b + 1).min(pairs.len() - 1);
-        (b + 1 - a, pairs[i0].s_r, pairs[i1].s_r)
+        (b + 1 - a, i0, i1)
     };
     if !loaded {
         return bounds(z.first, z.last);
@@ -976,21 +976,20 @@ pub fn refine_narrow_zones(
     scratch.clear();
     let mut next = 0;
     for z in zones {
-        let (count, s_a, s_b) = resolution(pairs, z, loaded);
-        if count >= min_pairs {
+        let (count, i0, i1) = resolution(pairs, z, loaded);
+        if count >= min_pairs || i0 + 1 < next {
             continue;
         }
-        let i0 = z.first.saturating_sub(1);
-        let i1 = (z.last + 1).min(pairs.len() - 1);
         scratch.extend_from_slice(&pairs[next..=i0]);
         // Rail-anchored pairs on the grid of step/n, n the smallest integer that gives the
         // resolved part of the zone (with its two neighbours) at least `min_pairs` pairs: the
-        // positions stay independent of the pose for a given n, as in the travelling. The whole
-        // zone is re-travelled.
+        // positions stay independent of the pose for a given n, as in the travelling. Only that
+        // part is re-travelled (with `loaded`, the pairs outside the contact bound its edges and
+        // carry no load).
+        let (s_a, s_b) = (pairs[i0].s_r, pairs[i1].s_r);
         let n = ((min_pairs + 1) as f64 * opts.step / (s_b - s_a).max(1e-9))
             .ceil()
             .clamp(1.0, 1e4);
-        let (s_a, s_b) = (pairs[i0].s_r, pairs[i1].s_r);
         let h = opts.step / n;
         // Two zones split from one run share a neighbour, which the first zone's refinement has
         // already passed: start after the last pair written.
