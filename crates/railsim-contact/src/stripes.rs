@@ -540,7 +540,8 @@ pub fn solve(
     let b_eq = r * (wid / len).sqrt();
     // The creepage blend of the flexibilities (CONTACT's) is taken with each strip's own
     // creepages: with the reference point's, a wide patch's flexibilities jumped when its deepest
-    // pair moved from one well to the other (Fx by 85 % on a flange-root zone, docs/models/contact.md §5).
+    // pair moved from one well to the other (with the strips solved about the reference point,
+    // Fx jumped by 85 % on a flange-root zone; docs/models/contact.md §6).
     let blend = FlexibilityBlend::new(a_eq, b_eq, load, input.pair.mu, &mat)?;
     let fastrip = match tangential {
         Tangential::Fastrip => {
