@@ -1520,6 +1520,54 @@ impl Compiler<'_> {
             );
             ok = false;
         }
+        // The initial state is the static equilibrium on straight level track (docs/models/
+        // dynamics.md): every member is placed on its own track-following frame's centre line.
+        // Inside a curve the bodies' attachment points then miss each other by the curve's
+        // versines (0.30 m between a carbody and its bogies 19 m apart at R = 150 m) and the
+        // wheel loads ignore the cant: the Manchester vehicle started in the R = 150 m curve
+        // "derailed" at t = 0.03 s. So a start must find the vehicle on straight track without
+        // cant.
+        if ok {
+            let (a, b) = (start + x_min, start + x_max);
+            let n = ((b - a) / 0.25).ceil().max(1.0) as usize;
+            // (radius above 100 km and cant below 0.02 mm count as straight and level)
+            let bent_at = |s: f64| {
+                let f = track.frame_at(s);
+                (f.curvature.abs() > 1e-5 || f.roll.abs() > 1e-5).then_some(f)
+            };
+            let bent = (0..=n)
+                .map(|k| a + (b - a) * k as f64 / n as f64)
+                .find_map(|s| bent_at(s).map(|f| (s, f)));
+            if let Some((s_bent, f)) = bent {
+                let what = if f.curvature.abs() > 1e-5 {
+                    format!("radius {:.0} m", 1.0 / f.curvature.abs())
+                } else {
+                    format!("cant {:.1} mm", f.cant.abs() * 1e3)
+                };
+                // where the straight level track before it ends
+                let mut s_free = s_bent;
+                while s_free > 0.0 && bent_at(s_free).is_some() {
+                    s_free -= 0.25;
+                }
+                let advice = if s_free > 0.0 && s_free - (b - a) >= 0.0 {
+                    format!("start_m at most {:.2} m", s_free - (b - start))
+                } else {
+                    "a track with a straight level part before the curve".to_owned()
+                };
+                self.err(
+                    &start_span,
+                    "start_m",
+                    format!(
+                        "start_m = {start} m puts the wheelsets of vehicle '{}' at s = {a:.2} .. {b:.2} m, on curved \
+                         or canted track ({what} at s = {s_bent:.2} m); the initial state is the static equilibrium on \
+                         straight level track, so the vehicle must start on a tangent without cant and run into the \
+                         curve: expected {advice}",
+                        vehicle.name(),
+                    ),
+                );
+                ok = false;
+            }
+        }
         let d = match (length, speed) {
             (Some(RunLength::Distance(d)), _) => d,
             (Some(RunLength::Duration(t)), Some(p)) => p.distance_at(t),

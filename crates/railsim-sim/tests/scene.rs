@@ -407,6 +407,29 @@ fn run_past_the_end_of_the_track_is_rejected() {
     );
 }
 
+/// The initial state is the static equilibrium on straight level track: a start inside a curve
+/// (here R = 1200 m with 120 mm cant, from s = 320 m) placed the bodies off each other's
+/// attachment points by the curve's versines, and the Manchester vehicle started in a 150 m curve
+/// "derailed" at t = 0.03 s. Such a start is rejected at `start_m`, with the largest start that
+/// keeps the vehicle on the tangent before the curve.
+#[test]
+fn a_start_on_curved_or_canted_track_is_rejected() {
+    let p = problems(&GOOD.replace("duration_s = 1", "duration_s = 1\nstart_m = 400"));
+    expect(
+        &p,
+        5,
+        &[
+            "start_m = 400 m",
+            "on curved or canted track",
+            "static equilibrium on straight level track",
+            "expected start_m at most",
+        ],
+    );
+    // at the end of the tangent (200 m) the same vehicle is accepted
+    let tangent = compile(&GOOD.replace("duration_s = 1", "duration_s = 1\nstart_m = 150"));
+    assert!(tangent.is_ok(), "{:?}", tangent.err());
+}
+
 #[test]
 fn disturbance_of_a_frozen_dof_and_bad_log_are_rejected() {
     let p = problems(&format!(
