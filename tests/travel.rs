@@ -237,22 +237,9 @@ fn longer_tried_steps_skip_no_patch() {
 #[test]
 fn adjacent_refined_zones_share_no_pair() {
     use railsim_contact::{
-        ContactOptions, PairSpec, WheelRailContact, WheelRailPair, WheelsetPose, WheelsetVelocity,
+        ContactOptions, WheelRailContact, WheelRailPair, WheelsetPose, WheelsetVelocity,
     };
-    let spec = PairSpec {
-        wheel: railsim_profile::analytic::s1002(),
-        rail: railsim_profile::analytic::uic60(),
-        r0: 0.46,
-        flange_back_distance: 1.36,
-        flange_back_y: -0.07,
-        gauge: 1.435,
-        gauge_depth: 0.014,
-        inclination: 1.0f64.atan2(40.0),
-        material: railsim_elastic::Material::new(82e9, 0.28).unwrap(),
-        mu: 0.3,
-        curve_ds: 5e-5,
-        smoothing: 0.0,
-    };
+    let spec = crate::common::standard_spec();
     let pose = WheelsetPose {
         y: 4.952_128_143_583_95e-3,
         z: -0.041_263_927_736_956_42e-3,

@@ -10,34 +10,20 @@
 //! wheels off the rail through a 150 m curve at 40 km/h (Q up to 374 kN; docs/validation.md §6).
 
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, PairSpec, Side, WheelRailContact,
-    WheelRailPair, WheelsetPose, WheelsetVelocity,
+    ContactModelKind, ContactOptions, ContactWorkspace, Side, WheelRailContact, WheelRailPair,
+    WheelsetPose, WheelsetVelocity,
 };
 
-use crate::common::{mbench_contact, rolling_30_m_s, tol_scale};
+use crate::common::{mbench_contact, rolling_30_m_s, standard_spec, tol_scale};
 
 /// S1002 on UIC60 1:40, gauge 1435 mm, flange-back 1360 mm (`railsim contact`'s defaults).
 fn standard_contact(model: ContactModelKind, step: f64) -> WheelRailContact {
-    let spec = PairSpec {
-        wheel: railsim_profile::analytic::s1002(),
-        rail: railsim_profile::analytic::uic60(),
-        r0: 0.46,
-        flange_back_distance: 1.36,
-        flange_back_y: -0.07,
-        gauge: 1.435,
-        gauge_depth: 0.014,
-        inclination: 1.0f64.atan2(40.0),
-        material: railsim_elastic::Material::new(82e9, 0.28).unwrap(),
-        mu: 0.3,
-        curve_ds: 5e-5,
-        smoothing: 0.0,
-    };
     let mut opts = ContactOptions {
         model,
         ..Default::default()
     };
     opts.travel.step = step;
-    WheelRailContact::new(WheelRailPair::new(&spec).unwrap(), opts).unwrap()
+    WheelRailContact::new(WheelRailPair::new(&standard_spec()).unwrap(), opts).unwrap()
 }
 
 /// The right wheel at 14.7 mrad angle of attack (the leading wheelset of the Manchester vehicle

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use railsim_contact::contact_format::manchester_benchmark_pair;
 use railsim_contact::{
-    ContactModelKind, ContactOptions, WheelRailContact, WheelRailPair, WheelsetVelocity,
+    ContactModelKind, ContactOptions, PairSpec, WheelRailContact, WheelRailPair, WheelsetVelocity,
 };
 
 /// Path of a file in the repository.
@@ -38,6 +38,25 @@ pub fn tolerances(case: &str, section: &str) -> HashMap<String, f64> {
 /// nu = 0.28, mu = 0.3.
 pub fn mbench_pair() -> WheelRailPair {
     manchester_benchmark_pair(&repo("")).unwrap()
+}
+
+/// S1002 on UIC60 1:40, gauge 1435 mm, flange-back 1360 mm, r0 = 460 mm, analytic profiles
+/// (`railsim contact`'s defaults).
+pub fn standard_spec() -> PairSpec {
+    PairSpec {
+        wheel: railsim_profile::analytic::s1002(),
+        rail: railsim_profile::analytic::uic60(),
+        r0: 0.46,
+        flange_back_distance: 1.36,
+        flange_back_y: -0.07,
+        gauge: 1.435,
+        gauge_depth: 0.014,
+        inclination: 1.0f64.atan2(40.0),
+        material: railsim_elastic::Material::new(82e9, 0.28).unwrap(),
+        mu: 0.3,
+        curve_ds: 5e-5,
+        smoothing: 0.0,
+    }
 }
 
 /// The benchmark contact with a model and step (narrow-zone refinement as by default).
