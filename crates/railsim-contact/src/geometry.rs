@@ -966,20 +966,20 @@ pub fn refine_narrow_zones(
     scratch: &mut Vec<IsoPair>,
     stats: &mut TravelStats,
 ) -> bool {
-    if !zones
-        .iter()
-        .any(|z| resolution(pairs, z, loaded).0 < min_pairs)
-    {
-        return false;
-    }
-    let ctx = PoseCtx::new(pair, pose);
-    scratch.clear();
+    // (the pose context and the new list only once a zone needs refining)
+    let mut ctx: Option<PoseCtx> = None;
     let mut next = 0;
     for z in zones {
         let (count, i0, i1) = resolution(pairs, z, loaded);
-        if count >= min_pairs || i0 + 1 < next {
+        if count >= min_pairs {
             continue;
         }
+        let ctx = ctx.get_or_insert_with(|| {
+            scratch.clear();
+            PoseCtx::new(pair, pose)
+        });
+        // zones are ordered and disjoint: at most the shared neighbour was written already
+        debug_assert!(i0 + 1 >= next, "zones out of order");
         scratch.extend_from_slice(&pairs[next..=i0]);
         // Rail-anchored pairs on the grid of step/n, n the smallest integer that gives the
         // resolved part of the zone (with its two neighbours) at least `min_pairs` pairs: the
@@ -1000,14 +1000,8 @@ pub fn refine_narrow_zones(
         let mut slope = 1.0;
         let mut s_next = ((s_r / h + 1e-9).floor() + 1.0) * h;
         while s_next < s_b - 0.25 * h {
-            let (e, s_w1, err) = pair_at_rail(
-                pair,
-                &ctx,
-                opts,
-                s_next,
-                s_w + slope * (s_next - s_r),
-                stats,
-            );
+            let (e, s_w1, err) =
+                pair_at_rail(pair, ctx, opts, s_next, s_w + slope * (s_next - s_r), stats);
             scratch.push(record(&e, s_w1, s_next, err));
             stats.pairs += 1;
             slope = (s_w1 - s_w) / (s_next - s_r);
@@ -1015,6 +1009,9 @@ pub fn refine_narrow_zones(
             s_next += h;
         }
         next = i1;
+    }
+    if ctx.is_none() {
+        return false;
     }
     scratch.extend_from_slice(&pairs[next..]);
     std::mem::swap(pairs, scratch);
@@ -1071,6 +1068,19 @@ pub(crate) fn interpenetrating_runs(pairs: &[IsoPair]) -> impl Iterator<Item = (
         i += 1;
         Some((first, i - 1))
     })
+}
+
+/// The maximal run of interpenetrating pairs that holds the pairs `a..=b` (themselves
+/// interpenetrating), as (first, last).
+pub(crate) fn run_around(pairs: &[IsoPair], a: usize, b: usize) -> (usize, usize) {
+    let (mut first, mut last) = (a, b);
+    while first > 0 && pairs[first - 1].gap < 0.0 {
+        first -= 1;
+    }
+    while last + 1 < pairs.len() && pairs[last + 1].gap < 0.0 {
+        last += 1;
+    }
+    (first, last)
 }
 
 fn deepest(pairs: &[IsoPair], first: usize, last: usize) -> usize {

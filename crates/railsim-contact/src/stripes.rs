@@ -599,12 +599,6 @@ pub fn solve(
 /// The pairs a well's STRIPES solution runs over: the interpenetrating run that holds the well
 /// `zone`, plus one pair on each side for the edge interpolation.
 fn run_range(pairs: &[IsoPair], zone: Zone) -> (usize, usize) {
-    let (mut r0, mut r1) = (zone.first, zone.last);
-    while r0 > 0 && pairs[r0 - 1].gap < 0.0 {
-        r0 -= 1;
-    }
-    while r1 + 1 < pairs.len() && pairs[r1 + 1].gap < 0.0 {
-        r1 += 1;
-    }
+    let (r0, r1) = crate::geometry::run_around(pairs, zone.first, zone.last);
     (r0.saturating_sub(1), (r1 + 1).min(pairs.len() - 1))
 }

@@ -20,7 +20,7 @@
 //! "Identification of contact patches"; contact-theory note §2.5); the interpolation is this
 //! crate's, measured against the half-space solution in docs/validation.md.
 
-use crate::geometry::{IsoPair, Zone, interpenetrating_runs};
+use crate::geometry::{IsoPair, Zone, interpenetrating_runs, run_around};
 
 /// \[-\] wells with a smaller share carry no patch (their load is below 0.1 % of their Hertz
 /// solution).
@@ -138,6 +138,28 @@ fn hump_between(pairs: &[IsoPair], a: usize, b: usize) -> usize {
     (a + 1..b)
         .max_by(|&x, &y| pairs[x].gap.total_cmp(&pairs[y].gap))
         .unwrap_or(a)
+}
+
+/// The first and last pair of basin `b` of the `n` wells found by `run_wells` for the run
+/// `first..=last`: cut at the humps (the largest gaps) between neighbouring wells.
+fn basin(
+    pairs: &[IsoPair],
+    s: &WellScratch,
+    n: usize,
+    (first, last): (usize, usize),
+    b: usize,
+) -> (usize, usize) {
+    let lo = if b == 0 {
+        first
+    } else {
+        hump_between(pairs, s.well[b - 1], s.well[b]) + 1
+    };
+    let hi = if b + 1 == n {
+        last
+    } else {
+        hump_between(pairs, s.well[b], s.well[b + 1])
+    };
+    (lo, hi)
 }
 
 /// \[rad\] contact-angle differences below which two wells of one run are coupled fully...
@@ -260,16 +282,8 @@ pub(crate) fn split_into_wells(
             let lo = (0..n).find(|&b| s.owner[b] == k).unwrap_or(k);
             let hi = (0..n).rev().find(|&b| s.owner[b] == k).unwrap_or(k);
             zones.push(Zone {
-                first: if lo == 0 {
-                    first
-                } else {
-                    hump_between(pairs, s.well[lo - 1], s.well[lo]) + 1
-                },
-                last: if hi + 1 == n {
-                    last
-                } else {
-                    hump_between(pairs, s.well[hi], s.well[hi + 1])
-                },
+                first: basin(pairs, s, n, (first, last), lo).0,
+                last: basin(pairs, s, n, (first, last), hi).1,
                 deepest: s.well[k],
                 share: s.share[k],
             });
@@ -296,47 +310,30 @@ pub(crate) fn memberships<'s>(
     if count == 0 || pairs[peak].gap >= 0.0 {
         return &s.chi;
     }
-    let (mut first, mut last) = (peak, peak);
-    while first > 0 && pairs[first - 1].gap < 0.0 {
-        first -= 1;
-    }
-    while last + 1 < pairs.len() && pairs[last + 1].gap < 0.0 {
-        last += 1;
-    }
+    let (first, last) = run_around(pairs, peak, peak);
     let n = run_wells(pairs, first, last, true, s);
     let Some(own) = s.well[..n].iter().position(|&w| w == peak) else {
         return &s.chi;
     };
     let hi = lo + count - 1;
-    let chi = &mut s.chi;
-    let depth = |i: usize| -pairs[i].gap;
-    let weight = |d: f64, h: f64| if d <= h { 1.0 } else { h / d };
-    // toward the start of the run: basin b < own lies beyond humps b..own-1
+    // a pair of basin b counts in full below the lowest hump between b and the well, in
+    // proportion above it
+    let fill = |s: &mut WellScratch, b: usize, h: f64| {
+        let (b_first, b_last) = basin(pairs, s, n, (first, last), b);
+        for i in b_first.max(lo)..=b_last.min(hi) {
+            let d = -pairs[i].gap;
+            s.chi[i - lo] = if d <= h { 1.0 } else { h / d };
+        }
+    };
     let mut h = f64::INFINITY;
     for b in (0..own).rev() {
         h = h.min(s.hump[b]);
-        let b_first = if b == 0 {
-            first
-        } else {
-            hump_between(pairs, s.well[b - 1], s.well[b]) + 1
-        };
-        let b_last = hump_between(pairs, s.well[b], s.well[b + 1]);
-        for i in b_first.max(lo)..=b_last.min(hi) {
-            chi[i - lo] = weight(depth(i), h);
-        }
+        fill(s, b, h);
     }
     let mut h = f64::INFINITY;
     for b in own + 1..n {
         h = h.min(s.hump[b - 1]);
-        let b_first = hump_between(pairs, s.well[b - 1], s.well[b]) + 1;
-        let b_last = if b + 1 == n {
-            last
-        } else {
-            hump_between(pairs, s.well[b], s.well[b + 1])
-        };
-        for i in b_first.max(lo)..=b_last.min(hi) {
-            chi[i - lo] = weight(depth(i), h);
-        }
+        fill(s, b, h);
     }
     &s.chi
 }
