@@ -96,6 +96,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             y_over_q_left: (1000.0 + y * 1e6) / q,
             y_over_q_right: -1000.0 / q,
             angle_of_attack_rad: 1e-3 * (2.0 * PI * 2.0 * t_s).cos(),
+            rail_displacement_m: None,
         };
         log.write(&wheelset, t_ns, &message)?;
     }

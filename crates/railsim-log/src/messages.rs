@@ -211,6 +211,10 @@ pub struct WheelsetMessage {
     pub y_over_q_right: f64,
     /// \[rad\] angle of attack: wheelset yaw relative to the track, positive nose-left
     pub angle_of_attack_rad: f64,
+    /// \[m\] on an elastic rail support only: displacement of the rail under each wheel,
+    /// track frame, `[left y, left z, right y, right z]` (y to the left, z up)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rail_displacement_m: Option<[f64; 4]>,
 }
 
 impl LogMessage for WheelsetMessage {

@@ -149,31 +149,44 @@ pub struct RailFrame {
 }
 
 /// Express a wheelset's contact pose and velocities relative to the rail of `side` at track
-/// position `s` (in place), the rails being moved by the track's irregularities: lateral
-/// alignment and vertical level move both rails, half the gauge deviation moves each rail
-/// outward, and cross level rolls the rail pair about the centre line. Returns the rail frame
-/// (identity on a track without irregularities, which are then not evaluated).
+/// position `s` (in place), the rails being moved by the track's irregularities and by the
+/// elastic displacement of the rail's support: lateral alignment and vertical level move both
+/// rails, half the gauge deviation moves each rail outward, cross level rolls the rail pair
+/// about the centre line, and `support` = (y, z, vy, vz) \[m, m/s\] (zero on rigid rails) moves
+/// this rail. Returns the rail frame (identity on a rigid track without irregularities, which
+/// are then not evaluated).
+#[allow(clippy::too_many_arguments)]
 pub fn rail_frame(
     m: &SimModel,
     side: Side,
     s: f64,
     v: f64,
     radius: f64,
+    support: [f64; 4],
     pose: &mut WheelsetPose,
     vel: &mut WheelsetVelocity,
 ) -> RailFrame {
-    let Some(irr) = m.track.irregularities() else {
-        return RailFrame::default();
+    let (mut o, mut od, delta, ddelta) = match m.track.irregularities() {
+        Some(irr) => {
+            let ir = irr.at(s);
+            let sg = if side == Side::Left { 1.0 } else { -1.0 };
+            (
+                [ir.lateral + 0.5 * sg * ir.gauge, ir.vertical],
+                [
+                    v * (ir.dlateral_ds + 0.5 * sg * ir.dgauge_ds),
+                    v * ir.dvertical_ds,
+                ],
+                ir.cross_level / m.cant_base,
+                v * ir.dcross_level_ds / m.cant_base,
+            )
+        }
+        None if m.rail_support.is_none() => return RailFrame::default(),
+        None => ([0.0; 2], [0.0; 2], 0.0, 0.0),
     };
-    let ir = irr.at(s);
-    let sg = if side == Side::Left { 1.0 } else { -1.0 };
-    let o = [ir.lateral + 0.5 * sg * ir.gauge, ir.vertical];
-    let od = [
-        v * (ir.dlateral_ds + 0.5 * sg * ir.dgauge_ds),
-        v * ir.dvertical_ds,
-    ];
-    let delta = ir.cross_level / m.cant_base;
-    let ddelta = v * ir.dcross_level_ds / m.cant_base;
+    if m.rail_support.is_some() {
+        o = [o[0] + support[0], o[1] + support[1]];
+        od = [od[0] + support[2], od[1] + support[3]];
+    }
     // Axle centre relative to the rail frame's origin, rotated by −δ.
     let c = [pose.y - o[0], pose.z + radius - o[1]];
     let (sd, cd) = delta.sin_cos();
@@ -390,7 +403,7 @@ impl Dynamics<'_> {
     }
 
     /// Stage 5: contact of every wheel.
-    fn contact(&mut self, t: f64) -> Result<(), RhsError> {
+    fn contact(&mut self, t: f64, x: &[f64]) -> Result<(), RhsError> {
         let m = self.model;
         // Set by `kinematics` for this evaluation.
         let (s, v) = (self.ws.track_position, self.ws.speed);
@@ -431,6 +444,7 @@ impl Dynamics<'_> {
                 s + mm.p0[0] + k.q[0],
                 v,
                 radius,
+                m.rail_state(wi, x),
                 &mut pose,
                 &mut vel,
             );
@@ -491,7 +505,26 @@ impl Dynamics<'_> {
         Ok(())
     }
 
-    /// Stage 6: accelerations in each member's frame.
+    /// Stage 6 (elastic rail support only): each rail mass under the reaction of its wheel's
+    /// contact force and its support's spring and damper, in the wheelset's track frame
+    /// (`docs/models/track.md`, "Elastic rail support").
+    fn rails(&mut self, x: &[f64], dx: &mut [f64]) {
+        let m = self.model;
+        let Some(sup) = m.rail_support else {
+            return;
+        };
+        for (wi, wheel) in m.wheels.iter().enumerate() {
+            let Some(i) = wheel.rail else { continue };
+            let [y, z, vy, vz] = m.rail_state(wi, x);
+            let f = self.ws.wheel_force[wi];
+            dx[i] = vy;
+            dx[i + 1] = vz;
+            dx[i + 2] = (-f[1] - sup.lateral_stiffness * y - sup.lateral_damping * vy) / sup.mass;
+            dx[i + 3] = (-f[2] - sup.vertical_stiffness * z - sup.vertical_damping * vz) / sup.mass;
+        }
+    }
+
+    /// Stage 7: accelerations in each member's frame.
     fn equations(&mut self, dx: &mut [f64]) {
         let m = self.model;
         for (i, mm) in m.members.iter().enumerate() {
@@ -562,7 +595,8 @@ impl OdeSystem for Dynamics<'_> {
         if let Some(ts) = ts {
             self.ws.cost.suspension += ts.elapsed().as_secs_f64();
         }
-        self.contact(t)?;
+        self.contact(t, x)?;
+        self.rails(x, dx);
         self.equations(dx);
         if let Some(t0) = t0 {
             self.ws.cost.rhs += t0.elapsed().as_secs_f64();

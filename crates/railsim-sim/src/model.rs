@@ -11,7 +11,7 @@ use railsim_contact::{
 };
 use railsim_elastic::Material;
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
-use railsim_track::{RailProfile, TrackModel};
+use railsim_track::{RailProfile, RailSupport, TrackModel};
 use railsim_vehicle::model::{Endpoint, ForceLaw, Member, WheelProfile};
 use railsim_vehicle::{DofKind, VehicleModel};
 
@@ -116,6 +116,9 @@ pub struct WheelModel {
     pub side: Side,
     /// Wheel profile on rail profile, evaluated with the scene's contact model.
     pub contact: WheelRailContact,
+    /// Index of the first of the four states of the rail under this wheel on an elastic rail
+    /// support (lateral and vertical displacement, then their rates); `None` on rigid rails.
+    pub rail: Option<usize>,
 }
 
 /// The immutable simulation model.
@@ -143,8 +146,12 @@ pub struct SimModel {
     pub n_pos: usize,
     /// Number of rate states (after the positions).
     pub n_rate: usize,
-    /// Number of internal states (last).
+    /// Number of internal states (after the rates).
     pub n_internal: usize,
+    /// The track's elastic rail support, `None` for rigid rails.
+    pub rail_support: Option<RailSupport>,
+    /// Number of rail states (last): four per wheel on an elastic rail support.
+    pub n_rail: usize,
     /// Names of the state variables, for messages.
     pub state_names: Vec<String>,
 }
@@ -221,6 +228,7 @@ impl SimModel {
                     wheelset_number: number[i],
                     side,
                     contact,
+                    rail: None,
                 });
             }
             members.push(MemberModel {
@@ -291,6 +299,20 @@ impl SimModel {
                 message: "a force element joins the track to the track".into(),
             });
         }
+        // Rail states: only on an elastic rail support.
+        let rail_support = scene.track.rail_support().copied();
+        let mut n_rail = 0;
+        if rail_support.is_some() {
+            let first = n_pos + n_rate + n_internal;
+            for w in wheels.iter_mut() {
+                w.rail = Some(first + n_rail);
+                n_rail += 4;
+                let name = format!("{} {} rail", members[w.member.0].name, w.side.name());
+                for q in ["y", "z", "d/dt y", "d/dt z"] {
+                    state_names.push(format!("{name} {q}"));
+                }
+            }
+        }
         Ok(SimModel {
             members,
             elements,
@@ -304,13 +326,24 @@ impl SimModel {
             n_pos,
             n_rate,
             n_internal,
+            rail_support,
+            n_rail,
             state_names,
         })
     }
 
     /// Length of the state vector.
     pub fn dim(&self) -> usize {
-        self.n_pos + self.n_rate + self.n_internal
+        self.n_pos + self.n_rate + self.n_internal + self.n_rail
+    }
+
+    /// The displacement (y, z) of the rail under wheel `wi` and its rate (vy, vz) in state `x`,
+    /// in the wheelset's track frame; zero on rigid rails.
+    pub fn rail_state(&self, wi: usize, x: &[f64]) -> [f64; 4] {
+        match self.wheels[wi].rail {
+            Some(i) => [x[i], x[i + 1], x[i + 2], x[i + 3]],
+            None => [0.0; 4],
+        }
     }
 
     /// \[m, m/s, m/s²\] distance run, speed and its time derivative at time `t`.

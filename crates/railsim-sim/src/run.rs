@@ -25,6 +25,9 @@ use crate::scene::{Scene, Topic};
 pub const DERAILMENT_LATERAL: f64 = 0.040;
 /// \[m\] wheelset lift above its nominal height beyond which a run stops as a derailment.
 pub const DERAILMENT_LIFT: f64 = 0.025;
+/// \[m\] displacement of a rail on an elastic support beyond which a run stops as unstable
+/// (tens of times a static deflection).
+pub const RAIL_DISPLACEMENT_LIMIT: f64 = 0.01;
 /// \[m\] body displacement from its nominal position beyond which a run stops as unstable.
 pub const BODY_DISPLACEMENT_LIMIT: f64 = 0.5;
 /// \[rad\] body rotation beyond which a run stops as unstable.
@@ -180,12 +183,75 @@ impl Simulation {
                 yaw,
             };
             let s_w = model.start + mm.p0[0];
-            let (z, roll, r_roll) =
-                settle(&model, first_wheel, s_w, pose, v0, radius, load, &mut ws).map_err(
-                    |message| SimError::Initial {
-                        message: format!("wheelset '{}': {message}", mm.name),
-                    },
-                )?;
+            let fail = |message: String| SimError::Initial {
+                message: format!("wheelset '{}': {message}", mm.name),
+            };
+            // On an elastic rail support the rails sink under the wheels' forces: settle, set
+            // each rail to the deflection of its wheel's static force, settle again, until the
+            // deflections agree to 1 nm.
+            let mut support = [[0.0; 4]; 2];
+            let (mut z, mut roll, mut r_roll);
+            let mut iterations = 0;
+            loop {
+                (z, roll, r_roll) = settle(
+                    &model,
+                    first_wheel,
+                    s_w,
+                    pose,
+                    v0,
+                    radius,
+                    load,
+                    support,
+                    &mut ws,
+                )
+                .map_err(fail)?;
+                let Some(sup) = model.rail_support else {
+                    break;
+                };
+                let settled = WheelsetPose { z, roll, ..pose };
+                let mut change = 0.0f64;
+                for k in 0..2 {
+                    let f = wheel_force(
+                        &model,
+                        first_wheel + k,
+                        s_w,
+                        settled,
+                        v0,
+                        radius,
+                        support[k],
+                        &mut ws,
+                    )
+                    .map_err(fail)?;
+                    let d = [
+                        -f[1] / sup.lateral_stiffness,
+                        -f[2] / sup.vertical_stiffness,
+                    ];
+                    change = change
+                        .max((d[0] - support[k][0]).abs())
+                        .max((d[1] - support[k][1]).abs());
+                    support[k][0] = d[0];
+                    support[k][1] = d[1];
+                }
+                iterations += 1;
+                if change < 1e-9 {
+                    break;
+                }
+                if iterations == 20 {
+                    return Err(fail(format!(
+                        "the rails' static deflection did not settle within 20 iterations (last change {:.3e} m)",
+                        change
+                    )));
+                }
+            }
+            for (k, wheel) in model.wheels[first_wheel..first_wheel + 2]
+                .iter()
+                .enumerate()
+            {
+                if let Some(i) = wheel.rail {
+                    x0[i] = support[k][0];
+                    x0[i + 1] = support[k][1];
+                }
+            }
             sink += z - (mm.p0[2] - radius) - stat.wheelset_displacement[w][2];
             let set = |x: &mut Vec<f64>, k: usize, val: f64| {
                 if let Some(ix) = mm.pos[k] {
@@ -503,6 +569,25 @@ fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
             }
         }
     }
+    for (wi, wheel) in model.wheels.iter().enumerate() {
+        let r = model.rail_state(wi, &s.x);
+        for (k, axis) in [(0, "lateral"), (1, "vertical")] {
+            if r[k].abs() > RAIL_DISPLACEMENT_LIMIT {
+                return Err(stop(
+                    &format!(
+                        "rail under wheelset '{}', {} wheel",
+                        model.members[wheel.member.0].name,
+                        wheel.side.name()
+                    ),
+                    format!(
+                        "{axis} displacement {:.1} mm exceeds {:.0} mm (unstable)",
+                        r[k] * 1e3,
+                        RAIL_DISPLACEMENT_LIMIT * 1e3
+                    ),
+                ));
+            }
+        }
+    }
     Ok(())
 }
 
@@ -519,6 +604,7 @@ fn settle(
     v: f64,
     radius: f64,
     load: f64,
+    support: [[f64; 4]; 2],
     ws: &mut Workspace,
 ) -> Result<(f64, f64, f64), String> {
     let vel = WheelsetVelocity {
@@ -539,7 +625,9 @@ fn settle(
             // Relative to this wheel's rail (moved by irregularities): find the rail-frame
             // height that carries the load, then the track-frame height that gives it.
             let (mut pr, mut vr) = (p, vel);
-            let rail = rail_frame(model, wheel.side, s, vel.vx, radius, &mut pr, &mut vr);
+            let rail = rail_frame(
+                model, wheel.side, s, vel.vx, radius, support[k], &mut pr, &mut vr,
+            );
             let sol = wheel
                 .contact
                 .evaluate_with_load(wheel.side, &pr, &vr, 0.5 * load, 1e-10, &mut ws.contact)
@@ -567,6 +655,40 @@ fn settle(
         "no equilibrium on the rails within 50 iterations (load {:.1} kN)",
         load * 1e-3
     ))
+}
+
+/// The contact force on wheel `wi` (track frame of its wheelset, \[N\]) at `pose`, rolling at
+/// speed `v`, with its rail displaced by `support`.
+#[allow(clippy::too_many_arguments)]
+fn wheel_force(
+    model: &SimModel,
+    wi: usize,
+    s: f64,
+    pose: WheelsetPose,
+    v: f64,
+    radius: f64,
+    support: [f64; 4],
+    ws: &mut Workspace,
+) -> Result<[f64; 3], String> {
+    let wheel = &model.wheels[wi];
+    let (mut pr, mut vr) = (
+        pose,
+        WheelsetVelocity {
+            vx: v.max(1e-3),
+            spin: v.max(1e-3) / radius,
+            ..Default::default()
+        },
+    );
+    let rail = rail_frame(
+        model, wheel.side, s, vr.vx, radius, support, &mut pr, &mut vr,
+    );
+    let sol = wheel
+        .contact
+        .evaluate(wheel.side, &pr, &vr, &mut ws.contact)
+        .map_err(|e| e.to_string())?;
+    let (sd, cd) = rail.roll.sin_cos();
+    let f = sol.force_track;
+    Ok([f[0], cd * f[1] - sd * f[2], sd * f[1] + cd * f[2]])
 }
 
 /// \[m\] length of the sliding mean of Y/Q (EN 14363's running-safety evaluation of the
@@ -610,6 +732,7 @@ impl LoopState {
                         y_over_q_left: 0.0,
                         y_over_q_right: 0.0,
                         angle_of_attack_rad: 0.0,
+                        rail_displacement_m: None,
                     })
                     .collect(),
                 lateral: vec![0.0; model.wheels.len() / 2],
@@ -646,6 +769,10 @@ impl LoopState {
                 y_over_q_left: yq(yl, ql),
                 y_over_q_right: yq(yr, qr),
                 angle_of_attack_rad: model.coord(m, 5, x),
+                rail_displacement_m: model.rail_support.map(|_| {
+                    let (l, r) = (model.rail_state(2 * i, x), model.rail_state(2 * i + 1, x));
+                    [l[0], l[1], r[0], r[1]]
+                }),
             };
             let y = model.wheelset_pose(m, x).y;
             smp.lateral[number as usize] = y;

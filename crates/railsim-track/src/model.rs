@@ -32,6 +32,24 @@ pub enum RailProfile {
     File(PathBuf),
 }
 
+/// Elastic rail support: under each wheel a rail mass that moves along the track with the
+/// wheelset, held by a spring and a damper in parallel laterally and vertically (the track's
+/// frame). SI units. Rigid rails when the track has none (`docs/models/track.md`, "Elastic rail
+/// support").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RailSupport {
+    /// \[kg\] rail mass under each wheel
+    pub mass: f64,
+    /// \[N/m\] lateral stiffness per wheel
+    pub lateral_stiffness: f64,
+    /// \[N s/m\] lateral damping per wheel
+    pub lateral_damping: f64,
+    /// \[N/m\] vertical stiffness per wheel
+    pub vertical_stiffness: f64,
+    /// \[N s/m\] vertical damping per wheel
+    pub vertical_damping: f64,
+}
+
 /// Options the caller adds to a compile (e.g. a vehicle's limit on curve radius).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CompileOptions {
@@ -58,6 +76,7 @@ pub struct TrackModel {
     rail_profiles: [RailProfile; 2],
     alignment: Alignment,
     irregularities: Option<IrregularitySeries>,
+    rail_support: Option<RailSupport>,
 }
 
 fn span_of<T>(v: &Spanned<T>) -> Range<usize> {
@@ -326,6 +345,11 @@ impl TrackModel {
             irregularities = check_irregularities(&mut sink, irr, &dir, track_length);
         }
 
+        let rail_support = spec
+            .rail_support
+            .as_ref()
+            .map(|r| check_rail_support(&mut sink, r.get_ref()));
+
         let name = spec
             .name
             .as_ref()
@@ -340,6 +364,7 @@ impl TrackModel {
             rail_profiles: profiles,
             alignment,
             irregularities,
+            rail_support,
         })
     }
 
@@ -404,6 +429,73 @@ impl TrackModel {
     /// The irregularity series, `None` on ideal track.
     pub fn irregularities(&self) -> Option<&IrregularitySeries> {
         self.irregularities.as_ref()
+    }
+
+    /// The elastic rail support, `None` for rigid rails.
+    pub fn rail_support(&self) -> Option<&RailSupport> {
+        self.rail_support.as_ref()
+    }
+}
+
+/// Check the `[rail_support]` table and convert it to SI (each value is reported on its own).
+fn check_rail_support(sink: &mut Sink, r: &crate::spec::RailSupportSpec) -> RailSupport {
+    let mut get = |v: &Spanned<f64>, key: &str, lo: f64, hi: f64, unit: f64, what: &str| {
+        let x = *v.get_ref();
+        if !(x.is_finite() && (lo..=hi).contains(&x)) {
+            sink.invalid(
+                &span_of(v),
+                &format!("rail_support.{key}"),
+                format!(
+                    "rail_support.{key} = {} must be between {} and {} ({what})",
+                    short_number(x),
+                    short_number(lo),
+                    short_number(hi)
+                ),
+            );
+        }
+        x * unit
+    };
+    RailSupport {
+        mass: get(
+            &r.mass_kg,
+            "mass_kg",
+            1.0,
+            10_000.0,
+            1.0,
+            "kg of rail per wheel",
+        ),
+        lateral_stiffness: get(
+            &r.lateral_stiffness_mn_m,
+            "lateral_stiffness_mn_m",
+            1.0,
+            10_000.0,
+            1e6,
+            "MN/m per wheel",
+        ),
+        lateral_damping: get(
+            &r.lateral_damping_kns_m,
+            "lateral_damping_kns_m",
+            0.0,
+            100_000.0,
+            1e3,
+            "kN s/m per wheel",
+        ),
+        vertical_stiffness: get(
+            &r.vertical_stiffness_mn_m,
+            "vertical_stiffness_mn_m",
+            1.0,
+            10_000.0,
+            1e6,
+            "MN/m per wheel",
+        ),
+        vertical_damping: get(
+            &r.vertical_damping_kns_m,
+            "vertical_damping_kns_m",
+            0.0,
+            100_000.0,
+            1e3,
+            "kN s/m per wheel",
+        ),
     }
 }
 

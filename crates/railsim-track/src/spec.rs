@@ -45,6 +45,9 @@ pub struct TrackSpec {
     /// Track irregularities; none when absent.
     #[serde(default)]
     pub irregularities: Option<Spanned<IrregularitySpec>>,
+    /// Elastic rail support (a moving rail mass under each wheel); rigid rails when absent.
+    #[serde(default)]
+    pub rail_support: Option<Spanned<RailSupportSpec>>,
     /// Line index of the text this spec was read from (empty when built in code).
     #[serde(skip)]
     pub source: SourceMap,
@@ -58,6 +61,23 @@ pub struct RailProfileSpec {
     pub left: Spanned<String>,
     /// Profile of the right rail.
     pub right: Spanned<String>,
+}
+
+/// The `[rail_support]` table: under each wheel a rail mass that moves with the wheelset, held
+/// laterally and vertically by a spring and a damper in parallel (`docs/models/track.md`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RailSupportSpec {
+    /// \[kg\] rail mass moving with each wheel.
+    pub mass_kg: Spanned<f64>,
+    /// \[MN/m\] lateral stiffness of the rail's support, per wheel.
+    pub lateral_stiffness_mn_m: Spanned<f64>,
+    /// \[kN s/m\] lateral damping of the rail's support, per wheel.
+    pub lateral_damping_kns_m: Spanned<f64>,
+    /// \[MN/m\] vertical stiffness of the rail's support, per wheel.
+    pub vertical_stiffness_mn_m: Spanned<f64>,
+    /// \[kN s/m\] vertical damping of the rail's support, per wheel.
+    pub vertical_damping_kns_m: Spanned<f64>,
 }
 
 /// One alignment segment. Which keys are required depends on `type`:

@@ -608,3 +608,58 @@ fn min_radius_from_file_and_options() {
         matches!(&e.errors[0], TrackError::Invalid { key, line: 6, col: 12, .. } if key == "radius_m")
     );
 }
+
+#[test]
+fn rail_support_is_read_in_si_and_absent_means_rigid() {
+    assert!(
+        track("[[segment]]\ntype = \"tangent\"\nlength_m = 10\n")
+            .rail_support()
+            .is_none()
+    );
+    let t = track(
+        "[rail_support]\nmass_kg = 150\nlateral_stiffness_mn_m = 40\nlateral_damping_kns_m = 200\n\
+         vertical_stiffness_mn_m = 100\nvertical_damping_kns_m = 0\n\
+         [[segment]]\ntype = \"tangent\"\nlength_m = 10\n",
+    );
+    let r = t.rail_support().expect("a rail support");
+    assert_eq!(r.mass, 150.0);
+    assert_eq!(r.lateral_stiffness, 40e6);
+    assert_eq!(r.lateral_damping, 200e3);
+    assert_eq!(r.vertical_stiffness, 100e6);
+    assert_eq!(r.vertical_damping, 0.0);
+}
+
+#[test]
+fn bad_rail_support_values_are_located() {
+    let msgs = errors(&format!(
+        "{HEAD}[rail_support]\nmass_kg = 0\nlateral_stiffness_mn_m = -40\nlateral_damping_kns_m = nan\n\
+         vertical_stiffness_mn_m = 100\nvertical_damping_kns_m = 100\n\
+         [[segment]]\ntype = \"tangent\"\nlength_m = 10\n"
+    ));
+    has(
+        &msgs,
+        "mem.toml:5:11:",
+        "rail_support.mass_kg = 0 must be between 1 and 10000",
+    );
+    has(
+        &msgs,
+        "mem.toml:6:26:",
+        "rail_support.lateral_stiffness_mn_m = -40",
+    );
+    has(
+        &msgs,
+        "mem.toml:7:25:",
+        "rail_support.lateral_damping_kns_m = NaN",
+    );
+    assert_eq!(msgs.len(), 3, "{msgs:#?}");
+    // A missing key and a misspelt one.
+    let msgs = errors(&format!(
+        "{HEAD}[rail_support]\nmass_kg = 150\nlateral_stiffnes_mn_m = 40\n\
+         [[segment]]\ntype = \"tangent\"\nlength_m = 10\n"
+    ));
+    assert!(
+        msgs.iter()
+            .any(|m| m.starts_with("mem.toml:") && m.contains("lateral_stiffnes_mn_m")),
+        "{msgs:#?}"
+    );
+}

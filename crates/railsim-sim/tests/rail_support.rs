@@ -1,0 +1,160 @@
+//! The elastic rail support (`docs/models/track.md`, "Elastic rail support"): its static
+//! deflection in the initial state, and the damping it brings to two-point flange contact.
+
+use std::path::{Path, PathBuf};
+
+use railsim_sim::{RunOptions, Sample, Scene, Simulation};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scene(text: &str) -> Scene {
+    Scene::from_toml_str(text, "test.toml", &root()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run(scene: &Scene) -> (Simulation, Vec<Sample>) {
+    let mut sim = Simulation::new(scene).unwrap();
+    let mut samples = Vec::new();
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    sim.run(scene, &opts, &mut |_, _| {}, &mut |s| {
+        samples.push(s.clone())
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
+    (sim, samples)
+}
+
+fn manchester_on(track: &str, duration_s: f64, extra: &str) -> Scene {
+    scene(&format!(
+        r#"
+        vehicle = "vehicles/manchester_vehicle1.toml"
+        track = "{track}"
+        speed_kmh = 40
+        duration_s = {duration_s}
+        freeze = ["carbody.x"]
+        {extra}
+        [integrator]
+        method = "dopri5"
+        rtol = 1e-4
+        atol = 1e-6
+        [log]
+        rate_hz = 100
+        "#
+    ))
+}
+
+#[test]
+fn an_elastic_rail_support_starts_in_static_equilibrium() {
+    let rigid = Simulation::new(&manchester_on("tracks/straight.toml", 1.0, "")).unwrap();
+    let s = manchester_on("tracks/straight_elastic.toml", 2.0, "");
+    let (sim, samples) = run(&s);
+    // Model only what the scene requires: four rail states per wheel, none on rigid rails.
+    let m = sim.model();
+    assert_eq!(m.dim(), rigid.model().dim() + 4 * m.wheels.len());
+    assert_eq!(rigid.model().n_rail, 0);
+    let sup = m.rail_support.expect("rail support");
+    let (mut worst_rail, mut worst_q, mut worst_drift) = (0.0f64, 0.0f64, 0.0f64);
+    let q0: Vec<[f64; 2]> = samples[0]
+        .wheelsets
+        .iter()
+        .map(|w| [w.q_left_n, w.q_right_n])
+        .collect();
+    for smp in &samples {
+        for (w, q0) in smp.wheelsets.iter().zip(&q0) {
+            let d = w.rail_displacement_m.expect("rail displacements logged");
+            // The rail's static balance: k d = −(force on the wheel); Y toward the field side.
+            let expected = [
+                w.y_left_n / sup.lateral_stiffness,
+                -w.q_left_n / sup.vertical_stiffness,
+                -w.y_right_n / sup.lateral_stiffness,
+                -w.q_right_n / sup.vertical_stiffness,
+            ];
+            for k in 0..4 {
+                worst_rail = worst_rail.max((d[k] - expected[k]).abs());
+            }
+            for (q, q0) in [w.q_left_n, w.q_right_n].into_iter().zip(q0) {
+                worst_q = worst_q.max((q / 54.5e3 - 1.0).abs());
+                worst_drift = worst_drift.max((q / q0 - 1.0).abs());
+            }
+        }
+    }
+    let d = samples[0].wheelsets[0].rail_displacement_m.unwrap();
+    eprintln!(
+        "rail deflection {:.4} mm down, {:.4} mm lateral; worst rail balance {:.2e} m, wheel load {:.3} %, drift {:.2e}",
+        -d[1] * 1e3,
+        d[0] * 1e3,
+        worst_rail,
+        worst_q * 100.0,
+        worst_drift
+    );
+    // 54.5 kN on 100 MN/m: 0.545 mm.
+    assert!((-d[1] - 54.5e3 / sup.vertical_stiffness).abs() < 0.01 * 0.545e-3);
+    // 0.2 µm: 0.04 % of the static deflection (the loads settle to 1e-10 of the load, the run
+    // follows them to the integrator tolerance).
+    assert!(
+        worst_rail < 2e-7,
+        "rail off its static balance by {worst_rail} m"
+    );
+    assert!(worst_q < 0.01, "wheel load off by {:.2} %", worst_q * 100.0);
+    assert!(worst_drift < 1e-3, "wheel loads drift by {worst_drift:.2e}");
+}
+
+/// Range of the right (outer) wheel's Q of the leading wheelset over `[t0, t1)`, and its maximum
+/// over the run.
+fn outer_q(samples: &[Sample], t0: f64, t1: f64) -> (f64, f64) {
+    let q = |s: &Sample| s.wheelsets[0].q_right_n;
+    let window: Vec<f64> = samples
+        .iter()
+        .filter(|s| s.t >= t0 && s.t < t1)
+        .map(q)
+        .collect();
+    let lo = window.iter().cloned().fold(f64::INFINITY, f64::min);
+    let hi = window.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    (hi - lo, samples.iter().map(q).fold(0.0, f64::max))
+}
+
+#[test]
+fn a_damped_rail_support_steadies_two_point_flange_contact() {
+    // Manchester vehicle 1 at 40 km/h into R = 150 m, friction 0.4: the leading wheelset runs
+    // in two-point contact (flange root and flange) on the outer rail. On a damped elastic
+    // support it settles; on the same support without damping the creep forces drive the wheel
+    // into bouncing on the rail (as on rigid rails, docs/validation.md §6).
+    let dir = "crates/railsim-sim/tests/tracks";
+    let friction = "[contact]\nfriction = 0.4";
+    let (_, damped) = run(&manchester_on(
+        &format!("{dir}/r150_short_entry_elastic.toml"),
+        5.0,
+        friction,
+    ));
+    let (range, max_q) = outer_q(&damped, 4.0, 5.0);
+    eprintln!(
+        "damped: outer Q range {:.1} kN in 4-5 s, max {:.1} kN",
+        range * 1e-3,
+        max_q * 1e-3
+    );
+    assert!(
+        range < 10e3,
+        "outer Q still swings by {:.1} kN",
+        range * 1e-3
+    );
+    assert!(max_q < 100e3, "outer Q reached {:.1} kN", max_q * 1e-3);
+    let (_, undamped) = run(&manchester_on(
+        &format!("{dir}/r150_short_entry_undamped.toml"),
+        5.0,
+        friction,
+    ));
+    let (range, max_q) = outer_q(&undamped, 3.0, 5.0);
+    eprintln!(
+        "undamped: outer Q range {:.1} kN in 3-5 s, max {:.1} kN",
+        range * 1e-3,
+        max_q * 1e-3
+    );
+    assert!(
+        range > 50e3,
+        "undamped: outer Q swings by only {:.1} kN",
+        range * 1e-3
+    );
+}
