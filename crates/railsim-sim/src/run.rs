@@ -183,66 +183,15 @@ impl Simulation {
                 yaw,
             };
             let s_w = model.start + mm.p0[0];
-            let fail = |message: String| SimError::Initial {
-                message: format!("wheelset '{}': {message}", mm.name),
-            };
-            // On an elastic rail support the rails sink under the wheels' forces: settle, set
-            // each rail to the deflection of its wheel's static force, settle again, until the
-            // deflections agree to 1 nm.
-            let mut support = [[0.0; 4]; 2];
-            let (mut z, mut roll, mut r_roll);
-            let mut iterations = 0;
-            loop {
-                (z, roll, r_roll) = settle(
-                    &model,
-                    first_wheel,
-                    s_w,
-                    pose,
-                    v0,
-                    radius,
-                    load,
-                    support,
-                    &mut ws,
-                )
-                .map_err(fail)?;
-                let Some(sup) = model.rail_support else {
-                    break;
-                };
-                let settled = WheelsetPose { z, roll, ..pose };
-                let mut change = 0.0f64;
-                for k in 0..2 {
-                    let f = wheel_force(
-                        &model,
-                        first_wheel + k,
-                        s_w,
-                        settled,
-                        v0,
-                        radius,
-                        support[k],
-                        &mut ws,
-                    )
-                    .map_err(fail)?;
-                    let d = [
-                        -f[1] / sup.lateral_stiffness,
-                        -f[2] / sup.vertical_stiffness,
-                    ];
-                    change = change
-                        .max((d[0] - support[k][0]).abs())
-                        .max((d[1] - support[k][1]).abs());
-                    support[k][0] = d[0];
-                    support[k][1] = d[1];
-                }
-                iterations += 1;
-                if change < 1e-9 {
-                    break;
-                }
-                if iterations == 20 {
-                    return Err(fail(format!(
-                        "the rails' static deflection did not settle within 20 iterations (last change {:.3e} m)",
-                        change
-                    )));
-                }
-            }
+            let SettledOnRails {
+                z,
+                roll,
+                rolling_radius: r_roll,
+                support,
+            } = settle_on_rails(&model, first_wheel, s_w, pose, v0, radius, load, &mut ws)
+                .map_err(|message| SimError::Initial {
+                    message: format!("wheelset '{}': {message}", mm.name),
+                })?;
             for (k, wheel) in model.wheels[first_wheel..first_wheel + 2]
                 .iter()
                 .enumerate()
@@ -607,11 +556,7 @@ fn settle(
     support: [[f64; 4]; 2],
     ws: &mut Workspace,
 ) -> Result<(f64, f64, f64), String> {
-    let vel = WheelsetVelocity {
-        vx: v.max(1e-3),
-        spin: v.max(1e-3) / radius,
-        ..Default::default()
-    };
+    let vel = rolling(v, radius);
     let mut p = pose;
     let mut spacing = 1.5;
     for _ in 0..50 {
@@ -622,7 +567,7 @@ fn settle(
             .iter()
             .enumerate()
         {
-            // Relative to this wheel's rail (moved by irregularities): find the rail-frame
+            // Relative to this wheel's rail (moved by irregularities and `support`): find the rail-frame
             // height that carries the load, then the track-frame height that gives it.
             let (mut pr, mut vr) = (p, vel);
             let rail = rail_frame(
@@ -657,6 +602,75 @@ fn settle(
     ))
 }
 
+/// A wheelset settled on its rails by [`settle_on_rails`].
+struct SettledOnRails {
+    /// \[m\] height of the wheelset (track frame)
+    z: f64,
+    /// \[rad\] roll
+    roll: f64,
+    /// \[m\] mean rolling radius of its two wheels
+    rolling_radius: f64,
+    /// each rail's (y, z, vy, vz) \[m, m/s\]: the static deflection, zero on rigid rails
+    support: [[f64; 4]; 2],
+}
+
+/// [`settle`] a wheelset on rails that may sink: on an elastic rail support each rail is set to
+/// the static deflection −F/k under its wheel's contact force and the wheelset settled again,
+/// until the deflections change by less than 1 nm.
+#[allow(clippy::too_many_arguments)]
+fn settle_on_rails(
+    model: &SimModel,
+    first_wheel: usize,
+    s: f64,
+    pose: WheelsetPose,
+    v: f64,
+    radius: f64,
+    load: f64,
+    ws: &mut Workspace,
+) -> Result<SettledOnRails, String> {
+    let mut support = [[0.0; 4]; 2];
+    for _ in 0..20 {
+        let (z, roll, rolling_radius) =
+            settle(model, first_wheel, s, pose, v, radius, load, support, ws)?;
+        let settled = SettledOnRails {
+            z,
+            roll,
+            rolling_radius,
+            support,
+        };
+        let Some(sup) = model.rail_support else {
+            return Ok(settled);
+        };
+        let at = WheelsetPose { z, roll, ..pose };
+        let mut change = 0.0f64;
+        for (k, rail) in support.iter_mut().enumerate() {
+            let f = wheel_force(model, first_wheel + k, s, at, v, radius, *rail, ws)?;
+            let d = [
+                -f[1] / sup.lateral_stiffness,
+                -f[2] / sup.vertical_stiffness,
+            ];
+            change = change
+                .max((d[0] - rail[0]).abs())
+                .max((d[1] - rail[1]).abs());
+            rail[0] = d[0];
+            rail[1] = d[1];
+        }
+        if change < 1e-9 {
+            return Ok(SettledOnRails { support, ..settled });
+        }
+    }
+    Err("the rails' static deflection did not settle within 20 iterations".into())
+}
+
+/// A wheelset at speed `v` rolling without slip on radius `radius` (speed floored at 1 mm/s).
+fn rolling(v: f64, radius: f64) -> WheelsetVelocity {
+    WheelsetVelocity {
+        vx: v.max(1e-3),
+        spin: v.max(1e-3) / radius,
+        ..Default::default()
+    }
+}
+
 /// The contact force on wheel `wi` (track frame of its wheelset, \[N\]) at `pose`, rolling at
 /// speed `v`, with its rail displaced by `support`.
 #[allow(clippy::too_many_arguments)]
@@ -671,14 +685,7 @@ fn wheel_force(
     ws: &mut Workspace,
 ) -> Result<[f64; 3], String> {
     let wheel = &model.wheels[wi];
-    let (mut pr, mut vr) = (
-        pose,
-        WheelsetVelocity {
-            vx: v.max(1e-3),
-            spin: v.max(1e-3) / radius,
-            ..Default::default()
-        },
-    );
+    let (mut pr, mut vr) = (pose, rolling(v, radius));
     let rail = rail_frame(
         model, wheel.side, s, vr.vx, radius, support, &mut pr, &mut vr,
     );
