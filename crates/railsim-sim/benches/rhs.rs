@@ -32,6 +32,13 @@ fn bench(c: &mut Criterion) {
                duration_s = 1"#,
         ),
         (
+            "manchester_ideal_elastic_rails",
+            r#"vehicle = "vehicles/manchester_vehicle1.toml"
+               track = "tracks/straight_elastic.toml"
+               speed_kmh = 198
+               duration_s = 1"#,
+        ),
+        (
             "manchester_irregular_lateral_only",
             r#"vehicle = "vehicles/manchester_vehicle1.toml"
                track = "tracks/straight_irregular.toml"
