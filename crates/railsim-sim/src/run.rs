@@ -188,10 +188,21 @@ impl Simulation {
                 roll,
                 rolling_radius: r_roll,
                 support,
-            } = settle_on_rails(&model, first_wheel, s_w, pose, v0, radius, load, &mut ws)
-                .map_err(|message| SimError::Initial {
-                    message: format!("wheelset '{}': {message}", mm.name),
-                })?;
+            } = settle_on_rails(
+                &model,
+                &SettleJob {
+                    first_wheel,
+                    s: s_w,
+                    pose,
+                    v: v0,
+                    radius,
+                    load,
+                },
+                &mut ws,
+            )
+            .map_err(|message| SimError::Initial {
+                message: format!("wheelset '{}': {message}", mm.name),
+            })?;
             for (k, wheel) in model.wheels[first_wheel..first_wheel + 2]
                 .iter()
                 .enumerate()
@@ -540,22 +551,42 @@ fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
     Ok(())
 }
 
-/// Settle a wheelset on its rails at the lateral position and yaw of `pose`: find the height
+/// A wheelset to settle on its rails.
+#[derive(Clone, Copy)]
+struct SettleJob {
+    /// index of its left wheel in `SimModel::wheels`
+    first_wheel: usize,
+    /// \[m\] its track position
+    s: f64,
+    /// its pose: the lateral position and yaw are kept, height and roll found
+    pose: WheelsetPose,
+    /// \[m/s\] speed
+    v: f64,
+    /// \[m\] nominal rolling radius
+    radius: f64,
+    /// \[N\] static load of the wheelset, carried half by each wheel
+    load: f64,
+}
+
+/// Settle a wheelset on its rails at the lateral position and yaw of `job.pose`: find the height
 /// and roll at which each wheel carries half of `load`; also returns the mean rolling radius. Each wheel's height comes from the
 /// contact crate's load control; the roll is corrected by the difference of the two heights over
 /// the wheel spacing until they agree to 1e-9 m (a fixed point: roll moves the contact points
 /// on the profiles only to second order).
 fn settle(
     model: &SimModel,
-    first_wheel: usize,
-    s: f64,
-    pose: WheelsetPose,
-    v: f64,
-    radius: f64,
-    load: f64,
+    job: &SettleJob,
     support: [[f64; 4]; 2],
     ws: &mut Workspace,
 ) -> Result<(f64, f64, f64), String> {
+    let &SettleJob {
+        first_wheel,
+        s,
+        pose,
+        v,
+        radius,
+        load,
+    } = job;
     let vel = rolling(v, radius);
     let mut p = pose;
     let mut spacing = 1.5;
@@ -617,21 +648,14 @@ struct SettledOnRails {
 /// [`settle`] a wheelset on rails that may sink: on an elastic rail support each rail is set to
 /// the static deflection −F/k under its wheel's contact force and the wheelset settled again,
 /// until the deflections change by less than 1 nm.
-#[allow(clippy::too_many_arguments)]
 fn settle_on_rails(
     model: &SimModel,
-    first_wheel: usize,
-    s: f64,
-    pose: WheelsetPose,
-    v: f64,
-    radius: f64,
-    load: f64,
+    job: &SettleJob,
     ws: &mut Workspace,
 ) -> Result<SettledOnRails, String> {
     let mut support = [[0.0; 4]; 2];
     for _ in 0..20 {
-        let (z, roll, rolling_radius) =
-            settle(model, first_wheel, s, pose, v, radius, load, support, ws)?;
+        let (z, roll, rolling_radius) = settle(model, job, support, ws)?;
         let settled = SettledOnRails {
             z,
             roll,
@@ -641,10 +665,20 @@ fn settle_on_rails(
         let Some(sup) = model.rail_support else {
             return Ok(settled);
         };
-        let at = WheelsetPose { z, roll, ..pose };
+        let at = WheelsetPose {
+            z,
+            roll,
+            ..job.pose
+        };
         let mut change = 0.0f64;
         for (k, rail) in support.iter_mut().enumerate() {
-            let f = wheel_force(model, first_wheel + k, s, at, v, radius, *rail, ws)?;
+            let f = wheel_force(
+                model,
+                job.first_wheel + k,
+                &SettleJob { pose: at, ..*job },
+                *rail,
+                ws,
+            )?;
             let d = [
                 -f[1] / sup.lateral_stiffness,
                 -f[2] / sup.vertical_stiffness,
@@ -671,23 +705,19 @@ fn rolling(v: f64, radius: f64) -> WheelsetVelocity {
     }
 }
 
-/// The contact force on wheel `wi` (track frame of its wheelset, \[N\]) at `pose`, rolling at
-/// speed `v`, with its rail displaced by `support`.
-#[allow(clippy::too_many_arguments)]
+/// The contact force on wheel `wi` (track frame of its wheelset, \[N\]) at `job.pose`, rolling at
+/// `job.v`, with its rail displaced by `support`.
 fn wheel_force(
     model: &SimModel,
     wi: usize,
-    s: f64,
-    pose: WheelsetPose,
-    v: f64,
-    radius: f64,
+    job: &SettleJob,
     support: [f64; 4],
     ws: &mut Workspace,
 ) -> Result<[f64; 3], String> {
     let wheel = &model.wheels[wi];
-    let (mut pr, mut vr) = (pose, rolling(v, radius));
+    let (mut pr, mut vr) = (job.pose, rolling(job.v, job.radius));
     let rail = rail_frame(
-        model, wheel.side, s, vr.vx, radius, support, &mut pr, &mut vr,
+        model, wheel.side, job.s, vr.vx, job.radius, support, &mut pr, &mut vr,
     );
     let sol = wheel
         .contact
