@@ -16,15 +16,7 @@ fn other(line: &Option<usize>, index: &usize) -> String {
     }
 }
 
-/// A number for a message: as Rust prints it when moderate, with an exponent when huge or tiny
-/// (`1e300`, not three hundred digits).
-pub fn short_number(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() || (1e-3..1e6).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
+pub use railsim_spec::short_number;
 
 /// Everything that can go wrong while reading, building or transforming a profile.
 ///
