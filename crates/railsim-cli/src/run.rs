@@ -111,7 +111,10 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
         Ok(summary) => summary,
         Err(e) => {
             let note = match e {
-                SimError::Stopped { .. } => stability_note(&scene.integrator),
+                SimError::Stopped { .. } => stability_note(
+                    &scene.integrator,
+                    scene.track.rail_support().map(|r| r.mass),
+                ),
                 _ => None,
             };
             let err = anyhow::Error::from(e).context("railsim run");
@@ -129,23 +132,35 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
 /// contact stiffness and the creep damping set (about 3-4 ms, docs/models/dynamics.md); the
 /// shipped RK4 scene runs at 2 ms.
 const EXPLICIT_STEP_NOTE: f64 = 2e-3;
+/// \[N/m\] normal stiffness of a wheel/rail contact at a static wheel load near 55 kN
+/// (Hertz: 1.5 N/δ with δ ≈ 55 µm), for the rail mode of an elastic rail support.
+const CONTACT_STIFFNESS: f64 = 1.5e9;
+/// RK4's stability limit on the imaginary axis, h ω ≤ 2√2.
+const RK4_IMAGINARY_LIMIT: f64 = 2.828;
 /// \[m\] absolute tolerances from this on are loose enough for the error control to let a
 /// numerical instability grow (the default is 1e-6).
 const LOOSE_ATOL: f64 = 1e-3;
 
 /// For a run that stopped (derailment, instability, a contact limit): a note when the
-/// integrator's settings can produce the same stop numerically, with how to tell.
-fn stability_note(method: &Method) -> Option<String> {
+/// integrator's settings can produce the same stop numerically, with how to tell. `rail_mass`
+/// \[kg\] is the rail mass of an elastic rail support: on the contact stiffness it has a mode
+/// that lowers the stability limit of fixed explicit steps to about 2√2 √(m / k).
+fn stability_note(method: &Method, rail_mass: Option<f64>) -> Option<String> {
+    let (limit, what) = match rail_mass {
+        Some(m) => (
+            EXPLICIT_STEP_NOTE.min(RK4_IMAGINARY_LIMIT * (m / CONTACT_STIFFNESS).sqrt()),
+            format!("the wheel/rail contact and the elastic rail support's {m} kg rail masses"),
+        ),
+        None => (EXPLICIT_STEP_NOTE, "the wheel/rail contact".to_owned()),
+    };
     match *method {
-        Method::Rk4 { h } | Method::ExplicitFixed { h, .. } if h > EXPLICIT_STEP_NOTE => {
-            Some(format!(
-                "the run used a fixed explicit step of {} ms; above about {} ms such a step can \
-                 exceed the stability limit set by the wheel/rail contact, and a numerical \
-                 instability stops a run the same way: rerun with a smaller step_s to tell",
-                h * 1e3,
-                EXPLICIT_STEP_NOTE * 1e3
-            ))
-        }
+        Method::Rk4 { h } | Method::ExplicitFixed { h, .. } if h > limit => Some(format!(
+            "the run used a fixed explicit step of {} ms; above about {:.2} ms such a step can \
+             exceed the stability limit set by {what}, and a numerical instability stops a run \
+             the same way: rerun with a smaller step_s to tell",
+            h * 1e3,
+            limit * 1e3
+        )),
         Method::DormandPrince { atol, .. } | Method::AdaptiveExplicit { atol, .. }
             if atol >= LOOSE_ATOL =>
         {

@@ -143,8 +143,37 @@ fn a_stop_with_a_long_fixed_step_notes_the_stability_limit() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("simulation stopped at t = "), "{err}");
     assert!(
-        err.contains("note: the run used a fixed explicit step of 5 ms")
+        err.contains("note: the run used a fixed explicit step of 5 ms; above about 2.00 ms")
             && err.contains("rerun with a smaller step_s"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// On an elastic rail support the rail masses on the contact stiffness lower the explicit
+/// stability limit: the default scene's RK4 step of 2 ms, stable on rigid rails, stops at
+/// once, and the note names the rail masses and the lower limit (0.89 ms for 150 kg).
+#[test]
+fn a_stop_on_an_elastic_rail_support_notes_its_lower_stability_limit() {
+    let dir = temp_dir("rk4-rails");
+    let track = std::fs::read_to_string(root().join("tracks/straight_elastic.toml")).unwrap();
+    std::fs::write(dir.join("track.toml"), track).unwrap();
+    let scene = dir.join("rk4.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "vehicle = \"{}\"\ntrack = \"track.toml\"\nspeed_kmh = 198\nduration_s = 0.1\n\
+             [integrator]\nmethod = \"rk4\"\nstep_s = 0.002\n",
+            root().join("vehicles/manchester_vehicle1.toml").display()
+        ),
+    )
+    .unwrap();
+    let (code, _, err) = railsim(&["run", scene.to_str().unwrap(), "--no-log", "--quiet"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("simulation stopped at t = "), "{err}");
+    assert!(
+        err.contains("fixed explicit step of 2 ms; above about 0.89 ms")
+            && err.contains("150 kg rail masses"),
         "{err}"
     );
     std::fs::remove_dir_all(&dir).ok();
