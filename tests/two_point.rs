@@ -36,7 +36,20 @@ fn standard_contact(model: ContactModelKind, step: f64) -> WheelRailContact {
 /// changing wells).
 #[test]
 fn two_point_flange_contact_is_continuous_in_the_lateral_position() {
-    let contact = standard_contact(ContactModelKind::Stripes, 1e-3);
+    assert_continuous_sweep(ContactModelKind::Stripes);
+}
+
+/// The same sweep with the half-space model, whose zones are cut into wells as STRIPES' are
+/// (docs/models/contact.md §4.1): before, it solved the flange-root/flank run in one plane at its
+/// deepest pair, and its lateral force jumped from 41.5 to 144 kN between y = −6.612 and −6.620 mm
+/// where the deepest pair changed wells.
+#[test]
+fn half_space_two_point_contact_is_continuous_in_the_lateral_position() {
+    assert_continuous_sweep(ContactModelKind::Halfspace);
+}
+
+fn assert_continuous_sweep(model: ContactModelKind) {
+    let contact = standard_contact(model, 1e-3);
     let vel = WheelsetVelocity {
         vx: 11.11,
         spin: 11.11 / 0.46,
@@ -73,8 +86,9 @@ fn two_point_flange_contact_is_continuous_in_the_lateral_position() {
         }
     }
     eprintln!(
-        "largest step against three times its neighbours: {worst:.2} at y = {:.3} mm; {two} of 81 \
-         poses with two patches",
+        "{}: largest step against three times its neighbours: {worst:.2} at y = {:.3} mm; {two} of \
+         81 poses with two patches",
+        model.name(),
         -6.50 - at as f64 * 2e-3
     );
     assert!(two > 40, "two-point contact expected, {two} poses");

@@ -103,9 +103,10 @@ pub struct ContactOptions {
     pub model: ContactModelKind,
     /// Travelling (geometry) options.
     pub travel: TravelOptions,
-    /// \[rad\] `halfspace`: a penetrated run is split into two patches only if the contact angles
-    /// of its two penetration maxima differ by more than this (STRIPES and the Hertz models cut
-    /// runs into wells instead, `crate::wells`)
+    /// \[rad\] the Hertz models' travelled runs (`HertzSearch::Travel`): a penetrated run is split
+    /// into two zones only if the contact angles of its two penetration maxima differ by more
+    /// than this; each zone is then cut into wells (`crate::wells`). STRIPES and `halfspace` cut
+    /// runs into coupled wells instead.
     pub split_angle: f64,
     /// \[-\] ... and the penetration between them falls below this fraction of the smaller maximum
     pub split_depth_ratio: f64,
@@ -640,10 +641,14 @@ impl WheelRailContact {
     }
 
     /// The zones of travelled pairs: STRIPES solves every well of a run as a patch with its
-    /// share (`crate::wells`, docs/models/contact.md §4.1), the half-space model the runs as
-    /// `find_zones` splits them; the Hertz models cut these into wells afterwards.
+    /// share (`crate::wells`, docs/models/contact.md §4.1) and the half-space model each such
+    /// patch's basins whole, in one plane (§4); for the Hertz models the runs as `find_zones`
+    /// splits them, cut into wells afterwards.
     fn zones(&self, pairs: &[IsoPair], zones: &mut Vec<Zone>, wells: &mut WellScratch) {
-        if self.opts.model == ContactModelKind::Stripes {
+        if matches!(
+            self.opts.model,
+            ContactModelKind::Stripes | ContactModelKind::Halfspace
+        ) {
             split_into_wells(pairs, zones, wells, true);
         } else {
             find_zones(
