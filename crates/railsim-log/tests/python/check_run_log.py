@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """Independent check of a log written by `railsim run`, with the Python `mcap` package.
 
-Usage: check_run_log.py LOG.mcap
+Usage: check_run_log.py LOG.mcap [--rails]
 
 Checks that the log has a summary whose per-channel message counts equal the messages actually
 read, that the four kinds of topics are there (/bodies/*, /contact/*, /wheelsets/*, /tf), that
 every message decodes as JSON with its own time equal to the log time, that no number is NaN or
 infinite, and that the `scene` and `railsim_result` metadata (with the state digest) are present.
-Exits 1 on any mismatch.
+With --rails (a run on an elastic rail support, logging bodies, contact and wheelsets): /tf is
+not required, and every /wheelsets message must carry `rail_displacement_m`, four finite numbers
+with both rails below their unloaded height. Exits 1 on any mismatch.
 """
 
 import json
@@ -28,7 +30,8 @@ def finite(v):
 
 
 def main():
-    if len(sys.argv) != 2:
+    rails = sys.argv[2:] == ["--rails"]
+    if len(sys.argv) != 2 and not rails:
         print(__doc__, file=sys.stderr)
         return 2
     failures = []
@@ -44,6 +47,10 @@ def main():
             body = json.loads(message.data)
             if not finite(body):
                 failures.append(f"{channel.topic}: non-finite number at {message.log_time}")
+            if rails and channel.topic.startswith("/wheelsets/"):
+                d = body.get("rail_displacement_m")
+                if not (isinstance(d, list) and len(d) == 4 and d[1] < 0 and d[3] < 0):
+                    failures.append(f"{channel.topic}: rail_displacement_m = {d!r}")
             if schema.name == "foxglove.FrameTransform":
                 st = body["timestamp"]
                 ok = st["sec"] * 1_000_000_000 + st["nsec"] == message.log_time
@@ -56,7 +63,7 @@ def main():
         for topic, n in stated.items():
             if counts.get(topic, 0) != n:
                 failures.append(f"{topic}: summary says {n} messages, read {counts.get(topic, 0)}")
-        for prefix in ("/bodies/", "/contact/", "/wheelsets/", "/tf"):
+        for prefix in ("/bodies/", "/contact/", "/wheelsets/") + (() if rails else ("/tf",)):
             if not any(t.startswith(prefix) for t in counts):
                 failures.append(f"no topic {prefix}*")
         f.seek(0)
