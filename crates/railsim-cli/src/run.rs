@@ -198,6 +198,18 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         s.max_q.1,
         side(s.max_q.2)
     );
+    if let Some([lat, vert]) = s.max_rail {
+        outln!(
+            "elastic rail support: max rail displacement {:.3} mm lateral (wheelset {}, {} wheel), \
+             {:.3} mm vertical (wheelset {}, {} wheel)",
+            lat.0 * 1e3,
+            lat.1,
+            side(lat.2),
+            vert.0 * 1e3,
+            vert.1,
+            side(vert.2)
+        );
+    }
     let st = &s.stats;
     outln!(
         "integrator: {} steps, {} rejected, {} right-hand sides, {} Jacobians, {} LU",

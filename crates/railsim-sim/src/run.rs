@@ -83,6 +83,9 @@ pub struct RunSummary {
     pub max_y_over_q_2m: Option<(f64, u32, Side)>,
     /// \[N\] largest Q of any wheel, with its wheelset and side.
     pub max_q: (f64, u32, Side),
+    /// \[m\] on an elastic rail support: the largest lateral and vertical displacement (absolute
+    /// values) of any rail at a sample, each with the wheelset and side of its wheel.
+    pub max_rail: Option<[(f64, u32, Side); 2]>,
     /// Integrator statistics.
     pub stats: Stats,
     /// Samples taken (at the log rate).
@@ -401,6 +404,7 @@ impl Simulation {
             max_y_over_q: state.max_yq,
             max_y_over_q_2m: state.max_yq_2m,
             max_q: state.max_q,
+            max_rail: state.max_rail,
             stats,
             samples: next as u64,
             digest: state.digest,
@@ -738,6 +742,7 @@ struct LoopState {
     max_yq: Option<(f64, u32, Side)>,
     max_yq_2m: Option<(f64, u32, Side)>,
     max_q: (f64, u32, Side),
+    max_rail: Option<[(f64, u32, Side); 2]>,
     /// Per wheel (2 × wheelset number + side): (distance, Y/Q) samples of the last 2 m and their sum.
     window: Vec<(std::collections::VecDeque<(f64, f64)>, f64)>,
     digest: u64,
@@ -752,6 +757,9 @@ impl LoopState {
             max_yq: None,
             max_yq_2m: None,
             max_q: (0.0, 0, Side::Left),
+            max_rail: model
+                .rail_support
+                .map(|_| [(0.0, 0, Side::Left), (0.0, 0, Side::Left)]),
             window: vec![(std::collections::VecDeque::new(), 0.0); model.wheels.len()],
             digest: 0xcbf2_9ce4_8422_2325,
             sample: Sample {
@@ -844,6 +852,14 @@ impl LoopState {
                 }
                 if q > self.max_q.0 {
                     self.max_q = (q, number, side);
+                }
+                if let (Some(max), Some(d)) = (&mut self.max_rail, msg.rail_displacement_m) {
+                    for (j, m) in max.iter_mut().enumerate() {
+                        let v = d[2 * k + j].abs();
+                        if v > m.0 {
+                            *m = (v, number, side);
+                        }
+                    }
                 }
             }
             smp.wheelsets[number as usize] = msg;

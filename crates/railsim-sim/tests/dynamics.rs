@@ -142,6 +142,10 @@ fn manchester_vehicle_rests_in_static_equilibrium_without_drift() {
     assert!((z10 - z5).abs() < 1e-5, "carbody drifts {} m", z10 - z5);
     assert!(summary.max_lateral.iter().all(|&y| y < 1e-5));
     assert!((summary.t_end - 10.0).abs() < 1e-9);
+    assert!(
+        summary.max_rail.is_none(),
+        "rigid rails report no rail displacement"
+    );
 }
 
 /// Wavelength of the kinematic oscillation of a free wheelset (first two full periods) and its

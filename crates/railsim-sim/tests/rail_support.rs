@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use railsim_sim::{RunOptions, Sample, Scene, Simulation};
+use railsim_sim::{RunOptions, RunSummary, Sample, Scene, Simulation};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -13,18 +13,19 @@ fn scene(text: &str) -> Scene {
     Scene::from_toml_str(text, "test.toml", &root()).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn run(scene: &Scene) -> (Simulation, Vec<Sample>) {
+fn run(scene: &Scene) -> (Simulation, Vec<Sample>, RunSummary) {
     let mut sim = Simulation::new(scene).unwrap();
     let mut samples = Vec::new();
     let opts = RunOptions {
         no_log: true,
         ..Default::default()
     };
-    sim.run(scene, &opts, &mut |_, _| {}, &mut |s| {
-        samples.push(s.clone())
-    })
-    .unwrap_or_else(|e| panic!("{e}"));
-    (sim, samples)
+    let summary = sim
+        .run(scene, &opts, &mut |_, _| {}, &mut |s| {
+            samples.push(s.clone())
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    (sim, samples, summary)
 }
 
 fn manchester_on(track: &str, duration_s: f64, extra: &str) -> Scene {
@@ -50,7 +51,7 @@ fn manchester_on(track: &str, duration_s: f64, extra: &str) -> Scene {
 fn an_elastic_rail_support_starts_in_static_equilibrium() {
     let rigid = Simulation::new(&manchester_on("tracks/straight.toml", 1.0, "")).unwrap();
     let s = manchester_on("tracks/straight_elastic.toml", 2.0, "");
-    let (sim, samples) = run(&s);
+    let (sim, samples, summary) = run(&s);
     // Model only what the scene requires: four rail states per wheel, none on rigid rails.
     let m = sim.model();
     assert_eq!(m.dim(), rigid.model().dim() + 4 * m.wheels.len());
@@ -100,6 +101,21 @@ fn an_elastic_rail_support_starts_in_static_equilibrium() {
     );
     assert!(worst_q < 0.01, "wheel load off by {:.2} %", worst_q * 100.0);
     assert!(worst_drift < 1e-3, "wheel loads drift by {worst_drift:.2e}");
+    // The run summary's largest rail displacements are those of the samples.
+    let [lat, vert] = summary.max_rail.expect("rail maxima in the summary");
+    let max_of = |k: [usize; 2]| {
+        samples
+            .iter()
+            .flat_map(|s| &s.wheelsets)
+            .flat_map(|w| {
+                let d = w.rail_displacement_m.unwrap();
+                [d[k[0]].abs(), d[k[1]].abs()]
+            })
+            .fold(0.0, f64::max)
+    };
+    assert_eq!(lat.0, max_of([0, 2]));
+    assert_eq!(vert.0, max_of([1, 3]));
+    assert!((vert.0 - 54.5e3 / sup.vertical_stiffness).abs() < 0.01 * 0.545e-3);
 }
 
 /// Manchester vehicle 1 at 40 km/h and friction 0.4 for 5 s on the test track
@@ -107,7 +123,7 @@ fn an_elastic_rail_support_starts_in_static_equilibrium() {
 /// `t0` to the end, and its maximum over the run.
 fn outer_q(support: &str, t0: f64) -> (f64, f64) {
     let track = format!("crates/railsim-sim/tests/tracks/r150_short_entry_{support}.toml");
-    let (_, samples) = run(&manchester_on(&track, 5.0, "[contact]\nfriction = 0.4"));
+    let (_, samples, _) = run(&manchester_on(&track, 5.0, "[contact]\nfriction = 0.4"));
     let q = |s: &Sample| s.wheelsets[0].q_right_n;
     let window: Vec<f64> = samples.iter().filter(|s| s.t >= t0).map(q).collect();
     let lo = window.iter().cloned().fold(f64::INFINITY, f64::min);
