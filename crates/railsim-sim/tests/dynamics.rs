@@ -4,34 +4,11 @@
 //! Every check runs the whole simulator (scene → model → initial state → integrator steps with
 //! the contact crate called online at every right-hand side).
 
-use std::path::{Path, PathBuf};
-
 use railsim_contact::{Side, WheelsetPose, WheelsetVelocity};
-use railsim_sim::{RunOptions, RunSummary, Sample, Scene, Simulation};
+use railsim_sim::{RunOptions, Sample, Simulation};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn scene(text: &str) -> Scene {
-    Scene::from_toml_str(text, "test.toml", &root()).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Run a scene without a log; return the samples and the summary.
-fn run(scene: &Scene) -> (Simulation, Vec<Sample>, RunSummary) {
-    let mut sim = Simulation::new(scene).unwrap();
-    let mut samples = Vec::new();
-    let opts = RunOptions {
-        no_log: true,
-        ..Default::default()
-    };
-    let summary = sim
-        .run(scene, &opts, &mut |_, _| {}, &mut |s| {
-            samples.push(s.clone())
-        })
-        .unwrap_or_else(|e| panic!("{e}"));
-    (sim, samples, summary)
-}
+mod common;
+use common::{root, run, scene};
 
 /// Rolling radius and half the distance between the contact points of the centred wheelset
 /// under half its weight per wheel (the r0 and b of the linear formulas, measured on the actual

@@ -1,32 +1,10 @@
 //! The elastic rail support (`docs/models/track.md`, "Elastic rail support"): its static
 //! deflection in the initial state, and the damping it brings to two-point flange contact.
 
-use std::path::{Path, PathBuf};
+use railsim_sim::{Sample, Scene, Simulation};
 
-use railsim_sim::{RunOptions, RunSummary, Sample, Scene, Simulation};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn scene(text: &str) -> Scene {
-    Scene::from_toml_str(text, "test.toml", &root()).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn run(scene: &Scene) -> (Simulation, Vec<Sample>, RunSummary) {
-    let mut sim = Simulation::new(scene).unwrap();
-    let mut samples = Vec::new();
-    let opts = RunOptions {
-        no_log: true,
-        ..Default::default()
-    };
-    let summary = sim
-        .run(scene, &opts, &mut |_, _| {}, &mut |s| {
-            samples.push(s.clone())
-        })
-        .unwrap_or_else(|e| panic!("{e}"));
-    (sim, samples, summary)
-}
+mod common;
+use common::{run, scene};
 
 fn manchester_on(track: &str, duration_s: f64, extra: &str) -> Scene {
     scene(&format!(
