@@ -138,14 +138,41 @@ impl Workspace {
     }
 }
 
-/// Where one rail is, moved by the track irregularities: origin in the y–z plane of the
-/// wheelset's track frame and roll about its x-axis.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+/// Where one rail is, moved by the track irregularities and an elastic support's displacement:
+/// origin in the y–z plane of the wheelset's track frame and roll about its x-axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RailFrame {
     /// \[m\] (y, z) of the rail frame's origin.
     pub origin: [f64; 2],
     /// \[rad\] roll of the rail frame (cross level over the cant base).
     pub roll: f64,
+    /// sin and cos of `roll`
+    sin_cos: (f64, f64),
+}
+
+impl Default for RailFrame {
+    /// The track frame itself (rigid rails without irregularities).
+    fn default() -> RailFrame {
+        RailFrame {
+            origin: [0.0; 2],
+            roll: 0.0,
+            sin_cos: (0.0, 1.0),
+        }
+    }
+}
+
+impl RailFrame {
+    /// A vector given in the rail frame's axes (x, y, z), in the wheelset's track frame's axes.
+    #[inline]
+    pub fn to_track(&self, v: [f64; 3]) -> [f64; 3] {
+        let (sd, cd) = self.sin_cos;
+        [v[0], cd * v[1] - sd * v[2], sd * v[1] + cd * v[2]]
+    }
+
+    /// sin and cos of the roll.
+    pub fn sin_cos(&self) -> (f64, f64) {
+        self.sin_cos
+    }
 }
 
 /// Express a wheelset's contact pose and velocities relative to the rail of `side` at track
@@ -205,6 +232,7 @@ pub fn rail_frame(
     RailFrame {
         origin: o,
         roll: delta,
+        sin_cos: (sd, cd),
     }
 }
 
@@ -472,12 +500,8 @@ impl Dynamics<'_> {
                 self.ws.failure = Some((body, quantity));
                 return Err(RhsError(message));
             }
-            let RailFrame {
-                origin: o,
-                roll: delta,
-            } = rail;
-            let (sd, cd) = delta.sin_cos();
-            let back = |p: [f64; 3]| [p[0], cd * p[1] - sd * p[2], sd * p[1] + cd * p[2]];
+            let o = rail.origin;
+            let back = |p: [f64; 3]| rail.to_track(p);
             let mut total = [0.0; 3];
             let mut force_g = [0.0; 3];
             let mut moment_g = [0.0; 3];

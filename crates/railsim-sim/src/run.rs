@@ -186,11 +186,12 @@ impl Simulation {
                 yaw,
             };
             let s_w = model.start + mm.p0[0];
-            let SettledOnRails {
+            let Settled {
                 z,
                 roll,
                 rolling_radius: r_roll,
                 support,
+                ..
             } = settle_on_rails(
                 &model,
                 &SettleJob {
@@ -572,8 +573,9 @@ struct SettleJob {
     load: f64,
 }
 
-/// Settle a wheelset on its rails at the lateral position and yaw of `job.pose`: find the height
-/// and roll at which each wheel carries half of `load`; also returns the mean rolling radius. Each wheel's height comes from the
+/// Settle a wheelset on its rails (each displaced by `support`) at the lateral position and yaw
+/// of `job.pose`: find the height and roll at which each wheel carries half of `load`; also
+/// returns the mean rolling radius and each wheel's contact force. Each wheel's height comes from the
 /// contact crate's load control; the roll is corrected by the difference of the two heights over
 /// the wheel spacing until they agree to 1e-9 m (a fixed point: roll moves the contact points
 /// on the profiles only to second order).
@@ -582,7 +584,7 @@ fn settle(
     job: &SettleJob,
     support: [[f64; 4]; 2],
     ws: &mut Workspace,
-) -> Result<(f64, f64, f64), String> {
+) -> Result<Settled, String> {
     let &SettleJob {
         first_wheel,
         s,
@@ -591,13 +593,18 @@ fn settle(
         radius,
         load,
     } = job;
-    let vel = rolling(v, radius);
+    let vel = WheelsetVelocity {
+        vx: v.max(1e-3),
+        spin: v.max(1e-3) / radius,
+        ..Default::default()
+    };
     let mut p = pose;
     let mut spacing = 1.5;
     for _ in 0..50 {
         let mut z = [0.0; 2];
         let mut y_contact = [0.0; 2];
         let mut r_roll = 0.0;
+        let mut force = [[0.0; 3]; 2];
         for (k, wheel) in model.wheels[first_wheel..first_wheel + 2]
             .iter()
             .enumerate()
@@ -612,7 +619,8 @@ fn settle(
                 .contact
                 .evaluate_with_load(wheel.side, &pr, &vr, 0.5 * load, 1e-10, &mut ws.contact)
                 .map_err(|e| e.to_string())?;
-            let (sd, cd) = rail.roll.sin_cos();
+            let (sd, cd) = rail.sin_cos();
+            force[k] = rail.to_track(sol.force_track);
             z[k] = (sol.z + radius + sd * (p.y - rail.origin[0])) / cd + rail.origin[1] - radius;
             y_contact[k] = ws.contact.patches.first().map_or(0.0, |q| q.point_track[1]);
             r_roll += 0.5
@@ -627,7 +635,13 @@ fn settle(
         let dz = z[0] - z[1];
         p.z = 0.5 * (z[0] + z[1]);
         if dz.abs() < 1e-9 {
-            return Ok((p.z, p.roll, r_roll));
+            return Ok(Settled {
+                z: p.z,
+                roll: p.roll,
+                rolling_radius: r_roll,
+                force,
+                support,
+            });
         }
         p.roll += dz / spacing;
     }
@@ -637,14 +651,16 @@ fn settle(
     ))
 }
 
-/// A wheelset settled on its rails by [`settle_on_rails`].
-struct SettledOnRails {
+/// A wheelset settled on its rails by [`settle`] or [`settle_on_rails`].
+struct Settled {
     /// \[m\] height of the wheelset (track frame)
     z: f64,
     /// \[rad\] roll
     roll: f64,
     /// \[m\] mean rolling radius of its two wheels
     rolling_radius: f64,
+    /// \[N\] each wheel's contact force (wheelset's track frame) at its settled height
+    force: [[f64; 3]; 2],
     /// each rail's (y, z, vy, vz) \[m, m/s\]: the static deflection, zero on rigid rails
     support: [[f64; 4]; 2],
 }
@@ -656,33 +672,15 @@ fn settle_on_rails(
     model: &SimModel,
     job: &SettleJob,
     ws: &mut Workspace,
-) -> Result<SettledOnRails, String> {
+) -> Result<Settled, String> {
     let mut support = [[0.0; 4]; 2];
     for _ in 0..20 {
-        let (z, roll, rolling_radius) = settle(model, job, support, ws)?;
-        let settled = SettledOnRails {
-            z,
-            roll,
-            rolling_radius,
-            support,
-        };
+        let settled = settle(model, job, support, ws)?;
         let Some(sup) = model.rail_support else {
             return Ok(settled);
         };
-        let at = WheelsetPose {
-            z,
-            roll,
-            ..job.pose
-        };
         let mut change = 0.0f64;
-        for (k, rail) in support.iter_mut().enumerate() {
-            let f = wheel_force(
-                model,
-                job.first_wheel + k,
-                &SettleJob { pose: at, ..*job },
-                *rail,
-                ws,
-            )?;
+        for (rail, f) in support.iter_mut().zip(settled.force) {
             let d = [
                 -f[1] / sup.lateral_stiffness,
                 -f[2] / sup.vertical_stiffness,
@@ -694,42 +692,10 @@ fn settle_on_rails(
             rail[1] = d[1];
         }
         if change < 1e-9 {
-            return Ok(SettledOnRails { support, ..settled });
+            return Ok(Settled { support, ..settled });
         }
     }
     Err("the rails' static deflection did not settle within 20 iterations".into())
-}
-
-/// A wheelset at speed `v` rolling without slip on radius `radius` (speed floored at 1 mm/s).
-fn rolling(v: f64, radius: f64) -> WheelsetVelocity {
-    WheelsetVelocity {
-        vx: v.max(1e-3),
-        spin: v.max(1e-3) / radius,
-        ..Default::default()
-    }
-}
-
-/// The contact force on wheel `wi` (track frame of its wheelset, \[N\]) at `job.pose`, rolling at
-/// `job.v`, with its rail displaced by `support`.
-fn wheel_force(
-    model: &SimModel,
-    wi: usize,
-    job: &SettleJob,
-    support: [f64; 4],
-    ws: &mut Workspace,
-) -> Result<[f64; 3], String> {
-    let wheel = &model.wheels[wi];
-    let (mut pr, mut vr) = (job.pose, rolling(job.v, job.radius));
-    let rail = rail_frame(
-        model, wheel.side, job.s, vr.vx, job.radius, support, &mut pr, &mut vr,
-    );
-    let sol = wheel
-        .contact
-        .evaluate(wheel.side, &pr, &vr, &mut ws.contact)
-        .map_err(|e| e.to_string())?;
-    let (sd, cd) = rail.roll.sin_cos();
-    let f = sol.force_track;
-    Ok([f[0], cd * f[1] - sd * f[2], sd * f[1] + cd * f[2]])
 }
 
 /// \[m\] length of the sliding mean of Y/Q (EN 14363's running-safety evaluation of the
