@@ -32,6 +32,7 @@ macro_rules! outln {
     }};
 }
 
+mod critical;
 mod replay;
 mod run;
 
@@ -56,6 +57,10 @@ enum Command {
     /// Read a log: list its channels, scene and statistics (no options), export topics and a
     /// time range to CSV (--csv), or plot signals against time to PNG (--plot ... --png).
     Replay(replay::ReplayArgs),
+    /// Hunting (critical) speed of a vehicle on straight track: ramp the speed down from a
+    /// hunting limit cycle (default; the nonlinear critical speed), or bisect on the growth rate
+    /// of a small disturbance at constant speed (--method bisect).
+    CriticalSpeed(critical::CriticalArgs),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -223,6 +228,7 @@ fn main() -> ExitCode {
         Command::Contact(a) => run_contact(&a),
         Command::Conicity(a) => run_conicity(&a),
         Command::Replay(a) => replay::run_replay(&a),
+        Command::CriticalSpeed(a) => critical::run_critical(&a),
     };
     match result {
         Ok(code) => code,

@@ -104,3 +104,61 @@ fn an_error_prints_its_cause_once() {
     assert!(line.contains("creating the log"), "{err}");
     assert_eq!(line.matches("os error").count(), 1, "{line}");
 }
+
+/// `railsim critical-speed`: a short ramp that stays above the critical speed writes its half
+/// cycles and exits 1 saying the vehicle still hunts at the end; bad settings exit 2 naming the
+/// option. (The study's physics: `railsim-sim/tests/stability.rs`.)
+#[test]
+fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_settings() {
+    let dir = common::temp_dir("cli", "critical");
+    let csv = dir.join("branch.csv");
+    let (code, out, err) = railsim(&[
+        "critical-speed",
+        "--from-kmh",
+        "400",
+        "--to-kmh",
+        "390",
+        "--settle-m",
+        "150",
+        "--ramp-m",
+        "300",
+        "--quiet",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{out}\n{err}");
+    assert!(out.contains("still hunting"), "{out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("wheelset,t_s,speed_kmh,amplitude_mm"));
+    // four wheelsets hunting at about 5 Hz by the end of 4 s (the rear bogie's start at rest
+    // and grow into it): many half waves each, the last four all above 1 mm
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    for n in 0..4 {
+        let w: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] == n as f64).collect();
+        assert!(w.len() >= 20, "wheelset {n}: {} half waves", w.len());
+        assert!(
+            w[w.len() - 4..].iter().all(|r| r[3] > 1.0 && r[2] < 400.0),
+            "wheelset {n}: {:?}",
+            &w[w.len() - 4..]
+        );
+    }
+    for (args, want) in [
+        (
+            vec!["--to-kmh", "500"],
+            "--to-kmh (500) must be below --from-kmh",
+        ),
+        (vec!["--ramp-m=-1"], "--ramp-m: expected a positive number"),
+        (vec!["--offset-mm", "0"], "--offset-mm: expected a non-zero"),
+        (vec!["--offset-mm", "30"], "lateral offset must lie in"),
+    ] {
+        let mut a = vec!["critical-speed", "--quiet"];
+        a.extend(args);
+        let (code, _, err) = railsim(&a);
+        assert_eq!(code, 2, "{a:?}: {err}");
+        assert!(err.contains(want), "{a:?}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

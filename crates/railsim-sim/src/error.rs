@@ -56,6 +56,12 @@ pub enum SimError {
         /// The log that was kept, if any.
         log: Option<std::path::PathBuf>,
     },
+    /// A stability study (`crate::stability`) was set up wrongly or found nothing to measure.
+    #[error("{message}")]
+    Study {
+        /// What is wrong, naming the study and the values.
+        message: String,
+    },
     /// Writing the log failed.
     #[error(transparent)]
     Log(#[from] railsim_log::LogError),

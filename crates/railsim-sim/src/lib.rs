@@ -26,6 +26,7 @@ pub mod model;
 pub mod run;
 pub mod scene;
 pub mod spec;
+pub mod stability;
 
 pub use error::{Problem, SceneError, SimError, SourceMap};
 pub use model::SimModel;

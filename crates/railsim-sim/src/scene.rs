@@ -9,7 +9,7 @@ use railsim_track::{SegmentKind, TrackError, TrackModel, TrackSpec};
 use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel, WheelsetId};
 use toml::Spanned;
 
-use crate::error::{Problem, SceneError, Sink, did_you_mean};
+use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::spec::{ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec};
 
 /// \[-\] a rigid wheelbase `a` needs curves of radius R ≥ this × a (see
@@ -464,6 +464,54 @@ impl Scene {
             RunLength::Duration(t) => t,
             RunLength::Distance(d) => self.speed.time_at(d),
         }
+    }
+
+    /// A copy of this scene for a study (`crate::stability`): the same vehicle, track, start,
+    /// contact, integrator and log settings, with `speed`, `length` and a lateral offset
+    /// \[m\] of the leading wheelset (its yaw disturbance kept). Checked like a scene file:
+    /// the offset within ±[`MAX_INITIAL_OFFSET_MM`] and not on a frozen lateral degree of
+    /// freedom (unless zero), and the run on the track.
+    pub fn study(
+        &self,
+        speed: SpeedProfile,
+        length: RunLength,
+        lateral_offset: f64,
+    ) -> Result<Scene, SimError> {
+        let bad = |message: String| SimError::Study { message };
+        let max = MAX_INITIAL_OFFSET_MM * 1e-3;
+        if !(lateral_offset.is_finite() && lateral_offset.abs() <= max) {
+            return Err(bad(format!(
+                "study of scene '{}': the lateral offset must lie in [-{MAX_INITIAL_OFFSET_MM}, {MAX_INITIAL_OFFSET_MM}] mm, found {} mm",
+                self.name,
+                lateral_offset * 1e3
+            )));
+        }
+        let dof = Dof {
+            member: Member::Wheelset(self.initial.wheelset),
+            kind: DofKind::Y,
+        };
+        if lateral_offset != 0.0 && self.is_frozen(dof) {
+            return Err(bad(format!(
+                "study of scene '{}': the leading wheelset's lateral displacement is frozen; a lateral offset has no effect",
+                self.name
+            )));
+        }
+        let mut s = self.clone();
+        s.speed = speed;
+        s.length = length;
+        s.initial.lateral_offset = lateral_offset;
+        let (_, x_max, _) = extent(&s.vehicle);
+        let (d, len) = (s.distance(), s.track.length());
+        if !(d.is_finite() && s.start + d + x_max <= len) {
+            return Err(bad(format!(
+                "study of scene '{}': the run covers {d:.1} m from s = {:.2} m, so the leading wheelset ends at s = {:.1} m, beyond the end of track '{}' ({len:.1} m long)",
+                self.name,
+                s.start,
+                s.start + d + x_max,
+                s.track_file.display()
+            )));
+        }
+        Ok(s)
     }
 
     /// Whether degree of freedom `dof` is frozen, by the vehicle file or by the scene.

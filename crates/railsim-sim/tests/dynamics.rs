@@ -5,6 +5,7 @@
 //! the contact crate called online at every right-hand side).
 
 use railsim_contact::{Side, WheelsetPose, WheelsetVelocity};
+use railsim_sim::stability::bisect_growth;
 use railsim_sim::{RunOptions, Sample, Simulation};
 
 mod common;
@@ -204,66 +205,29 @@ fn free_s1002_wheelset_matches_klingel_at_its_equivalent_conicity() {
     assert!((l / l_k - 1.0).abs() < 0.05);
 }
 
-/// Growth rate \[1/s\] of the lateral oscillation of wheelset 0: least-squares slope of the log
-/// of the peak |y| per half period.
-fn growth_rate(samples: &[Sample]) -> f64 {
-    let mut peaks: Vec<(f64, f64)> = Vec::new();
-    let mut cur = (0.0, 0.0);
-    let mut sign = 0.0;
-    for s in samples.iter().filter(|s| s.t > 0.2) {
-        let y = s.lateral[0];
-        let sg = y.signum();
-        if sg != sign {
-            if cur.1 > 0.0 {
-                peaks.push(cur);
-            }
-            cur = (s.t, 0.0);
-            sign = sg;
-        }
-        if y.abs() > cur.1 {
-            cur = (s.t, y.abs());
-        }
-    }
-    let n = peaks.len() as f64;
-    assert!(n >= 6.0, "too few peaks: {}", peaks.len());
-    let (mt, ml) = peaks
-        .iter()
-        .fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1.ln() / n));
-    let (sxy, sxx) = peaks.iter().fold((0.0, 0.0), |a, p| {
-        (a.0 + (p.0 - mt) * (p.1.ln() - ml), a.1 + (p.0 - mt).powi(2))
-    });
-    sxy / sxx
-}
-
 #[test]
 fn wheelset_on_springs_loses_stability_at_wickens_critical_speed() {
     // vehicle-reference.md §2.2 with f = 1e8 N; b and r0 of the formula measured on the contact.
     let (m, i, lambda, f) = (1813.0, 1120.0, 0.15, 1e8);
     let (ky, kpsi) = (2.0 * 3.884e6, 2.0 * 31.391e6 * 1.0f64.powi(2));
-    let at = |v: f64| {
-        let s = scene(&format!(
-            r#"
-            vehicle = "vehicles/wheelset_springs.toml"
-            track = "tracks/straight.toml"
-            speed_kmh = {}
-            duration_s = 1.4
-            [contact]
-            model = "linear"
-            creep_coefficient_n = {f}
-            [integrator]
-            method = "dopri5"
-            rtol = 1e-7
-            atol = 1e-10
-            [initial]
-            lateral_offset_mm = 0.02
-            [log]
-            rate_hz = 2000
-            "#,
-            v * 3.6
-        ));
-        let (sim, samples, _) = run(&s);
-        (growth_rate(&samples), sim)
-    };
+    // The scene of every run; the study replaces its speed and length (1.4 s per run).
+    let base = scene(&format!(
+        r#"
+        vehicle = "vehicles/wheelset_springs.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 1000
+        duration_s = 1.4
+        [contact]
+        model = "linear"
+        creep_coefficient_n = {f}
+        [integrator]
+        method = "dopri5"
+        rtol = 1e-7
+        atol = 1e-10
+        [log]
+        rate_hz = 2000
+        "#
+    ));
     // The formula's inputs from the actual contact: rolling radius and half contact distance of
     // the centred wheelset.
     let probe = scene(
@@ -293,22 +257,31 @@ fn wheelset_on_springs_loses_stability_at_wickens_critical_speed() {
         m / (1.0 + c).powi(2) + i * (lambda / b).powi(2),
         ky / (1.0 + c).powi(2),
     );
-    let speeds = [0.97 * vc, vc, 1.03 * vc];
-    let g: Vec<f64> = speeds.iter().map(|&v| at(v).0).collect();
+    // `railsim critical-speed --method bisect`: constant-speed runs from a 0.02 mm offset,
+    // bisected on the sign of the growth rate from ±3 % to a 0.5 % bracket.
+    let mut rates = Vec::new();
+    let res = bisect_growth(
+        &base,
+        (0.97 * vc, 1.03 * vc),
+        1.4,
+        0.02e-3,
+        0.005,
+        &mut |g| rates.push((g.speed, g.rate)),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let v_sim = res.critical_speed;
     eprintln!(
-        "Wickens: r0 {r0:.4} m, b {b:.4} m, λe {lambda_e:.4}; formula Vc {vc_plain:.1} m/s, with the roll constraint {vc:.1} m/s; growth {:.3}/s, {:.3}/s, {:.3}/s at {:.1}, {:.1}, {:.1} m/s",
-        g[0], g[1], g[2], speeds[0], speeds[1], speeds[2]
+        "Wickens: r0 {r0:.4} m, b {b:.4} m, λe {lambda_e:.4}; formula Vc {vc_plain:.1} m/s, with the roll constraint {vc:.1} m/s; runs (m/s, 1/s) {rates:?}"
     );
-    assert!(
-        g[0] < 0.0 && g[2] > 0.0,
-        "no change of stability across ±3 %"
-    );
-    let k = if g[1] > 0.0 { 0 } else { 1 };
-    let v_sim = speeds[k] + (speeds[k + 1] - speeds[k]) * (-g[k]) / (g[k + 1] - g[k]);
     eprintln!(
         "simulated Vc {v_sim:.1} m/s: {:+.2} % from the formula with the roll constraint, {:+.2} % from the plain formula",
         100.0 * (v_sim / vc - 1.0),
         100.0 * (v_sim / vc_plain - 1.0)
+    );
+    assert_eq!(
+        res.runs.len(),
+        6,
+        "±3 % halved to 0.5 %: two ends and four midpoints"
     );
     assert!((v_sim / vc - 1.0).abs() < 0.03);
 }

@@ -156,6 +156,35 @@ fn a_contact_failure_at_a_trial_stage_shortens_the_step() {
     assert!(summary.max_y_over_q.is_some());
 }
 
+/// The 2 m sliding mean of Y/Q is taken once the run has covered 2 m, whatever the spacing of
+/// the samples: at 250 km/h and 200 Hz they are 0.347 m apart, and the mean was never taken
+/// before (the oldest kept sample had to lie 1.9 m back, and 5 × 0.347 m is 1.74 m).
+#[test]
+fn the_2_m_mean_of_y_over_q_is_taken_at_any_sample_spacing() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene_text = format!(
+        "vehicle = \"{}\"\ntrack = \"{}\"\nspeed_kmh = 250\nduration_s = 0.06\n\
+         [log]\nrate_hz = 200\n",
+        root.join("vehicles/wheelset_free.toml").display(),
+        root.join("tracks/straight.toml").display()
+    );
+    let scene = Scene::from_toml_str(&scene_text, "s.toml", &root).unwrap();
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let summary = Simulation::new(&scene)
+        .and_then(|mut sim| sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {}))
+        .unwrap();
+    // 4.2 m run, 13 samples
+    assert_eq!(summary.samples, 13);
+    let (m2, _, _) = summary
+        .max_y_over_q_2m
+        .expect("a 2 m mean over a 4.2 m run");
+    let (m, _, _) = summary.max_y_over_q.unwrap();
+    assert!(m2.is_finite() && m2 <= m + 1e-12, "2 m mean {m2}, max {m}");
+}
+
 /// A run whose solution reaches a contact limit stops there naming the wheel: a free S1002
 /// wheelset (no suspension) started off centre and yawed at 200–300 km/h hunts violently into
 /// flange contact, and its yaw may pass the profile's locus limit (29.4 mrad). Its motion is

@@ -1,0 +1,302 @@
+//! `railsim critical-speed [SCENE]`: the hunting (critical) speed of a vehicle on straight
+//! track, by ramping the speed down from a hunting limit cycle (the nonlinear critical speed) or
+//! by bisecting on the growth rate of a small disturbance at constant speed
+//! (`railsim_sim::stability`, docs/models/dynamics.md "Running stability").
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+
+use railsim_sim::stability::{Growth, RampDown, RampResult, bisect_growth, ramp_down};
+use railsim_sim::{RunOptions, Scene};
+
+/// The built-in scene of the study, from the repository this binary was built in.
+pub const DEFAULT_SCENE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenes/manchester_hunting.toml"
+);
+
+#[derive(Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum MethodName {
+    /// Ramp the speed down from a hunting limit cycle: the nonlinear critical speed.
+    Ramp,
+    /// Bisect on the growth rate of a small disturbance at constant speeds.
+    Bisect,
+}
+
+#[derive(Args)]
+pub struct CriticalArgs {
+    /// Scene file: its vehicle, track (straight, from its start), contact model, integrator and
+    /// log rate are used, its speed, length and disturbance replaced; default: the built-in
+    /// scenes/manchester_hunting.toml
+    pub scene: Option<PathBuf>,
+    /// Method.
+    #[arg(long, value_enum, default_value = "ramp")]
+    pub method: MethodName,
+    /// Highest speed (km/h): ramp: the start, where the vehicle should hunt; bisect: the upper
+    /// end of the bracket, where a small disturbance should grow.
+    #[arg(long, default_value_t = 400.0)]
+    pub from_kmh: f64,
+    /// Lowest speed (km/h): ramp: the end of the ramp; bisect: the lower end of the bracket,
+    /// where a small disturbance should decay.
+    #[arg(long, default_value_t = 150.0)]
+    pub to_kmh: f64,
+    /// Ramp: distance run at the start speed before the ramp (m).
+    #[arg(long, default_value_t = 300.0)]
+    pub settle_m: f64,
+    /// Ramp: length of the ramp (m); the speed falls linearly with distance.
+    #[arg(long, default_value_t = 2700.0)]
+    pub ramp_m: f64,
+    /// Lateral offset of the leading wheelset at t = 0 (mm); default 5 mm for the ramp (to
+    /// reach the large limit cycle) and 0.5 mm for the bisection (a small disturbance).
+    #[arg(long, allow_hyphen_values = true)]
+    pub offset_mm: Option<f64>,
+    /// Ramp: hunting amplitude (mm) below which a wheelset counts as running stably.
+    #[arg(long, default_value_t = 0.5)]
+    pub threshold_mm: f64,
+    /// Bisect: simulated time of each constant-speed run (s).
+    #[arg(long, default_value_t = 4.0)]
+    pub duration_s: f64,
+    /// Bisect: stop when the bracket is narrower than this fraction of its upper speed.
+    #[arg(long, default_value_t = 0.01)]
+    pub tol: f64,
+    /// Write the result as CSV: the ramp's half cycles (wheelset, time, speed, amplitude) or the
+    /// bisection's runs (speed, growth rate, last amplitude).
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Ramp: write the MCAP log of the ramp run here (default: no log).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// No progress line.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
+    let path = a
+        .scene
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENE));
+    for (name, v) in [
+        ("--from-kmh", a.from_kmh),
+        ("--to-kmh", a.to_kmh),
+        ("--settle-m", a.settle_m),
+        ("--ramp-m", a.ramp_m),
+        ("--threshold-mm", a.threshold_mm),
+        ("--duration-s", a.duration_s),
+        ("--tol", a.tol),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            bail!("{name}: expected a positive number, found {v}");
+        }
+    }
+    if a.to_kmh >= a.from_kmh {
+        bail!(
+            "--to-kmh ({}) must be below --from-kmh ({})",
+            a.to_kmh,
+            a.from_kmh
+        );
+    }
+    if let Some(o) = a.offset_mm
+        && !(o.is_finite() && o != 0.0)
+    {
+        bail!("--offset-mm: expected a non-zero number of millimetres, found {o}");
+    }
+    let scene = Scene::from_file(&path)?;
+    match a.method {
+        MethodName::Ramp => ramp(a, &path, &scene),
+        MethodName::Bisect => bisect(a, &scene),
+    }
+}
+
+fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitCode> {
+    let r = RampDown {
+        v_start: a.from_kmh / 3.6,
+        v_end: a.to_kmh / 3.6,
+        settle: a.settle_m,
+        ramp: a.ramp_m,
+        offset: a.offset_mm.unwrap_or(5.0) * 1e-3,
+        threshold: a.threshold_mm * 1e-3,
+    };
+    // v dv/dx is largest at the start of the ramp
+    let decel = r.v_start * (r.v_start - r.v_end) / r.ramp;
+    eprintln!(
+        "railsim critical-speed: {} (contact model {}): ramp-down from {} to {} km/h over {} m (deceleration {decel:.2} m/s² at its start) after {} m, leading wheelset {} mm off centre",
+        scene.name,
+        scene.contact.model.name(),
+        a.from_kmh,
+        a.to_kmh,
+        a.ramp_m,
+        a.settle_m,
+        r.offset * 1e3
+    );
+    let opts = RunOptions {
+        log_path: a.out.clone(),
+        no_log: a.out.is_none(),
+        sources: crate::run::sources(path, scene),
+        ..Default::default()
+    };
+    let wall = Instant::now();
+    let mut last = 0.0f64;
+    let quiet = a.quiet;
+    let mut progress = |t: f64, t_end: f64| {
+        let w = wall.elapsed().as_secs_f64();
+        if !quiet && (w - last > 0.5 || t >= t_end) {
+            last = w;
+            eprint!("\rt = {t:7.3} / {t_end:.3} s   real {w:7.1} s ");
+            let _ = std::io::stderr().flush();
+        }
+    };
+    let res = ramp_down(scene, &r, &opts, &mut progress).context("railsim critical-speed");
+    if !quiet {
+        eprintln!();
+    }
+    let res = res?;
+    print_branch(&res, &r)?;
+    if let Some(p) = &a.csv {
+        let mut text = String::from("wheelset,t_s,speed_kmh,amplitude_mm\n");
+        for (n, b) in res.branch.iter().enumerate() {
+            for q in b {
+                writeln!(
+                    text,
+                    "{n},{:.6},{:.3},{:.6}",
+                    q.t,
+                    q.speed * 3.6,
+                    q.amplitude * 1e3
+                )?;
+            }
+        }
+        std::fs::write(p, text).with_context(|| format!("writing {}", p.display()))?;
+        outln!("half cycles written to {}", p.display());
+    }
+    outln!(
+        "simulated {:.2} s in {:.1} s ({} right-hand sides)",
+        res.summary.t_end,
+        res.summary.wall,
+        res.summary.stats.rhs_evals
+    );
+    let thr = a.threshold_mm;
+    match res.critical_speed {
+        None => {
+            outln!(
+                "no wheelset hunted with an amplitude of {thr} mm or more during the ramp: the vehicle does not hunt at {} km/h from this disturbance; start faster (--from-kmh) or disturb more (--offset-mm)",
+                a.from_kmh
+            );
+            Ok(ExitCode::from(1))
+        }
+        Some(_) if res.hunting_at_end => {
+            outln!(
+                "still hunting (amplitude {thr} mm or more) at the end of the ramp: the critical speed is at or below {} km/h; end lower (--to-kmh)",
+                a.to_kmh
+            );
+            Ok(ExitCode::from(1))
+        }
+        Some(v) => {
+            outln!(
+                "nonlinear critical speed (last half cycle with an amplitude of {thr} mm or more): {:.1} km/h ({:.2} m/s)",
+                v * 3.6,
+                v
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+/// The branch as a table: per 10 km/h band of the ramp, the largest amplitude of each wheelset.
+fn print_branch(res: &RampResult, r: &RampDown) -> Result<()> {
+    outln!(
+        "limit cycle before the ramp at {:.1} km/h: largest amplitude {:.2} mm",
+        r.v_start * 3.6,
+        res.amplitude_at_start * 1e3
+    );
+    let band = 10.0 / 3.6;
+    let n_bands = ((r.v_start - r.v_end) / band).ceil() as usize;
+    let mut head = String::from("speed band km/h  ");
+    for n in 0..res.branch.len() {
+        write!(head, "  ws{n} mm")?;
+    }
+    outln!("largest half-cycle amplitude per speed band during the ramp:");
+    outln!("{head}");
+    for k in 0..n_bands {
+        let hi = r.v_start - k as f64 * band;
+        let lo = (hi - band).max(r.v_end);
+        let mut line = format!("{:6.1} .. {:6.1}", hi * 3.6, lo * 3.6);
+        let mut any = false;
+        for b in &res.branch {
+            let m = b
+                .iter()
+                .filter(|p| p.t >= res.ramp_start && p.speed <= hi && p.speed > lo)
+                .map(|p| p.amplitude)
+                .fold(None::<f64>, |m, x| Some(m.map_or(x, |m| m.max(x))));
+            match m {
+                Some(m) => {
+                    any = true;
+                    write!(line, "  {:7.3}", m * 1e3)?;
+                }
+                None => write!(line, "  {:>7}", "-")?,
+            }
+        }
+        if any {
+            outln!("{line}");
+        }
+    }
+    Ok(())
+}
+
+fn bisect(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
+    let offset = a.offset_mm.unwrap_or(0.5) * 1e-3;
+    eprintln!(
+        "railsim critical-speed: {} (contact model {}): growth rate of a {} mm disturbance at constant speed, bisected between {} and {} km/h ({} s per run)",
+        scene.name,
+        scene.contact.model.name(),
+        offset * 1e3,
+        a.to_kmh,
+        a.from_kmh,
+        a.duration_s
+    );
+    let quiet = a.quiet;
+    let mut progress = |g: &Growth| {
+        if !quiet {
+            match g.rate {
+                Some(r) => eprintln!("  {:7.2} km/h: growth rate {r:+.4}/s", g.speed * 3.6),
+                None => eprintln!("  {:7.2} km/h: no growth rate", g.speed * 3.6),
+            }
+        }
+    };
+    let res = bisect_growth(
+        scene,
+        (a.to_kmh / 3.6, a.from_kmh / 3.6),
+        a.duration_s,
+        offset,
+        a.tol,
+        &mut progress,
+    )
+    .context("railsim critical-speed")?;
+    if let Some(p) = &a.csv {
+        let mut text = String::from("speed_kmh,growth_rate_per_s,last_amplitude_mm\n");
+        for g in &res.runs {
+            let rate = g.rate.map_or(String::new(), |r| format!("{r:.6}"));
+            writeln!(
+                text,
+                "{:.4},{rate},{:.6}",
+                g.speed * 3.6,
+                g.last_amplitude * 1e3
+            )?;
+        }
+        std::fs::write(p, text).with_context(|| format!("writing {}", p.display()))?;
+        outln!("runs written to {}", p.display());
+    }
+    outln!(
+        "critical speed (growth rate of a {} mm disturbance changes sign): {:.1} km/h ({:.2} m/s), {} runs",
+        offset * 1e3,
+        res.critical_speed * 3.6,
+        res.critical_speed,
+        res.runs.len()
+    );
+    Ok(ExitCode::SUCCESS)
+}

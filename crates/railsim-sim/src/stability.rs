@@ -1,0 +1,490 @@
+//! Running stability (hunting): the critical speed of a vehicle on straight track, by the two
+//! methods of nonlinear vehicle dynamics.
+//!
+//! - **Ramp-down** ([`ramp_down`]): the vehicle is disturbed at a speed where it hunts, runs
+//!   there until the motion has settled into its limit cycle, and is then slowed down slowly;
+//!   the hunting amplitude against speed is the stable branch of the bifurcation diagram, and
+//!   the speed at which the amplitude falls below a threshold is the **nonlinear critical
+//!   speed**: the lowest speed at which a stable hunting orbit exists. This is the method True
+//!   and Polach recommend, because the Hopf bifurcation of a railway vehicle is usually
+//!   subcritical, so the orbit survives below the speed at which small disturbances start to
+//!   grow (True, *Multiple attractors and critical parameters and how to find them
+//!   numerically*, Vehicle System Dynamics 51(3), 2013; Polach, *On non-linear methods of bogie
+//!   stability assessment using computer simulations*, Proc. IMechE F 220, 2006).
+//! - **Bisection on the growth rate** ([`bisect_growth`]): runs at constant speed from a small
+//!   disturbance; the growth rate of the oscillation's amplitude ([`growth_rate`]) changes sign
+//!   at the speed where this disturbance neither grows nor decays (for a small disturbance and a
+//!   smooth contact, the linear critical speed of the Hopf bifurcation).
+//!
+//! Amplitudes are taken per half wave ([`half_cycles`]): the largest lateral excursion of a
+//! wheelset from the track centre line between two consecutive crossings of it, refined by the
+//! parabola through the largest sample and its neighbours. Crossings count with a hysteresis
+//! (`floor`), so that noise near the centre line makes none, and the rebounds of flange impacts
+//! at the top of a hunting swing, which do not cross the centre line, stay inside their half
+//! wave (counted between turning points, a hunting swing at 400 km/h made three "half cycles"
+//! per half period on the Manchester vehicle, two of them rebounds of about 1 mm).
+//!
+//! The studies run copies of a compiled scene with their own speed, length and disturbance
+//! ([`Scene::study`]), without a log unless one is asked for; the vehicle, track, contact model
+//! and integrator are the scene's.
+
+use crate::error::SimError;
+use crate::run::{RunOptions, RunSummary, Simulation};
+use crate::scene::{RunLength, Scene, SpeedProfile};
+
+/// One half wave of an oscillation about its centre line: the largest excursion between two
+/// consecutive crossings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HalfCycle {
+    /// \[s\] time of the largest excursion.
+    pub t: f64,
+    /// \[m\] the largest excursion from the centre line (absolute value).
+    pub amplitude: f64,
+}
+
+/// The half waves of a sampled signal `y(t)` (samples in time order) about the centre line
+/// `centre`: one per stretch between two consecutive crossings, with its largest excursion
+/// refined by the parabola through that sample and its neighbours. A crossing counts when the
+/// signal passes from more than `floor` on one side to more than `floor` on the other (the same
+/// unit as `y`), so that noise near the centre line makes no crossings; reversals that do not
+/// cross it (a flange impact's rebound at the top of a hunting swing) stay inside their half
+/// wave. The stretches before the first and after the last crossing are not whole and give none.
+pub fn half_cycles(t: &[f64], y: &[f64], centre: f64, floor: f64) -> Vec<HalfCycle> {
+    let n = t.len().min(y.len());
+    let mut out = Vec::new();
+    // side: +1 above centre + floor, -1 below centre - floor, 0 not yet known
+    let mut side = 0i8;
+    // the current half wave's largest excursion (sample index); None before the first crossing
+    let mut peak: Option<usize> = None;
+    let peak_value = |i: usize| -> (f64, f64) {
+        let d = |k: usize| (y[k] - centre).abs();
+        if i == 0 || i + 1 >= n {
+            return (t[i], d(i));
+        }
+        // parabola through the excursions at i - 1, i, i + 1
+        let (h0, h1) = (t[i] - t[i - 1], t[i + 1] - t[i]);
+        let (d0, d1) = ((d(i) - d(i - 1)) / h0, (d(i + 1) - d(i)) / h1);
+        let c = (d1 - d0) / (h0 + h1); // half the second derivative
+        if c >= 0.0 || !c.is_finite() {
+            return (t[i], d(i));
+        }
+        let slope = d0 + c * h0; // the parabola's slope at t[i]
+        let dt = (-slope / (2.0 * c)).clamp(-h0, h1);
+        (t[i] + dt, d(i) + slope * dt + c * dt * dt)
+    };
+    for i in 0..n {
+        let e = y[i] - centre;
+        let now = if e > floor {
+            1
+        } else if e < -floor {
+            -1
+        } else {
+            side
+        };
+        if now != side {
+            if side != 0 {
+                // a crossing: the half wave before it is whole if one began at a crossing
+                if let Some(k) = peak {
+                    let (tp, a) = peak_value(k);
+                    out.push(HalfCycle {
+                        t: tp,
+                        amplitude: a,
+                    });
+                }
+                peak = Some(i);
+            }
+            side = now;
+        } else if let Some(k) = peak
+            && e.abs() > (y[k] - centre).abs()
+        {
+            peak = Some(i);
+        }
+    }
+    out
+}
+
+/// \[1/s\] growth rate of an oscillation from its half cycles: the least-squares slope of the
+/// logarithm of the amplitude against time, over the half cycles at `t >= t_from`. `None` with
+/// fewer than four such half cycles or a zero amplitude among them. For `A e^{σt} sin(ωt)` it
+/// is σ.
+pub fn growth_rate(cycles: &[HalfCycle], t_from: f64) -> Option<f64> {
+    let c: Vec<(f64, f64)> = cycles
+        .iter()
+        .filter(|c| c.t >= t_from)
+        .map(|c| (c.t, c.amplitude.ln()))
+        .collect();
+    if c.len() < 4 || c.iter().any(|p| !p.1.is_finite()) {
+        return None;
+    }
+    let n = c.len() as f64;
+    let (mt, ml) = c
+        .iter()
+        .fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
+    let (sxy, sxx) = c.iter().fold((0.0, 0.0), |a, p| {
+        (a.0 + (p.0 - mt) * (p.1 - ml), a.1 + (p.0 - mt).powi(2))
+    });
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+/// Hysteresis of the centre-line crossings in a ramp-down, as a fraction of its threshold.
+pub const RAMP_FLOOR: f64 = 0.2;
+
+/// The lateral displacement of every wheelset at the samples of a run: times, and per
+/// wheelset (numbered from the front) the displacements.
+struct Traces {
+    t: Vec<f64>,
+    y: Vec<Vec<f64>>,
+}
+
+/// Run `scene` with `opts`, keeping the wheelsets' lateral displacements at the samples.
+fn run_traces(
+    scene: &Scene,
+    opts: &RunOptions,
+    progress: &mut dyn FnMut(f64, f64),
+) -> Result<(Traces, RunSummary), SimError> {
+    let mut sim = Simulation::new(scene)?;
+    let mut tr = Traces {
+        t: Vec::new(),
+        y: Vec::new(),
+    };
+    let summary = sim.run(scene, opts, progress, &mut |s| {
+        if tr.y.is_empty() {
+            tr.y = vec![Vec::new(); s.lateral.len()];
+        }
+        tr.t.push(s.t);
+        for (v, y) in tr.y.iter_mut().zip(&s.lateral) {
+            v.push(*y);
+        }
+    })?;
+    Ok((tr, summary))
+}
+
+/// A ramp-down study: speeds, distances and the disturbance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RampDown {
+    /// \[m/s\] speed at which the vehicle is disturbed and should hunt.
+    pub v_start: f64,
+    /// \[m/s\] speed at the end of the ramp (below the critical speed sought).
+    pub v_end: f64,
+    /// \[m\] distance run at `v_start` before the ramp: the disturbance grows into the limit
+    /// cycle.
+    pub settle: f64,
+    /// \[m\] length of the ramp; the speed falls linearly with distance over it.
+    pub ramp: f64,
+    /// \[m\] lateral offset of the leading wheelset at t = 0.
+    pub offset: f64,
+    /// \[m\] hunting amplitude below which a wheelset counts as not hunting.
+    pub threshold: f64,
+}
+
+/// One half cycle of one wheelset during a study, with the speed at its time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BranchPoint {
+    /// \[s\] time of the half wave's largest excursion.
+    pub t: f64,
+    /// \[m/s\] speed at that time.
+    pub speed: f64,
+    /// \[m\] amplitude.
+    pub amplitude: f64,
+}
+
+/// What a ramp-down finds.
+#[derive(Debug, Clone)]
+pub struct RampResult {
+    /// Per wheelset (numbered from the front): its half cycles in time order, those of the
+    /// settling run included.
+    pub branch: Vec<Vec<BranchPoint>>,
+    /// \[s\] time at which the ramp starts.
+    pub ramp_start: f64,
+    /// \[m/s\] largest amplitude of any wheelset in the last whole cycle before the ramp: the
+    /// limit cycle at `v_start` (0 when it has none).
+    pub amplitude_at_start: f64,
+    /// \[m/s\] the nonlinear critical speed: the speed of the last half cycle of the ramp in
+    /// which some wheelset's amplitude reaches the threshold. `None` when no wheelset reaches it
+    /// during the ramp (no hunting at `v_start`: start faster, or disturb more).
+    pub critical_speed: Option<f64>,
+    /// Whether a wheelset still reached the threshold in the last cycle of the ramp (the
+    /// critical speed is then at or below `v_end`).
+    pub hunting_at_end: bool,
+    /// The run's summary.
+    pub summary: RunSummary,
+}
+
+/// The ramp-down study of `ramp` on `scene` (the scene's vehicle, track from its start,
+/// contact, integrator and log settings; its speed, length and disturbance replaced), run with
+/// `opts` (`no_log` for none): see the module docs.
+pub fn ramp_down(
+    scene: &Scene,
+    ramp: &RampDown,
+    opts: &RunOptions,
+    progress: &mut dyn FnMut(f64, f64),
+) -> Result<RampResult, SimError> {
+    let bad = |what: String| SimError::Study {
+        message: format!("ramp-down study: {what}"),
+    };
+    if !(ramp.v_start > ramp.v_end && ramp.v_end > 0.0) {
+        return Err(bad(format!(
+            "the start speed ({:.2} m/s) must be above the end speed ({:.2} m/s), both positive",
+            ramp.v_start, ramp.v_end
+        )));
+    }
+    if !(ramp.settle > 0.0 && ramp.ramp > 0.0 && ramp.threshold > 0.0) {
+        return Err(bad(format!(
+            "the settling distance ({} m), the ramp length ({} m) and the threshold ({} m) must be positive",
+            ramp.settle, ramp.ramp, ramp.threshold
+        )));
+    }
+    let speed = SpeedProfile::from_points(
+        vec![0.0, ramp.settle, ramp.settle + ramp.ramp],
+        vec![ramp.v_start, ramp.v_start, ramp.v_end],
+    )
+    .ok_or_else(|| bad("the speed profile is not valid".into()))?;
+    let ramp_start = speed.time_at(ramp.settle);
+    let study = scene.study(
+        speed,
+        RunLength::Distance(ramp.settle + ramp.ramp),
+        ramp.offset,
+    )?;
+    let (tr, summary) = run_traces(&study, opts, progress)?;
+    let speed_at = |t: f64| study.speed.speed_at(study.speed.distance_at(t));
+    let branch: Vec<Vec<BranchPoint>> =
+        tr.y.iter()
+            .map(|y| {
+                half_cycles(&tr.t, y, 0.0, RAMP_FLOOR * ramp.threshold)
+                    .into_iter()
+                    .map(|c| BranchPoint {
+                        t: c.t,
+                        speed: speed_at(c.t),
+                        amplitude: c.amplitude,
+                    })
+                    .collect()
+            })
+            .collect();
+    // the limit cycle at the start: the last two half cycles before the ramp, per wheelset
+    let amplitude_at_start = branch
+        .iter()
+        .flat_map(|b| {
+            let before: Vec<&BranchPoint> = b.iter().filter(|p| p.t < ramp_start).collect();
+            before.into_iter().rev().take(2).map(|p| p.amplitude)
+        })
+        .fold(0.0, f64::max);
+    let hunting = |p: &&BranchPoint| p.t >= ramp_start && p.amplitude >= ramp.threshold;
+    let critical_speed = branch
+        .iter()
+        .filter_map(|b| b.iter().filter(hunting).map(|p| p.speed).reduce(f64::min))
+        .reduce(f64::min);
+    let hunting_at_end = branch.iter().any(|b| {
+        b.iter()
+            .rev()
+            .take(2)
+            .any(|p| p.t >= ramp_start && p.amplitude >= ramp.threshold)
+    });
+    Ok(RampResult {
+        branch,
+        ramp_start,
+        amplitude_at_start,
+        critical_speed,
+        hunting_at_end,
+        summary,
+    })
+}
+
+/// The growth of a small disturbance at one constant speed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Growth {
+    /// \[m/s\]
+    pub speed: f64,
+    /// \[1/s\] the largest growth rate of any wheelset ([`growth_rate`] of its half cycles
+    /// after the first tenth of the run); `None` when no wheelset had four half cycles.
+    pub rate: Option<f64>,
+    /// \[m\] the largest amplitude of any wheelset's last half cycle.
+    pub last_amplitude: f64,
+}
+
+/// Run `scene` at constant `speed` \[m/s\] for `duration` \[s\] from a lateral `offset` \[m\]
+/// of the leading wheelset and measure the growth of the oscillation.
+pub fn growth_at(
+    scene: &Scene,
+    speed: f64,
+    duration: f64,
+    offset: f64,
+) -> Result<Growth, SimError> {
+    let study = scene.study(
+        SpeedProfile::constant(speed),
+        RunLength::Duration(duration),
+        offset,
+    )?;
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let (tr, _) = run_traces(&study, &opts, &mut |_, _| {})?;
+    let mut rate: Option<f64> = None;
+    let mut last_amplitude = 0.0f64;
+    for y in &tr.y {
+        let c = half_cycles(&tr.t, y, 0.0, offset.abs() * 1e-4);
+        if let Some(r) = growth_rate(&c, 0.1 * duration) {
+            rate = Some(rate.map_or(r, |q| q.max(r)));
+        }
+        if let Some(l) = c.last() {
+            last_amplitude = last_amplitude.max(l.amplitude);
+        }
+    }
+    Ok(Growth {
+        speed,
+        rate,
+        last_amplitude,
+    })
+}
+
+/// What a bisection on the growth rate finds.
+#[derive(Debug, Clone)]
+pub struct Bisection {
+    /// \[m/s\] the speed where the growth rate changes sign, interpolated linearly between the
+    /// last bracket's rates.
+    pub critical_speed: f64,
+    /// Every run, in the order made.
+    pub runs: Vec<Growth>,
+}
+
+/// Bisect the speed between `lo` and `hi` \[m/s\] on the sign of the growth rate of constant-
+/// speed runs of `duration` \[s\] from a lateral `offset` \[m\] of the leading wheelset, until
+/// the bracket is narrower than `rel_tol` of its upper end. Errors when a run measures no
+/// growth rate or the rates at `lo` and `hi` do not bracket a change of sign (decay at `lo`,
+/// growth at `hi`).
+pub fn bisect_growth(
+    scene: &Scene,
+    (lo, hi): (f64, f64),
+    duration: f64,
+    offset: f64,
+    rel_tol: f64,
+    progress: &mut dyn FnMut(&Growth),
+) -> Result<Bisection, SimError> {
+    let bad = |what: String| SimError::Study {
+        message: format!("growth-rate bisection: {what}"),
+    };
+    if !(lo > 0.0 && hi > lo && rel_tol > 0.0 && duration > 0.0 && offset != 0.0) {
+        return Err(bad(format!(
+            "expected 0 < lo < hi (found {lo} and {hi} m/s), a positive duration ({duration} s) and tolerance ({rel_tol}), and a non-zero offset ({offset} m)"
+        )));
+    }
+    let mut runs = Vec::new();
+    let mut eval = |v: f64, runs: &mut Vec<Growth>| -> Result<f64, SimError> {
+        let g = growth_at(scene, v, duration, offset)?;
+        progress(&g);
+        runs.push(g);
+        g.rate.ok_or_else(|| {
+            bad(format!(
+                "the run at {v:.2} m/s has fewer than four half cycles after its first tenth: run longer"
+            ))
+        })
+    };
+    let (mut a, mut b) = (lo, hi);
+    let (mut ga, mut gb) = (eval(a, &mut runs)?, eval(b, &mut runs)?);
+    if !(ga < 0.0 && gb > 0.0) {
+        let (aa, ab) = (runs[0].last_amplitude, runs[1].last_amplitude);
+        return Err(bad(format!(
+            "the growth rates {ga:.4}/s at {lo:.2} m/s and {gb:.4}/s at {hi:.2} m/s (last half-cycle amplitudes {:.3} and {:.3} mm) do not bracket a change from decay to growth; a rate near zero with an amplitude far above the offset is a limit cycle, which the ramp-down method measures",
+            aa * 1e3,
+            ab * 1e3
+        )));
+    }
+    while b - a > rel_tol * b {
+        let m = 0.5 * (a + b);
+        let g = eval(m, &mut runs)?;
+        if g < 0.0 {
+            (a, ga) = (m, g);
+        } else {
+            (b, gb) = (m, g);
+        }
+    }
+    Ok(Bisection {
+        critical_speed: a + (b - a) * (-ga) / (gb - ga),
+        runs,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn signal(f: impl Fn(f64) -> f64, dt: f64, t_end: f64) -> (Vec<f64>, Vec<f64>) {
+        let t: Vec<f64> = (0..=(t_end / dt).round() as usize)
+            .map(|k| k as f64 * dt)
+            .collect();
+        let y = t.iter().map(|&t| f(t)).collect();
+        (t, y)
+    }
+
+    #[test]
+    fn half_cycles_of_an_offset_sine_give_its_amplitude() {
+        // 3 mm at 5.3 Hz about a 2 mm offset, sampled at 200 Hz (38 samples per period)
+        let (t, y) = signal(
+            |t| 2e-3 + 3e-3 * (2.0 * std::f64::consts::PI * 5.3 * t + 0.4).sin(),
+            0.005,
+            3.0,
+        );
+        let c = half_cycles(&t, &y, 2e-3, 1e-6);
+        // 31.8 half periods in 3 s, the first and the last not whole
+        assert!(c.len() == 30 || c.len() == 31, "{} half cycles", c.len());
+        for h in &c {
+            assert!(
+                (h.amplitude / 3e-3 - 1.0).abs() < 1e-3,
+                "amplitude {}",
+                h.amplitude
+            );
+        }
+        // half a period between half cycles
+        let dt = (c[c.len() - 1].t - c[0].t) / (c.len() - 1) as f64;
+        assert!((dt * 2.0 * 5.3 - 1.0).abs() < 1e-3, "half period {dt}");
+    }
+
+    #[test]
+    fn growth_rate_of_a_growing_and_a_decaying_oscillation() {
+        for sigma in [-0.8, -0.05, 0.3] {
+            let (t, y) = signal(
+                |t| 1e-3 * (sigma * t).exp() * (2.0 * std::f64::consts::PI * 4.0 * t).sin(),
+                0.0025,
+                4.0,
+            );
+            let g = growth_rate(&half_cycles(&t, &y, 0.0, 1e-9), 0.5).unwrap();
+            assert!(
+                (g - sigma).abs() < 0.01 * sigma.abs().max(0.1),
+                "{g} vs {sigma}"
+            );
+        }
+    }
+
+    #[test]
+    fn rebounds_and_ripples_make_no_half_cycles() {
+        // A hunting-like swing, 6 mm at 5 Hz, with a third harmonic that puts two extra turning
+        // points into every half wave (as a flange rebound does), and a 0.5 µm, 90 Hz ripple:
+        // one half cycle per half period, of the swing's largest excursion.
+        let w = 2.0 * std::f64::consts::PI * 5.0;
+        let f = |t: f64| 6e-3 * (w * t).sin() + 1.5e-3 * (3.0 * w * t).sin();
+        let (t, y) = signal(
+            |t| f(t) + 0.5e-6 * (2.0 * std::f64::consts::PI * 90.0 * t).sin(),
+            0.0005,
+            2.0,
+        );
+        // crossings every 0.1 s from t = 0 (where the side is not yet known) to 2 s: 18 whole
+        // half waves between the crossings at 0.1 .. 1.9 s
+        let c = half_cycles(&t, &y, 0.0, 1e-6);
+        assert_eq!(c.len(), 18, "{c:?}");
+        // the largest excursion, max of 6 sin x + 1.5 sin 3x = sin x (10.5 - 6 sin² x), found
+        // by sampling finely
+        let peak = (0..100_000)
+            .map(|k| f(k as f64 * 1e-6))
+            .fold(0.0f64, f64::max);
+        for h in &c {
+            assert!(
+                (h.amplitude - peak).abs() < 2e-6,
+                "{} vs {peak}",
+                h.amplitude
+            );
+        }
+        // a flat signal has none, and three half cycles give no growth rate
+        assert!(half_cycles(&t, &vec![1e-3; t.len()], 0.0, 1e-6).is_empty());
+        assert!(growth_rate(&c[..3], 0.0).is_none());
+    }
+}

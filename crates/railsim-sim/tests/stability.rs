@@ -1,0 +1,118 @@
+//! Running stability studies on the Manchester benchmark vehicle 1 (`railsim_sim::stability`,
+//! `railsim critical-speed`): the ramp-down's nonlinear critical speed against constant-speed
+//! runs on either side of it. (The bisection on the growth rate is checked against the Wickens
+//! formula in `dynamics.rs`.)
+
+mod common;
+
+use railsim_sim::stability::{RampDown, growth_at, ramp_down};
+use railsim_sim::{RunOptions, Scene};
+
+use common::root;
+
+/// The ramp-down method's premise: the speed at which the slowly decelerated vehicle stops
+/// hunting is the lowest speed at which a hunting orbit exists. So at constant speed 6 % above
+/// it, a disturbance settles into hunting of about the amplitude the ramp saw there, and 6 %
+/// below it dies out. A ramp too fast for the orbit to follow, a wrong speed attached to the
+/// half cycles or a threshold crossing taken at the wrong end would put the two runs on the same
+/// side.
+#[test]
+fn the_ramp_down_critical_speed_separates_hunting_from_stable_running() {
+    let scene = Scene::from_file(root().join("scenes/manchester_hunting.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let ramp = RampDown {
+        v_start: 230.0 / 3.6,
+        v_end: 160.0 / 3.6,
+        settle: 200.0,
+        ramp: 1200.0,
+        offset: 3e-3,
+        threshold: 0.5e-3,
+    };
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let res = ramp_down(&scene, &ramp, &opts, &mut |_, _| {}).unwrap_or_else(|e| panic!("{e}"));
+    let vc = res
+        .critical_speed
+        .expect("the vehicle hunts at 230 km/h from a 3 mm offset");
+    eprintln!(
+        "ramp 230 -> 160 km/h: limit cycle {:.3} mm at the start, critical speed {:.1} km/h, hunting at the end: {}",
+        res.amplitude_at_start * 1e3,
+        vc * 3.6,
+        res.hunting_at_end
+    );
+    assert!(res.amplitude_at_start > ramp.threshold);
+    assert!(!res.hunting_at_end);
+    assert!(vc > ramp.v_end && vc < ramp.v_start, "{vc}");
+    // every wheelset's half cycles carry the ramp's speeds, falling with time
+    for b in &res.branch {
+        assert!(
+            b.windows(2)
+                .all(|w| w[1].t > w[0].t && w[1].speed <= w[0].speed)
+        );
+    }
+    let above = growth_at(&scene, 1.06 * vc, 6.0, 2e-3).unwrap_or_else(|e| panic!("{e}"));
+    let below = growth_at(&scene, 0.94 * vc, 6.0, 2e-3).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!("constant speed, 2 mm offset, 6 s: {above:?} above, {below:?} below");
+    assert!(
+        above.last_amplitude > ramp.threshold,
+        "no hunting 6 % above the ramp's critical speed: {above:?}"
+    );
+    assert!(
+        below.last_amplitude < ramp.threshold && below.rate.is_some_and(|r| r < 0.0),
+        "hunting 6 % below the ramp's critical speed: {below:?}"
+    );
+}
+
+/// Bad set-ups are errors naming the study and the values, not panics or empty results.
+#[test]
+fn bad_study_settings_are_reported() {
+    let scene = Scene::from_file(root().join("scenes/manchester_hunting.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let base = RampDown {
+        v_start: 60.0,
+        v_end: 50.0,
+        settle: 100.0,
+        ramp: 100.0,
+        offset: 1e-3,
+        threshold: 0.5e-3,
+    };
+    let cases = [
+        (
+            RampDown {
+                v_end: 70.0,
+                ..base
+            },
+            "must be above the end speed",
+        ),
+        (RampDown { ramp: 1e6, ..base }, "beyond the end of track"),
+        (
+            RampDown {
+                offset: 20e-3,
+                ..base
+            },
+            "lateral offset must lie in",
+        ),
+        (
+            RampDown {
+                threshold: 0.0,
+                ..base
+            },
+            "must be positive",
+        ),
+    ];
+    for (r, want) in cases {
+        let e = ramp_down(&scene, &r, &opts, &mut |_, _| {})
+            .err()
+            .unwrap_or_else(|| panic!("{r:?} accepted"))
+            .to_string();
+        assert!(e.contains(want), "{e}");
+    }
+    let e = growth_at(&scene, 50.0, 1e6, 1e-3).unwrap_err().to_string();
+    assert!(e.contains("beyond the end of track"), "{e}");
+}
