@@ -65,7 +65,7 @@ pub struct CriticalArgs {
     /// Bisect: stop when the bracket is narrower than this fraction of its upper speed.
     #[arg(long, default_value_t = 0.01)]
     pub tol: f64,
-    /// Write the result as CSV: the ramp's half cycles (wheelset, time, speed, amplitude) or the
+    /// Write the result as CSV: the ramp's half waves (wheelset, time, speed, amplitude) or the
     /// bisection's runs (speed, growth rate, last amplitude).
     #[arg(long)]
     pub csv: Option<PathBuf>,
@@ -172,7 +172,7 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
             }
         }
         std::fs::write(p, text).with_context(|| format!("writing {}", p.display()))?;
-        outln!("half cycles written to {}", p.display());
+        outln!("half waves written to {}", p.display());
     }
     outln!(
         "simulated {:.2} s in {:.1} s ({} right-hand sides)",
@@ -198,7 +198,7 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
         }
         Some(v) => {
             outln!(
-                "nonlinear critical speed (last half cycle with an amplitude of {thr} mm or more): {:.1} km/h ({:.2} m/s)",
+                "nonlinear critical speed (last half wave with an amplitude of {thr} mm or more): {:.1} km/h ({:.2} m/s)",
                 v * 3.6,
                 v
             );
@@ -220,7 +220,7 @@ fn print_branch(res: &RampResult, r: &RampDown) -> Result<()> {
     for n in 0..res.branch.len() {
         write!(head, "  ws{n} mm")?;
     }
-    outln!("largest half-cycle amplitude per speed band during the ramp:");
+    outln!("largest half-wave amplitude per speed band during the ramp:");
     outln!("{head}");
     for k in 0..n_bands {
         let hi = r.v_start - k as f64 * band;

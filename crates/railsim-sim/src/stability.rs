@@ -196,7 +196,7 @@ pub struct RampResult {
     pub branch: Vec<Vec<BranchPoint>>,
     /// \[s\] time at which the ramp starts.
     pub ramp_start: f64,
-    /// \[m/s\] largest amplitude of any wheelset in the last whole cycle before the ramp: the
+    /// \[m\] largest amplitude of any wheelset in the last whole cycle before the ramp: the
     /// limit cycle at `v_start` (0 when it has none).
     pub amplitude_at_start: f64,
     /// \[m/s\] the nonlinear critical speed: the speed of the last half cycle of the ramp in
