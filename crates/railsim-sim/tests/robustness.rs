@@ -4,6 +4,8 @@
 
 use std::path::PathBuf;
 
+mod common;
+
 use railsim_sim::{RunOptions, Scene, SimError, Simulation};
 
 /// Knuth's 64-bit LCG, uniform in [0, 1).
@@ -161,21 +163,17 @@ fn a_contact_failure_at_a_trial_stage_shortens_the_step() {
 /// before (the oldest kept sample had to lie 1.9 m back, and 5 × 0.347 m is 1.74 m).
 #[test]
 fn the_2_m_mean_of_y_over_q_is_taken_at_any_sample_spacing() {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let scene_text = format!(
-        "vehicle = \"{}\"\ntrack = \"{}\"\nspeed_kmh = 250\nduration_s = 0.06\n\
-         [log]\nrate_hz = 200\n",
-        root.join("vehicles/wheelset_free.toml").display(),
-        root.join("tracks/straight.toml").display()
+    let scene = common::scene(
+        r#"
+        vehicle = "vehicles/wheelset_free.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 250
+        duration_s = 0.06
+        [log]
+        rate_hz = 200
+        "#,
     );
-    let scene = Scene::from_toml_str(&scene_text, "s.toml", &root).unwrap();
-    let opts = RunOptions {
-        no_log: true,
-        ..Default::default()
-    };
-    let summary = Simulation::new(&scene)
-        .and_then(|mut sim| sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {}))
-        .unwrap();
+    let (_, _, summary) = common::run(&scene);
     // 4.2 m run, 13 samples
     assert_eq!(summary.samples, 13);
     let (m2, _, _) = summary
