@@ -15,6 +15,8 @@ use clap::{Args, ValueEnum};
 use railsim_sim::stability::{Growth, RampDown, RampResult, bisect_growth, ramp_down};
 use railsim_sim::{RunOptions, Scene};
 
+use crate::chart::{Labels, Series, line_chart};
+
 /// The built-in scene of the study, from the repository this binary was built in.
 pub const DEFAULT_SCENE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -69,6 +71,10 @@ pub struct CriticalArgs {
     /// bisection's runs (speed, growth rate, last amplitude).
     #[arg(long)]
     pub csv: Option<PathBuf>,
+    /// Draw the result to this PNG: the ramp's bifurcation diagram (half-wave amplitude of each
+    /// wheelset against speed, with the threshold) or the bisection's growth rates against speed.
+    #[arg(long)]
+    pub png: Option<PathBuf>,
     /// Ramp: write the MCAP log of the ramp run here (default: no log).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -173,6 +179,42 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
         }
         std::fs::write(p, text).with_context(|| format!("writing {}", p.display()))?;
         outln!("half waves written to {}", p.display());
+    }
+    if let Some(png) = &a.png {
+        let mut lines: Vec<Series> = res
+            .branch
+            .iter()
+            .enumerate()
+            .map(|(n, b)| Series {
+                name: format!("wheelset {n}"),
+                points: b
+                    .iter()
+                    .filter(|p| p.t >= res.ramp_start)
+                    .map(|p| (p.speed * 3.6, p.amplitude * 1e3))
+                    .collect(),
+            })
+            .collect();
+        lines.push(Series {
+            name: format!("threshold {thr} mm", thr = a.threshold_mm),
+            points: vec![(a.to_kmh, a.threshold_mm), (a.from_kmh, a.threshold_mm)],
+        });
+        let title = format!(
+            "{} ({}): ramp-down {} -> {} km/h",
+            scene.name,
+            scene.contact.model.name(),
+            a.from_kmh,
+            a.to_kmh
+        );
+        line_chart(
+            png,
+            &Labels {
+                title: &title,
+                x: "speed [km/h]",
+                y: "hunting amplitude per half wave [mm]",
+            },
+            &lines,
+        )?;
+        outln!("bifurcation diagram drawn to {}", png.display());
     }
     outln!(
         "simulated {:.2} s in {:.1} s ({} right-hand sides)",
@@ -290,6 +332,39 @@ fn bisect(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
         }
         std::fs::write(p, text).with_context(|| format!("writing {}", p.display()))?;
         outln!("runs written to {}", p.display());
+    }
+    if let Some(png) = &a.png {
+        let mut pts: Vec<(f64, f64)> = res
+            .runs
+            .iter()
+            .filter_map(|g| g.rate.map(|r| (g.speed * 3.6, r)))
+            .collect();
+        pts.sort_by(|p, q| p.0.total_cmp(&q.0));
+        let title = format!(
+            "{} ({}): growth of a {} mm disturbance",
+            scene.name,
+            scene.contact.model.name(),
+            offset * 1e3
+        );
+        line_chart(
+            png,
+            &Labels {
+                title: &title,
+                x: "speed [km/h]",
+                y: "growth rate [1/s]",
+            },
+            &[
+                Series {
+                    name: "growth rate".into(),
+                    points: pts,
+                },
+                Series {
+                    name: "zero".into(),
+                    points: vec![(a.to_kmh, 0.0), (a.from_kmh, 0.0)],
+                },
+            ],
+        )?;
+        outln!("growth rates drawn to {}", png.display());
     }
     outln!(
         "critical speed (growth rate of a {} mm disturbance changes sign): {:.1} km/h ({:.2} m/s), {} runs",

@@ -32,6 +32,7 @@ macro_rules! outln {
     }};
 }
 
+mod chart;
 mod critical;
 mod replay;
 mod run;

@@ -8,33 +8,15 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, anyhow, bail};
+
+use crate::chart::{Labels, Series, bounds, line_chart};
 use clap::Args;
-use plotters::prelude::*;
-use plotters::style::{FontStyle, register_font};
 
 use railsim_log::export::{
     Scalar, csv_file_name, export_csv, export_csv_files, flatten_json, summarize, units_of,
 };
 use railsim_log::{LogError, LogReader, Query, ns_to_s, s_to_ns};
 use railsim_profile::short_number;
-
-/// DejaVu Sans (Bitstream Vera licence, see `assets/SOURCE.md`): the plots' only font, so that
-/// drawing text needs no system font library.
-const FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
-const FONT_FAMILY: &str = "sans-serif";
-/// \[px\] size of the PNG.
-const PLOT_SIZE: (u32, u32) = (1280, 720);
-/// Line colours, chosen to stay distinct on white and from each other.
-const COLOURS: [RGBColor; 8] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(255, 127, 14),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(23, 190, 207),
-    RGBColor(0, 0, 0),
-];
 
 #[derive(Args)]
 pub struct ReplayArgs {
@@ -565,38 +547,30 @@ fn plot(
     for signal in &mut signals {
         read_signal(reader, signal, range)?;
     }
-    let points = signals
-        .iter()
-        .flat_map(|s| s.series.iter().flatten())
-        .filter(|(_, y)| y.is_finite());
-    let (mut t0, mut t1, mut y0, mut y1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for &(t, y) in points {
-        t0 = t0.min(t);
-        t1 = t1.max(t);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
+    // one chart line per signal and message slot
+    let mut lines = Vec::new();
+    for signal in &signals {
+        let several = signal.series.len() > 1;
+        for (k, series) in signal.series.iter().enumerate() {
+            let name = if signal.by_patch && (several || k > 0) {
+                format!("{} patch {k}", label(signal))
+            } else if several {
+                format!("{} (message {k} at each time)", label(signal))
+            } else {
+                label(signal)
+            };
+            lines.push(Series {
+                name,
+                points: series.clone(),
+            });
+        }
     }
-    if !t0.is_finite() {
+    let Some(([t0, t1], _)) = bounds(&lines) else {
         bail!(
             "--plot: no samples of {} in the chosen time range",
             specs.join(", ")
         );
-    }
-    if t1 <= t0 {
-        t1 = t0 + 1e-3;
-    }
-    let pad = if y1 > y0 {
-        0.05 * (y1 - y0)
-    } else {
-        0.05 * y0.abs().max(1e-12)
     };
-    let (y0, y1) = (y0 - pad, y1 + pad);
-
     let units: Vec<Option<&str>> = signals.iter().map(|s| s.unit.as_deref()).collect();
     let y_label = if signals.len() == 1 {
         label(&signals[0])
@@ -609,63 +583,15 @@ fn plot(
         Some(name) => format!("scene {name}: {}", file_name(reader.path())),
         None => file_name(reader.path()),
     };
-
-    register_font(FONT_FAMILY, FontStyle::Normal, FONT)
-        .map_err(|_| anyhow!("the built-in font assets/DejaVuSans.ttf does not load"))?;
-    let draw_err = |e: &dyn std::fmt::Display| anyhow!("{}: drawing the plot: {e}", png.display());
-    {
-        let root = BitMapBackend::new(png, PLOT_SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| draw_err(&e))?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, (FONT_FAMILY, 24))
-            .margin(16)
-            .x_label_area_size(50)
-            .y_label_area_size(90)
-            .build_cartesian_2d(t0..t1, y0..y1)
-            .map_err(|e| draw_err(&e))?;
-        chart
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc(y_label)
-            .label_style((FONT_FAMILY, 15))
-            .axis_desc_style((FONT_FAMILY, 18))
-            .draw()
-            .map_err(|e| draw_err(&e))?;
-        let mut colour = 0usize;
-        for signal in &signals {
-            let several = signal.series.len() > 1;
-            for (k, series) in signal.series.iter().enumerate() {
-                let c = COLOURS[colour % COLOURS.len()];
-                colour += 1;
-                if series.is_empty() {
-                    continue;
-                }
-                let name = if signal.by_patch && (several || k > 0) {
-                    format!("{} patch {k}", label(signal))
-                } else if several {
-                    format!("{} (message {k} at each time)", label(signal))
-                } else {
-                    label(signal)
-                };
-                chart
-                    .draw_series(LineSeries::new(series.iter().copied(), c.stroke_width(2)))
-                    .map_err(|e| draw_err(&e))?
-                    .label(name)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(2))
-                    });
-            }
-        }
-        chart
-            .configure_series_labels()
-            .label_font((FONT_FAMILY, 15))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(|e| draw_err(&e))?;
-        root.present().map_err(|e| draw_err(&e))?;
-    }
+    line_chart(
+        png,
+        &Labels {
+            title: &title,
+            x: "time [s]",
+            y: &y_label,
+        },
+        &lines,
+    )?;
     let samples: usize = signals
         .iter()
         .flat_map(|s| s.series.iter().map(Vec::len))

@@ -112,8 +112,11 @@ fn an_error_prints_its_cause_once() {
 fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_settings() {
     let dir = common::temp_dir("cli", "critical");
     let csv = dir.join("branch.csv");
+    let png = dir.join("branch.png");
     let (code, out, err) = railsim(&[
         "critical-speed",
+        "--png",
+        png.to_str().unwrap(),
         "--from-kmh",
         "400",
         "--to-kmh",
@@ -128,6 +131,8 @@ fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_setting
     ]);
     assert_eq!(code, 1, "{out}\n{err}");
     assert!(out.contains("still hunting"), "{out}");
+    assert!(out.contains("bifurcation diagram drawn to"), "{out}");
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("wheelset,t_s,speed_kmh,amplitude_mm"));

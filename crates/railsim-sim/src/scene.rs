@@ -3,7 +3,7 @@
 use std::ops::Range;
 use std::path::{Component, Path, PathBuf};
 
-use railsim_contact::{ContactModelKind, ContactOptions, HertzSearch};
+use railsim_contact::{ContactModelKind, ContactOptions, HertzSearch, Tangential};
 use railsim_ode::Method;
 use railsim_track::{SegmentKind, TrackError, TrackModel, TrackSpec};
 use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel, WheelsetId};
@@ -1095,6 +1095,39 @@ impl Compiler<'_> {
                     );
                     ok = false;
                 }
+            }
+        }
+        if let Some(t) = &c.tangential {
+            let name = t.get_ref().trim();
+            let strip_model = matches!(
+                opts.model,
+                ContactModelKind::Stripes | ContactModelKind::Halfspace
+            );
+            let found = match name {
+                "fastrip" => Some(Tangential::Fastrip),
+                "fastsim" => Some(Tangential::Fastsim),
+                _ => None,
+            };
+            let problem = match found {
+                _ if !strip_model => Some(format!(
+                    "[contact] tangential applies only to model = \"stripes\" or \"halfspace\" (the Hertz models have their own), found model = \"{}\"",
+                    opts.model.name()
+                )),
+                Some(k) => {
+                    opts.tangential = k;
+                    None
+                }
+                None if name == "exact" => Some(
+                    "[contact] tangential = \"exact\" (Kalker's exact solution, about 10 ms per wheel evaluation) is the reference level of `railsim contact`, not for dynamics; expected one of: fastrip, fastsim".to_owned(),
+                ),
+                None => Some(format!(
+                    "[contact] tangential: unknown solution '{name}'{}; expected one of: fastrip, fastsim",
+                    did_you_mean(name, ["fastrip", "fastsim"].into_iter())
+                )),
+            };
+            if let Some(m) = problem {
+                self.err(&t.span(), "contact.tangential", m);
+                ok = false;
             }
         }
         let warm_start = c.warm_start.as_ref().is_none_or(|w| *w.get_ref());

@@ -114,6 +114,9 @@ pub struct ContactSpec {
     /// How the Hertz models find their contact points: `"point"` (default) or `"travel"`.
     #[serde(default)]
     pub hertz_search: Option<Spanned<String>>,
+    /// Tangential solution of `stripes` and `halfspace`: `"fastrip"` (default) or `"fastsim"`.
+    #[serde(default)]
+    pub tangential: Option<Spanned<String>>,
 }
 
 /// `[integrator]`.
@@ -192,6 +195,7 @@ pub const CONTACT_KEYS: &[&str] = &[
     "creep_coefficient_n",
     "warm_start",
     "hertz_search",
+    "tangential",
 ];
 /// Keys of `[integrator]`.
 pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_step_s"];

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use railsim_contact::{ContactModelKind, HertzSearch};
+use railsim_contact::{ContactModelKind, HertzSearch, Tangential};
 use railsim_ode::Method;
 use railsim_sim::{
     RunLength, Scene, SceneError, Topic, longest_rigid_wheelbase, required_curve_radius,
@@ -339,6 +339,35 @@ fn hertz_search_is_read_and_checked() {
             "point, travel",
         ],
     );
+}
+
+#[test]
+fn the_tangential_solution_is_read_and_checked() {
+    let s = compile(&format!("{GOOD}[contact]\ntangential = \"fastsim\"\n")).unwrap();
+    assert_eq!(s.contact.tangential, Tangential::Fastsim);
+    let s = compile(&format!("{GOOD}[contact]\nmodel = \"halfspace\"\n")).unwrap();
+    assert_eq!(s.contact.tangential, Tangential::Fastrip);
+    for (text, want) in [
+        (
+            "tangential = \"fastsin\"",
+            vec!["unknown solution 'fastsin'", "did you mean 'fastsim'"],
+        ),
+        (
+            "tangential = \"exact\"",
+            vec!["reference level", "not for dynamics", "fastrip, fastsim"],
+        ),
+        (
+            "model = \"polach\"\ntangential = \"fastsim\"",
+            vec![
+                "applies only to model = \"stripes\" or \"halfspace\"",
+                "polach",
+            ],
+        ),
+    ] {
+        let p = problems(&format!("{GOOD}[contact]\n{text}\n"));
+        let line = 6 + text.lines().count() - 1;
+        expect(&p, line, &want);
+    }
 }
 
 #[test]
