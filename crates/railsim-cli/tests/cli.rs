@@ -113,8 +113,18 @@ fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_setting
     let dir = common::temp_dir("cli", "critical");
     let csv = dir.join("branch.csv");
     let png = dir.join("branch.png");
+    // the shipped study scene with `polach` (five times cheaper than its `stripes`)
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene = dir.join("hunting_polach.toml");
+    let text = std::fs::read_to_string(root.join("scenes/manchester_hunting.toml"))
+        .unwrap()
+        .replace("model = \"stripes\"", "model = \"polach\"")
+        .replace("\"../", &format!("\"{}/", root.display()));
+    assert!(text.contains("model = \"polach\""));
+    std::fs::write(&scene, text).unwrap();
     let (code, out, err) = railsim(&[
         "critical-speed",
+        scene.to_str().unwrap(),
         "--png",
         png.to_str().unwrap(),
         "--from-kmh",

@@ -8,7 +8,28 @@ mod common;
 use railsim_sim::stability::{RampDown, growth_at, ramp_down};
 use railsim_sim::{RunOptions, Scene};
 
-use common::root;
+/// The study scene of `railsim critical-speed` with `polach` (five times cheaper than the
+/// shipped scene's `stripes`; the two differ in where the vehicle stops hunting,
+/// docs/validation.md §8).
+fn polach_scene() -> Scene {
+    common::scene(
+        r#"
+        vehicle = "vehicles/manchester_vehicle1.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 300
+        duration_s = 5
+        freeze = ["carbody.x"]
+        [contact]
+        model = "polach"
+        [integrator]
+        method = "dopri5"
+        rtol = 1e-4
+        atol = 1e-6
+        [log]
+        rate_hz = 200
+        "#,
+    )
+}
 
 /// The ramp-down method's premise: the speed at which the slowly decelerated vehicle stops
 /// hunting is the lowest speed at which a hunting orbit exists. So at constant speed 6 % above
@@ -18,8 +39,7 @@ use common::root;
 /// side.
 #[test]
 fn the_ramp_down_critical_speed_separates_hunting_from_stable_running() {
-    let scene = Scene::from_file(root().join("scenes/manchester_hunting.toml"))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let scene = polach_scene();
     let ramp = RampDown {
         v_start: 230.0 / 3.6,
         v_end: 160.0 / 3.6,
@@ -68,7 +88,7 @@ fn the_ramp_down_critical_speed_separates_hunting_from_stable_running() {
 /// Bad set-ups are errors naming the study and the values, not panics or empty results.
 #[test]
 fn bad_study_settings_are_reported() {
-    let scene = Scene::from_file(root().join("scenes/manchester_hunting.toml"))
+    let scene = Scene::from_file(common::root().join("scenes/manchester_hunting.toml"))
         .unwrap_or_else(|e| panic!("{e}"));
     let opts = RunOptions {
         no_log: true,
