@@ -136,6 +136,36 @@ struct Traces {
     y: Vec<Vec<f64>>,
 }
 
+/// \[1/m\] curvature below which track counts as straight for a study (a radius above 100 km,
+/// as for the start of a run).
+const STRAIGHT_CURVATURE: f64 = 1e-5;
+
+/// The studies measure the oscillation about the track centre line: the whole run must be on
+/// straight track (irregularities allowed). Checked every 1 m from the rearmost wheelset's start
+/// to the leading wheelset's end.
+fn check_straight(study: &Scene, what: &str) -> Result<(), SimError> {
+    let xs = study.vehicle.wheelsets().iter().map(|w| w.position[0]);
+    let (x_min, x_max) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    let (a, b) = (study.start + x_min, study.start + study.distance() + x_max);
+    let n = (b - a).ceil().max(1.0) as usize;
+    for k in 0..=n {
+        let s = a + (b - a) * k as f64 / n as f64;
+        let f = study.track.frame_at(s);
+        if f.curvature.abs() > STRAIGHT_CURVATURE {
+            return Err(SimError::Study {
+                message: format!(
+                    "{what}: the run reaches a curve (radius {:.0} m at s = {s:.1} m on track '{}'); the study measures hunting about the centre line of straight track: use a straight track or a shorter run",
+                    1.0 / f.curvature.abs(),
+                    study.track_file.display()
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Run `scene` with `opts`, keeping the wheelsets' lateral displacements at the samples.
 fn run_traces(
     scene: &Scene,
@@ -245,6 +275,7 @@ pub fn ramp_down(
         RunLength::Distance(ramp.settle + ramp.ramp),
         ramp.offset,
     )?;
+    check_straight(&study, "ramp-down study")?;
     let (tr, summary) = run_traces(&study, opts, progress)?;
     let speed_at = |t: f64| study.speed.speed_at(study.speed.distance_at(t));
     let branch: Vec<Vec<BranchPoint>> =
@@ -314,6 +345,7 @@ pub fn growth_at(
         RunLength::Duration(duration),
         offset,
     )?;
+    check_straight(&study, "growth-rate run")?;
     let opts = RunOptions {
         no_log: true,
         ..Default::default()

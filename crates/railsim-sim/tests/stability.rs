@@ -135,4 +135,15 @@ fn bad_study_settings_are_reported() {
     }
     let e = growth_at(&scene, 50.0, 1e6, 1e-3).unwrap_err().to_string();
     assert!(e.contains("beyond the end of track"), "{e}");
+    // a run into a curve: hunting is measured about the centre line of straight track
+    let curve = common::scene(
+        r#"
+        vehicle = "vehicles/manchester_vehicle1.toml"
+        track = "tracks/curve_r1200.toml"
+        speed_kmh = 100
+        duration_s = 1
+        "#,
+    );
+    let e = growth_at(&curve, 50.0, 30.0, 1e-3).unwrap_err().to_string();
+    assert!(e.contains("reaches a curve (radius"), "{e}");
 }
