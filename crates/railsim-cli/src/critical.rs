@@ -4,10 +4,8 @@
 //! (`railsim_sim::stability`, docs/models/dynamics.md "Running stability").
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
@@ -147,19 +145,11 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
         sources: crate::run::sources(path, scene),
         ..Default::default()
     };
-    let wall = Instant::now();
-    let mut last = 0.0f64;
-    let quiet = a.quiet;
-    let mut progress = |t: f64, t_end: f64| {
-        let w = wall.elapsed().as_secs_f64();
-        if !quiet && (w - last > 0.5 || t >= t_end) {
-            last = w;
-            eprint!("\rt = {t:7.3} / {t_end:.3} s   real {w:7.1} s ");
-            let _ = std::io::stderr().flush();
-        }
-    };
+    let mut progress = crate::run::throttled(a.quiet, |t, t_end, w| {
+        eprint!("\rt = {t:7.3} / {t_end:.3} s   real {w:7.1} s ");
+    });
     let res = ramp_down(scene, &r, &opts, &mut progress).context("railsim critical-speed");
-    if !quiet {
+    if !a.quiet {
         eprintln!();
     }
     let res = res?;

@@ -85,26 +85,18 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
         scene.contact.model.name(),
         sim.model().dim()
     );
-    let wall = Instant::now();
-    let mut last = 0.0f64;
-    let quiet = a.quiet;
-    let mut progress = |t: f64, t_end: f64| {
-        let w = wall.elapsed().as_secs_f64();
-        if !quiet && (w - last > 0.5 || t >= t_end) {
-            last = w;
-            let frac = (t / t_end).clamp(0.0, 1.0);
-            let n = (frac * 30.0).round() as usize;
-            eprint!(
-                "\r[{}{}] t = {t:7.3} / {t_end:.3} s   real {w:7.1} s   {:.2}× real time ",
-                "#".repeat(n),
-                ".".repeat(30 - n),
-                t / w.max(1e-9)
-            );
-            let _ = std::io::stderr().flush();
-        }
-    };
+    let mut progress = throttled(a.quiet, |t, t_end, w| {
+        let frac = (t / t_end).clamp(0.0, 1.0);
+        let n = (frac * 30.0).round() as usize;
+        eprint!(
+            "\r[{}{}] t = {t:7.3} / {t_end:.3} s   real {w:7.1} s   {:.2}× real time ",
+            "#".repeat(n),
+            ".".repeat(30 - n),
+            t / w.max(1e-9)
+        );
+    });
     let result = sim.run(&scene, &opts, &mut progress, &mut |_| {});
-    if !quiet {
+    if !a.quiet {
         eprintln!();
     }
     let summary = match result {
@@ -126,6 +118,22 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
     };
     print_summary(&summary, a.timing)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// A progress callback of a run, `(t, t_end)`: unless `quiet`, calls `show(t, t_end, wall)`
+/// (wall-clock seconds since its creation) at most every half second and at the end, then
+/// flushes standard error.
+pub fn throttled(quiet: bool, mut show: impl FnMut(f64, f64, f64)) -> impl FnMut(f64, f64) {
+    let wall = Instant::now();
+    let mut last = 0.0f64;
+    move |t, t_end| {
+        let w = wall.elapsed().as_secs_f64();
+        if !quiet && (w - last > 0.5 || t >= t_end) {
+            last = w;
+            show(t, t_end, w);
+            let _ = std::io::stderr().flush();
+        }
+    }
 }
 
 /// \[s\] fixed explicit steps above this may exceed the stability limit that the wheel/rail
