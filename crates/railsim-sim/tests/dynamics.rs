@@ -266,7 +266,7 @@ fn wheelset_on_springs_loses_stability_at_wickens_critical_speed() {
         1.4,
         0.02e-3,
         0.005,
-        &mut |g| rates.push((g.speed, g.rate)),
+        &mut |g| rates.push((g.speed, g.late_rate)),
     )
     .unwrap_or_else(|e| panic!("{e}"));
     let v_sim = res.critical_speed;
