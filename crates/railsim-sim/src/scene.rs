@@ -561,7 +561,12 @@ fn is_dropped(dropped: &[(usize, String)], table: &Range<usize>, key: &str) -> b
 }
 
 /// Wheelset positions: (leading id, x max, x min) in the vehicle frame.
-fn extent(vehicle: &VehicleModel) -> (WheelsetId, f64, f64) {
+/// \[1/m\] curvature below which track counts as straight (a radius above 100 km): for the
+/// start of a run and for the studies of `crate::stability`.
+pub(crate) const STRAIGHT_CURVATURE: f64 = 1e-5;
+
+/// The leading wheelset and the largest and smallest wheelset x in the vehicle frame.
+pub(crate) fn extent(vehicle: &VehicleModel) -> (WheelsetId, f64, f64) {
     let ws = vehicle.wheelsets();
     let mut lead = 0;
     for (i, w) in ws.iter().enumerate() {
@@ -1614,13 +1619,13 @@ impl Compiler<'_> {
             // (radius above 100 km and cant below 0.02 mm count as straight and level)
             let bent_at = |s: f64| {
                 let f = track.frame_at(s);
-                (f.curvature.abs() > 1e-5 || f.roll.abs() > 1e-5).then_some(f)
+                (f.curvature.abs() > STRAIGHT_CURVATURE || f.roll.abs() > 1e-5).then_some(f)
             };
             let bent = (0..=n)
                 .map(|k| a + (b - a) * k as f64 / n as f64)
                 .find_map(|s| bent_at(s).map(|f| (s, f)));
             if let Some((s_bent, f)) = bent {
-                let what = if f.curvature.abs() > 1e-5 {
+                let what = if f.curvature.abs() > STRAIGHT_CURVATURE {
                     format!("radius {:.0} m", 1.0 / f.curvature.abs())
                 } else {
                     format!("cant {:.1} mm", f.cant.abs() * 1e3)

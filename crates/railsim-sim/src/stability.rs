@@ -30,7 +30,7 @@
 
 use crate::error::SimError;
 use crate::run::{RunOptions, RunSummary, Simulation};
-use crate::scene::{RunLength, Scene, SpeedProfile};
+use crate::scene::{RunLength, STRAIGHT_CURVATURE, Scene, SpeedProfile, extent};
 
 /// One half wave of an oscillation about its centre line: the largest excursion between two
 /// consecutive crossings.
@@ -136,18 +136,11 @@ struct Traces {
     y: Vec<Vec<f64>>,
 }
 
-/// \[1/m\] curvature below which track counts as straight for a study (a radius above 100 km,
-/// as for the start of a run).
-const STRAIGHT_CURVATURE: f64 = 1e-5;
-
 /// The studies measure the oscillation about the track centre line: the whole run must be on
 /// straight track (irregularities allowed). Checked every 1 m from the rearmost wheelset's start
 /// to the leading wheelset's end.
 fn check_straight(study: &Scene, what: &str) -> Result<(), SimError> {
-    let xs = study.vehicle.wheelsets().iter().map(|w| w.position[0]);
-    let (x_min, x_max) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-        (a.min(x), b.max(x))
-    });
+    let (_, x_max, x_min) = extent(&study.vehicle);
     let (a, b) = (study.start + x_min, study.start + study.distance() + x_max);
     let n = (b - a).ceil().max(1.0) as usize;
     for k in 0..=n {
@@ -294,22 +287,17 @@ pub fn ramp_down(
     // the limit cycle at the start: the last two half cycles before the ramp, per wheelset
     let amplitude_at_start = branch
         .iter()
-        .flat_map(|b| {
-            let before: Vec<&BranchPoint> = b.iter().filter(|p| p.t < ramp_start).collect();
-            before.into_iter().rev().take(2).map(|p| p.amplitude)
-        })
+        .flat_map(|b| b.iter().rev().filter(|p| p.t < ramp_start).take(2))
+        .map(|p| p.amplitude)
         .fold(0.0, f64::max);
     let hunting = |p: &&BranchPoint| p.t >= ramp_start && p.amplitude >= ramp.threshold;
     let critical_speed = branch
         .iter()
         .filter_map(|b| b.iter().filter(hunting).map(|p| p.speed).reduce(f64::min))
         .reduce(f64::min);
-    let hunting_at_end = branch.iter().any(|b| {
-        b.iter()
-            .rev()
-            .take(2)
-            .any(|p| p.t >= ramp_start && p.amplitude >= ramp.threshold)
-    });
+    let hunting_at_end = branch
+        .iter()
+        .any(|b| b.iter().rev().take(2).any(|p| hunting(&p)));
     Ok(RampResult {
         branch,
         ramp_start,
