@@ -11,6 +11,7 @@ use clap::Args;
 
 use railsim_ode::Method;
 use railsim_sim::{RunOptions, RunSummary, Scene, SimError, Simulation, Y_OVER_Q_WINDOW};
+use railsim_sim::assess::{Assessment, STABILITY_WINDOW, SUM_Y_WINDOW};
 
 /// The built-in default scene, from the repository this binary was built in.
 pub const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/default.toml");
@@ -182,6 +183,61 @@ fn stability_note(method: &Method, rail_mass: Option<f64>) -> Option<String> {
     }
 }
 
+/// The EN 14363 track-shift force lines of the summary.
+fn print_assessment(a: &Assessment) -> Result<()> {
+    let band = match (a.band, a.instability_frequency) {
+        (Some((lo, hi)), Some((f0, found))) => format!(
+            "band-passed {lo:.2}-{hi:.2} Hz around f0 = {f0:.2} Hz ({})",
+            if found {
+                "the dominant frequency of ΣY"
+            } else {
+                "given"
+            }
+        ),
+        _ => "no instability frequency found: no r.m.s. criterion".to_owned(),
+    };
+    outln!(
+        "track-shift force ΣY (EN 14363; limit α(10 kN + 2Q0/3), α = {}{}; stability: sliding \
+         r.m.s. over {STABILITY_WINDOW} m of ΣY {band}, limit half of it):",
+        a.alpha,
+        if a.lowpass {
+            ""
+        } else {
+            "; the log rate is too low for the 20 Hz low-pass, not applied"
+        }
+    );
+    let verdict = |v: f64, lim: f64| if v.abs() > lim { " EXCEEDED" } else { "" };
+    for ax in &a.axles {
+        let lim = ax.sum_y_limit;
+        let mean = match (ax.sum_y_2m, ax.sum_y_2m_percentile) {
+            (Some(m), Some(p)) => format!(
+                "(ΣY)2m max {:.2} kN at {:.1} m, percentile statistic {:.2} kN, limit {:.2} kN{}",
+                m.value * 1e-3,
+                m.at,
+                p * 1e-3,
+                lim * 1e-3,
+                verdict(p, lim)
+            ),
+            _ => format!("no (ΣY)2m (the run covered less than {SUM_Y_WINDOW} m)"),
+        };
+        let rms = match ax.sum_y_rms {
+            Some(r) => format!(
+                "r.m.s. max {:.2} kN at {:.0} m, limit {:.2} kN{}",
+                r.value * 1e-3,
+                r.at,
+                ax.rms_limit() * 1e-3,
+                verdict(r.value, ax.rms_limit())
+            ),
+            None if a.band.is_some() => {
+                format!("no r.m.s. (the run covered less than {STABILITY_WINDOW} m)")
+            }
+            None => "no r.m.s.".to_owned(),
+        };
+        outln!("  wheelset {}: {mean}; {rms}", ax.wheelset);
+    }
+    Ok(())
+}
+
 fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
     outln!(
         "simulated {:.3} s in {:.2} s: real-time factor {:.3}",
@@ -206,6 +262,7 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         s.max_q.1,
         side(s.max_q.2)
     );
+    print_assessment(&s.assessment)?;
     if let Some([lat, vert]) = s.max_rail {
         outln!(
             "elastic rail support: max rail displacement {:.3} mm lateral (wheelset {}, {} wheel), \

@@ -19,12 +19,14 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod assess;
 pub mod dynamics;
 pub mod error;
 pub mod math;
 pub mod model;
 pub mod run;
 pub mod scene;
+pub mod signal;
 pub mod spec;
 pub mod stability;
 
@@ -35,4 +37,5 @@ pub use scene::{
     InitialDisturbance, LogOptions, RigidWheelbase, RunLength, Scene, SpeedProfile, Topic,
     longest_rigid_wheelbase, required_curve_radius,
 };
-pub use spec::{ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec};
+pub use spec::{
+    AssessmentSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec};

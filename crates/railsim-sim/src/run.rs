@@ -13,6 +13,7 @@ use railsim_log::messages::{
 use railsim_log::{Channel, LogHeader, LogStats, LogWriter, WriterOptions, step_time_ns};
 use railsim_ode::{Integrator, Method, OdeSystem, Stats, StepOutcome, StopReason};
 
+use crate::assess::{Assessment, Series, assess};
 use crate::dynamics::{CostSplit, Dynamics, Workspace, rail_frame};
 use crate::error::SimError;
 use crate::math::{mul_t, quaternion, rotation_rpy};
@@ -86,6 +87,9 @@ pub struct RunSummary {
     /// \[m\] on an elastic rail support: the largest lateral and vertical displacement (absolute
     /// values) of any rail at a sample, each with the wheelset and side of its wheel.
     pub max_rail: Option<[(f64, u32, Side); 2]>,
+    /// The EN 14363 track-shift force per axle: (ΣY)2m and the sliding r.m.s. stability
+    /// criterion against their limits (`crate::assess`).
+    pub assessment: Assessment,
     /// Integrator statistics.
     pub stats: Stats,
     /// Samples taken (at the log rate).
@@ -328,7 +332,7 @@ impl Simulation {
         let n = self.model.dim();
         let mut xs = vec![0.0; n];
         let mut dxs = vec![0.0; n];
-        let mut state = LoopState::new(&self.model);
+        let mut state = LoopState::new(&self.model, scene.log.rate_hz);
         let wall = Instant::now();
         let mut logging = 0.0;
         let mut next = 0usize;
@@ -398,6 +402,12 @@ impl Simulation {
             }
             return Err(e);
         }
+        // static axle loads per wheelset from the front
+        let mut axle_loads = vec![0.0; self.static_loads.len()];
+        for (pair, q) in self.model.wheels.chunks(2).zip(&self.static_loads) {
+            axle_loads[pair[0].wheelset_number as usize] = q[0] + q[1];
+        }
+        let assessment = assess(&state.series, &axle_loads, &scene.assessment);
         Ok(RunSummary {
             t_end: self.integ.t(),
             wall: wall.elapsed().as_secs_f64(),
@@ -406,6 +416,7 @@ impl Simulation {
             max_y_over_q_2m: state.max_yq_2m,
             max_q: state.max_q,
             max_rail: state.max_rail,
+            assessment,
             stats,
             samples: next as u64,
             digest: state.digest,
@@ -711,13 +722,15 @@ struct LoopState {
     max_rail: Option<[(f64, u32, Side); 2]>,
     /// Per wheel (2 × wheelset number + side): (distance, Y/Q) samples of the last 2 m and their sum.
     window: Vec<(std::collections::VecDeque<(f64, f64)>, f64)>,
+    /// Distance and track-shift force per wheelset at every sample, for the assessment.
+    series: Series,
     digest: u64,
     /// The current sample, updated in place.
     sample: Sample,
 }
 
 impl LoopState {
-    fn new(model: &SimModel) -> LoopState {
+    fn new(model: &SimModel, rate_hz: f64) -> LoopState {
         LoopState {
             max_lateral: vec![0.0; model.wheels.len() / 2],
             max_yq: None,
@@ -727,6 +740,11 @@ impl LoopState {
                 .rail_support
                 .map(|_| [(0.0, 0, Side::Left), (0.0, 0, Side::Left)]),
             window: vec![(std::collections::VecDeque::new(), 0.0); model.wheels.len()],
+            series: Series {
+                rate_hz,
+                distance: Vec::new(),
+                sum_y: vec![Vec::new(); model.wheels.len() / 2],
+            },
             digest: 0xcbf2_9ce4_8422_2325,
             sample: Sample {
                 t: 0.0,
@@ -752,7 +770,8 @@ impl LoopState {
     }
 
     /// Update the sample in place from the state `x` and the recording evaluation `ws` at `t`
-    /// (nothing allocated once the Y/Q windows have grown), fold it into the maxima and digest.
+    /// (nothing allocated once the Y/Q windows have grown, but for the growth of the series the
+    /// assessment is made from: a few values per sample), fold it into the maxima and digest.
     fn sample(&mut self, model: &SimModel, ws: &Workspace, t: f64, t_ns: u64, x: &[f64]) {
         for &xi in x {
             fnv1a(&mut self.digest, xi);
@@ -762,6 +781,7 @@ impl LoopState {
         smp.t = t;
         smp.t_ns = t_ns;
         smp.x.copy_from_slice(x);
+        self.series.distance.push(dist);
         for (i, pair) in model.wheels.chunks(2).enumerate() {
             let number = pair[0].wheelset_number;
             let m = pair[0].member.0;
@@ -785,6 +805,8 @@ impl LoopState {
                     [l[0], l[1], r[0], r[1]]
                 }),
             };
+            // the track-shift force: the two wheels' lateral forces on the rails, toward +y
+            self.series.sum_y[number as usize].push(yl - yr);
             let y = model.wheelset_pose(m, x).y;
             smp.lateral[number as usize] = y;
             let ml = &mut self.max_lateral[number as usize];

@@ -10,7 +10,10 @@ use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel
 use toml::Spanned;
 
 use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
-use crate::spec::{ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec};
+use crate::assess::{AssessOptions, STABILITY_HALF_BAND, stability_band};
+use crate::spec::{
+    AssessmentSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec,
+};
 
 /// \[-\] a rigid wheelbase `a` needs curves of radius R ≥ this × a (see
 /// [`required_curve_radius`]).
@@ -43,6 +46,9 @@ pub const CONTACT_STEP_RANGE_MM: (f64, f64) = (1e-3, 5.0);
 pub const MAX_LOG_RATE_HZ: f64 = 10_000.0;
 /// \[Hz\] logging rate when the file gives none.
 pub const DEFAULT_LOG_RATE_HZ: f64 = 200.0;
+/// \[Hz\] largest instability frequency of `[assessment]` (hunting of wheelsets and bogies lies
+/// far below).
+pub const MAX_INSTABILITY_HZ: f64 = 50.0;
 /// Log file when the file gives none.
 pub const DEFAULT_LOG_PATH: &str = "out/run.mcap";
 /// \[mm\] largest |lateral_offset_mm| of the initial disturbance (S1002 on UIC60 1:40 is in
@@ -357,6 +363,8 @@ pub struct Scene {
     pub initial: InitialDisturbance,
     /// Degrees of freedom frozen by the scene (in addition to those the vehicle file freezes).
     pub frozen: Vec<Dof>,
+    /// Settings of the EN 14363 assessment of the run's track-shift force (`[assessment]`).
+    pub assessment: AssessOptions,
 }
 
 impl Scene {
@@ -626,6 +634,7 @@ impl Compiler<'_> {
         let contact = self.contact(spec.contact.as_ref());
         let integrator = self.integrator(spec.integrator.as_ref());
         let log = self.log(spec.log.as_ref());
+        let assessment = self.assessment(spec.assessment.as_ref(), log.as_ref());
         let mut start_ok = true;
         let start = spec.start_m.as_ref().and_then(|v| {
             let x = *v.get_ref();
@@ -680,7 +689,54 @@ impl Compiler<'_> {
             log: log?,
             initial: initial?,
             frozen: frozen?,
+            assessment: assessment?,
         })
+    }
+
+    /// `[assessment]`: α in (0, 1], an instability frequency whose band the log rate carries.
+    fn assessment(
+        &mut self,
+        a: Option<&Spanned<AssessmentSpec>>,
+        log: Option<&LogOptions>,
+    ) -> Option<AssessOptions> {
+        let mut out = AssessOptions::default();
+        let Some(a) = a else {
+            return (!self.unreadable.iter().any(|t| t == "assessment")).then_some(out);
+        };
+        let a = a.get_ref();
+        let mut ok = true;
+        if let Some(v) = &a.alpha {
+            match self.range(v, "alpha", "", (0.0, 1.0), true) {
+                Some(x) => out.alpha = x,
+                None => ok = false,
+            }
+        }
+        if let Some(v) = &a.instability_frequency_hz {
+            match self.range(v, "instability_frequency_hz", "Hz", (0.0, MAX_INSTABILITY_HZ), true) {
+                Some(f) => {
+                    let top = stability_band(f).1;
+                    match log {
+                        Some(l) if 2.0 * top >= l.rate_hz => {
+                            self.err(
+                                &v.span(),
+                                "instability_frequency_hz",
+                                format!(
+                                    "[assessment] instability_frequency_hz = {f} Hz: its band \
+                                     reaches {top} Hz (f0 + {STABILITY_HALF_BAND} Hz), which \
+                                     needs a log rate above {} Hz; [log] rate_hz is {} Hz",
+                                    2.0 * top,
+                                    l.rate_hz
+                                ),
+                            );
+                            ok = false;
+                        }
+                        _ => out.instability_frequency = Some(f),
+                    }
+                }
+                None => ok = false,
+            }
+        }
+        ok.then_some(out)
     }
 
     fn path_key(

@@ -8,7 +8,7 @@
 //! Keys are optional at the serde level; which ones are required, and which combinations are
 //! allowed, is checked by the compile step so that every problem is reported in one run. The
 //! reader parses the root table and each sub-table (`[speed_profile]`, `[contact]`,
-//! `[integrator]`, `[log]`, `[initial]`) separately; a value of the wrong type is reported,
+//! `[integrator]`, `[log]`, `[initial]`, `[assessment]`) separately; a value of the wrong type is reported,
 //! dropped, and the table is read again, so one wrong type does not hide the next one.
 
 use serde::Deserialize;
@@ -64,6 +64,9 @@ pub struct SceneSpec {
     /// Initial disturbance of the leading wheelset; none when absent.
     #[serde(default)]
     pub initial: Option<Spanned<InitialSpec>>,
+    /// Settings of the EN 14363 assessment of the run; defaults when absent.
+    #[serde(default)]
+    pub assessment: Option<Spanned<AssessmentSpec>>,
     /// Degrees of freedom held at their nominal value, as `"body.dof"` (e.g. `"ws1.spin"`).
     #[serde(default)]
     pub freeze: Option<Spanned<Vec<Spanned<String>>>>,
@@ -168,6 +171,20 @@ pub struct InitialSpec {
     pub yaw_mrad: Option<Spanned<f64>>,
 }
 
+/// `[assessment]`: settings of the EN 14363 track-loading and running-stability assessment.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AssessmentSpec {
+    /// \[-\] α of Prud'homme's track-shift limit: 1 for locomotives and passenger vehicles
+    /// (default), 0.85 for freight wagons.
+    #[serde(default)]
+    pub alpha: Option<Spanned<f64>>,
+    /// \[Hz\] instability frequency f0 of the stability criterion's band-pass; default: the
+    /// dominant frequency of the track-shift force.
+    #[serde(default)]
+    pub instability_frequency_hz: Option<Spanned<f64>>,
+}
+
 /// Keys of the root table.
 pub const ROOT_KEYS: &[&str] = &[
     "name",
@@ -183,6 +200,7 @@ pub const ROOT_KEYS: &[&str] = &[
     "integrator",
     "log",
     "initial",
+    "assessment",
     "freeze",
 ];
 /// Keys of `[speed_profile]`.
@@ -203,13 +221,16 @@ pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_
 pub const LOG_KEYS: &[&str] = &["path", "rate_hz", "topics"];
 /// Keys of `[initial]`.
 pub const INITIAL_KEYS: &[&str] = &["lateral_offset_mm", "yaw_mrad"];
+/// Keys of `[assessment]`.
+pub const ASSESSMENT_KEYS: &[&str] = &["alpha", "instability_frequency_hz"];
 
-const SUBTABLES: [(&str, &[&str]); 5] = [
+const SUBTABLES: [(&str, &[&str]); 6] = [
     ("speed_profile", SPEED_PROFILE_KEYS),
     ("contact", CONTACT_KEYS),
     ("integrator", INTEGRATOR_KEYS),
     ("log", LOG_KEYS),
     ("initial", INITIAL_KEYS),
+    ("assessment", ASSESSMENT_KEYS),
 ];
 
 /// A sub-table taken out of the root: name, known keys, value.
@@ -309,7 +330,8 @@ impl SceneSpec {
                 "contact" => read_into!(contact),
                 "integrator" => read_into!(integrator),
                 "log" => read_into!(log),
-                _ => read_into!(initial),
+                "initial" => read_into!(initial),
+                _ => read_into!(assessment),
             };
             if !ok {
                 unreadable.push(name.to_owned());

@@ -1,0 +1,336 @@
+//! Track loading and running stability after EN 14363 (UIC 518): the track-shift force per
+//! axle and its sliding r.m.s. instability criterion, from a run's samples.
+//!
+//! The processing (EN 14363 / UIC 518, as tabulated at gensys.se/course/UIC518_tests.html,
+//! `docs/validation.md` §9):
+//! - **track-shift force** ΣY of an axle: the sum of the lateral forces of its two wheels on
+//!   the rails, positive toward +y (left); low-pass filtered at 20 Hz (4th-order Butterworth,
+//!   where the sample rate carries 20 Hz), then the **2 m sliding mean** `(ΣY)2m`, one value
+//!   every 0.5 m. Reported: the largest |(ΣY)2m| and the statistic of the standard, the larger
+//!   magnitude of its 0.15 % and 99.85 % percentiles, against Prud'homme's limit
+//!   `(ΣY)2m,lim = α (10 kN + 2Q0 / 3)` with `2Q0` the static axle load in kN and α = 1 for
+//!   locomotives and passenger vehicles, 0.85 for freight wagons;
+//! - **running stability**: ΣY band-pass filtered around the instability frequency f0
+//!   (f0 ± 2 Hz) and its **sliding r.m.s. over 100 m**, one value every 10 m, against half of
+//!   the ΣY limit. f0 is given by the caller (a study knows its hunting frequency) or taken as
+//!   the dominant frequency of the axles' ΣY between 1 and 15 Hz.
+//!
+//! The window lengths and steps, the limits and α are the values commonly quoted from
+//! EN 14363:2016 and UIC 518 (`../shared` vehicle reference §6, marked there as recalled):
+//! check them against the standard before a formal assessment. The signal processing is
+//! [`crate::signal`]. The samples are the run's instantaneous values at the log rate; no
+//! anti-aliasing filter precedes them, so a log rate well above 40 Hz is needed for the 20 Hz
+//! low-pass to mean what it says.
+
+use crate::signal::{
+    Filter, WindowValue, dominant_frequency, sliding_mean, sliding_rms,
+};
+
+/// \[m\] window of the sliding mean of the track-shift force.
+pub const SUM_Y_WINDOW: f64 = 2.0;
+/// \[m\] distance between two values of the 2 m sliding mean.
+pub const SUM_Y_STEP: f64 = 0.5;
+/// \[Hz\] low-pass corner before the 2 m mean.
+pub const SUM_Y_LOWPASS: f64 = 20.0;
+/// \[m\] window of the sliding r.m.s. of the stability criterion.
+pub const STABILITY_WINDOW: f64 = 100.0;
+/// \[m\] distance between two values of the sliding r.m.s.
+pub const STABILITY_STEP: f64 = 10.0;
+/// \[Hz\] half width of the band around the instability frequency.
+pub const STABILITY_HALF_BAND: f64 = 2.0;
+/// \[Hz\] where the instability frequency is looked for when not given.
+pub const INSTABILITY_SEARCH_BAND: (f64, f64) = (1.0, 15.0);
+/// \[N\] the constant term of Prud'homme's limit.
+const PRUDHOMME_CONSTANT: f64 = 10e3;
+/// Lower and upper percentile of the standard's statistic.
+const PERCENTILES: (f64, f64) = (0.0015, 0.9985);
+
+/// The sampled series an assessment is made from: samples at a constant rate, in order.
+#[derive(Debug, Clone, Default)]
+pub struct Series {
+    /// \[Hz\] sample rate.
+    pub rate_hz: f64,
+    /// \[m\] distance run at each sample (non-decreasing).
+    pub distance: Vec<f64>,
+    /// \[N\] per wheelset (numbered from the front): the track-shift force ΣY at each sample,
+    /// positive toward +y.
+    pub sum_y: Vec<Vec<f64>>,
+}
+
+/// Settings of an assessment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AssessOptions {
+    /// \[-\] α of Prud'homme's limit: 1 for locomotives and passenger vehicles, 0.85 for
+    /// freight wagons.
+    pub alpha: f64,
+    /// \[Hz\] the instability frequency f0 of the band-pass; `None`: the dominant frequency of
+    /// the axles' ΣY in [`INSTABILITY_SEARCH_BAND`].
+    pub instability_frequency: Option<f64>,
+}
+
+impl Default for AssessOptions {
+    fn default() -> Self {
+        AssessOptions {
+            alpha: 1.0,
+            instability_frequency: None,
+        }
+    }
+}
+
+/// The largest value of a windowed statistic and where its window ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extreme {
+    /// The value (signed for a mean, ≥ 0 for an r.m.s.).
+    pub value: f64,
+    /// \[m\] distance run at the end of its window.
+    pub at: f64,
+}
+
+/// One axle's track-shift force.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxleAssessment {
+    /// Wheelset number from the front.
+    pub wheelset: u32,
+    /// \[N\] static axle load 2Q0.
+    pub axle_load: f64,
+    /// \[N\] Prud'homme's limit of (ΣY)2m, `α (10 kN + 2Q0 / 3)`.
+    pub sum_y_limit: f64,
+    /// \[N\] the (ΣY)2m of largest magnitude; `None` when the run covered less than 2 m.
+    pub sum_y_2m: Option<Extreme>,
+    /// \[N\] the standard's statistic: the larger magnitude of the 0.15 % and 99.85 %
+    /// percentiles of (ΣY)2m.
+    pub sum_y_2m_percentile: Option<f64>,
+    /// \[N\] the largest sliding r.m.s. of the band-passed ΣY; `None` when the run covered
+    /// less than 100 m or no band could be filtered.
+    pub sum_y_rms: Option<Extreme>,
+    /// The sliding r.m.s. values along the run (for plots and studies).
+    pub sum_y_rms_windows: Vec<WindowValue>,
+}
+
+impl AxleAssessment {
+    /// \[N\] the limit of the sliding r.m.s.: half of the (ΣY)2m limit.
+    pub fn rms_limit(&self) -> f64 {
+        0.5 * self.sum_y_limit
+    }
+}
+
+/// The assessment of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Assessment {
+    /// Per wheelset, from the front.
+    pub axles: Vec<AxleAssessment>,
+    /// \[Hz\] the instability frequency used, with whether it was found in the signal (`true`)
+    /// or given; `None`: none could be found (no r.m.s. criterion).
+    pub instability_frequency: Option<(f64, bool)>,
+    /// \[Hz\] the band of the stability criterion's filter.
+    pub band: Option<(f64, f64)>,
+    /// Whether the 20 Hz low-pass was applied (the sample rate exceeds 40 Hz).
+    pub lowpass: bool,
+    /// \[α\] used for the limits.
+    pub alpha: f64,
+}
+
+/// The band-pass around `f0`: f0 ± 2 Hz, the lower edge kept at or above f0 / 2 (a hunting
+/// frequency below 4 Hz would otherwise give a band reaching down to zero).
+pub fn stability_band(f0: f64) -> (f64, f64) {
+    (
+        (f0 - STABILITY_HALF_BAND).max(0.5 * f0),
+        f0 + STABILITY_HALF_BAND,
+    )
+}
+
+/// Assess `series` with the static axle loads `axle_loads` \[N\] (per wheelset from the front).
+pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Assessment {
+    let fs = series.rate_hz;
+    let lowpass = Filter::lowpass4(SUM_Y_LOWPASS, fs).ok();
+    let f0 = match opts.instability_frequency {
+        Some(f) => Some((f, false)),
+        None => dominant(series).map(|f| (f, true)),
+    };
+    let band = f0.map(|(f, _)| stability_band(f));
+    let bandpass = band.and_then(|(lo, hi)| Filter::bandpass4(lo, hi, fs).ok());
+    let d = &series.distance;
+    let axles = series
+        .sum_y
+        .iter()
+        .enumerate()
+        .map(|(n, sy)| {
+            let axle_load = axle_loads.get(n).copied().unwrap_or(0.0);
+            let mut low = sy.clone();
+            if let Some(f) = &lowpass {
+                f.apply(&mut low);
+            }
+            let means = sliding_mean(d, &low, SUM_Y_WINDOW, SUM_Y_STEP);
+            let sum_y_2m = largest(&means, f64::abs);
+            let sum_y_2m_percentile = (!means.is_empty()).then(|| {
+                let mut v: Vec<f64> = means.iter().map(|w| w.value).collect();
+                v.sort_by(f64::total_cmp);
+                percentile(&v, PERCENTILES.0)
+                    .abs()
+                    .max(percentile(&v, PERCENTILES.1).abs())
+            });
+            let sum_y_rms_windows = match &bandpass {
+                Some(f) => {
+                    let mut b = sy.clone();
+                    f.apply(&mut b);
+                    sliding_rms(d, &b, STABILITY_WINDOW, STABILITY_STEP)
+                }
+                None => Vec::new(),
+            };
+            AxleAssessment {
+                wheelset: n as u32,
+                axle_load,
+                sum_y_limit: opts.alpha * (PRUDHOMME_CONSTANT + axle_load / 3.0),
+                sum_y_2m,
+                sum_y_2m_percentile,
+                sum_y_rms: largest(&sum_y_rms_windows, |v| v),
+                sum_y_rms_windows,
+            }
+        })
+        .collect();
+    Assessment {
+        axles,
+        instability_frequency: f0,
+        band: bandpass.is_some().then_some(band).flatten(),
+        lowpass: lowpass.is_some(),
+        alpha: opts.alpha,
+    }
+}
+
+/// The dominant frequency of the axles' ΣY: that of the axle with the largest ΣY variance.
+fn dominant(series: &Series) -> Option<f64> {
+    let var = |x: &Vec<f64>| {
+        let m = x.iter().sum::<f64>() / x.len().max(1) as f64;
+        x.iter().map(|v| (v - m) * (v - m)).sum::<f64>()
+    };
+    let axle = series
+        .sum_y
+        .iter()
+        .max_by(|a, b| var(a).total_cmp(&var(b)))?;
+    dominant_frequency(axle, series.rate_hz, INSTABILITY_SEARCH_BAND)
+}
+
+/// The window of largest `key(value)`.
+fn largest(w: &[WindowValue], key: impl Fn(f64) -> f64) -> Option<Extreme> {
+    w.iter()
+        .max_by(|a, b| key(a.value).total_cmp(&key(b.value)))
+        .map(|w| Extreme {
+            value: w.value,
+            at: w.end,
+        })
+}
+
+/// The `p`-quantile of sorted values, linear between order statistics (Hyndman & Fan's
+/// definition 7, the default of R and NumPy).
+fn percentile(sorted: &[f64], p: f64) -> f64 {
+    let h = p * (sorted.len() - 1) as f64;
+    let (i, frac) = (h.floor() as usize, h - h.floor());
+    let j = (i + 1).min(sorted.len() - 1);
+    sorted[i] + frac * (sorted[j] - sorted[i])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A series at 200 Hz and 50 m/s: ΣY = a constant `bias` plus a sine of `amp` at `f` Hz
+    /// on each of two axles (the second at half the amplitude).
+    fn series(bias: f64, amp: f64, f: f64, seconds: f64) -> Series {
+        let fs = 200.0;
+        let n = (seconds * fs) as usize;
+        let t = |i: usize| i as f64 / fs;
+        let sig = |i: usize, k: f64| {
+            bias + k * amp * (2.0 * std::f64::consts::PI * f * t(i)).sin()
+        };
+        Series {
+            rate_hz: fs,
+            distance: (0..n).map(|i| 50.0 * t(i)).collect(),
+            sum_y: vec![
+                (0..n).map(|i| sig(i, 1.0)).collect(),
+                (0..n).map(|i| sig(i, 0.5)).collect(),
+            ],
+        }
+    }
+
+    #[test]
+    fn the_limits_are_prudhommes_for_the_static_axle_load() {
+        let s = series(0.0, 1e3, 5.0, 4.0);
+        let a = assess(&s, &[109.1e3, 120e3], &AssessOptions::default());
+        // Manchester vehicle 1: 2Q0 = 109.1 kN -> 10 + 36.37 = 46.37 kN
+        assert!((a.axles[0].sum_y_limit - 46.367e3).abs() < 1.0);
+        assert!((a.axles[0].rms_limit() - 23.183e3).abs() < 1.0);
+        let freight = AssessOptions {
+            alpha: 0.85,
+            ..Default::default()
+        };
+        let a = assess(&s, &[120e3, 120e3], &freight);
+        assert!((a.axles[1].sum_y_limit - 0.85 * 50e3).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_steady_force_passes_the_2_m_mean_and_an_oscillation_the_r_m_s() {
+        // 10 kN steady plus 8 kN at 5 Hz (10 m wavelength at 50 m/s): the 2 m mean (a fifth of
+        // a wavelength) keeps most of the oscillation, the band-pass removes the steady part
+        let s = series(10e3, 8e3, 5.0, 12.0);
+        let a = assess(&s, &[100e3, 100e3], &AssessOptions::default());
+        let (f0, found) = a.instability_frequency.unwrap();
+        assert!(found && (f0 - 5.0).abs() < 0.02, "{f0}");
+        assert!(a.lowpass);
+        let ax = &a.axles[0];
+        // 2 m mean of a sine over 0.4 of its period: amplitude × sinc(0.2π) = 0.935
+        let m = ax.sum_y_2m.unwrap();
+        let expect = 10e3 + 8e3 * (0.2 * std::f64::consts::PI).sin() / (0.2 * std::f64::consts::PI);
+        assert!((m.value - expect).abs() < 0.01 * 8e3, "{} vs {expect} at {}", m.value, m.at);
+        assert!(ax.sum_y_2m_percentile.unwrap() <= m.value.abs() + 1e-9);
+        assert!(ax.sum_y_2m_percentile.unwrap() > 0.98 * m.value.abs());
+        // r.m.s. of the band-passed sine: 8 kN / sqrt 2 times the filter's gain at 5 Hz (the
+        // band 3-7 Hz: 0.96)
+        let band = Filter::bandpass4(3.0, 7.0, 200.0).unwrap();
+        let rms = ax.sum_y_rms.unwrap();
+        let expect = 8e3 / 2f64.sqrt() * band.gain(5.0, 200.0);
+        assert!((rms.value - expect).abs() < 0.01 * expect, "{} vs {expect}", rms.value);
+        // the second axle at half the amplitude
+        let rms1 = a.axles[1].sum_y_rms.unwrap().value;
+        assert!((rms1 / rms.value - 0.5).abs() < 0.01, "{rms1}");
+        // 600 m run: windows every 10 m from 100 m on
+        assert_eq!(ax.sum_y_rms_windows.len(), 50);
+    }
+
+    #[test]
+    fn a_given_instability_frequency_sets_the_band() {
+        let s = series(0.0, 8e3, 5.0, 12.0);
+        // a band around 15 Hz leaves little of a 5 Hz signal (4th order: about (5/13)^4)
+        let opts = AssessOptions {
+            instability_frequency: Some(15.0),
+            ..Default::default()
+        };
+        let a = assess(&s, &[100e3, 100e3], &opts);
+        assert_eq!(a.instability_frequency, Some((15.0, false)));
+        assert_eq!(a.band, Some((13.0, 17.0)));
+        assert!(a.axles[0].sum_y_rms.unwrap().value < 0.05 * 8e3 / 2f64.sqrt());
+        assert_eq!(stability_band(3.0), (1.5, 5.0));
+    }
+
+    #[test]
+    fn short_runs_and_low_rates_give_what_they_can() {
+        // 1.5 m run: no 2 m mean, no 100 m r.m.s.
+        let s = series(1e3, 1e3, 5.0, 0.03);
+        let a = assess(&s, &[100e3, 100e3], &AssessOptions::default());
+        assert!(a.axles[0].sum_y_2m.is_none() && a.axles[0].sum_y_rms.is_none());
+        // at 30 Hz the 20 Hz low-pass cannot be applied: reported, the mean still taken
+        let mut s = series(1e3, 0.0, 5.0, 4.0);
+        s.rate_hz = 30.0;
+        let a = assess(&s, &[100e3, 100e3], &AssessOptions::default());
+        assert!(!a.lowpass);
+        assert!((a.axles[0].sum_y_2m.unwrap().value - 1e3).abs() < 1e-9);
+    }
+
+    #[test]
+    fn percentiles_interpolate_between_order_statistics() {
+        let v: Vec<f64> = (0..=10).map(f64::from).collect();
+        assert_eq!(percentile(&v, 0.0), 0.0);
+        assert_eq!(percentile(&v, 1.0), 10.0);
+        assert!((percentile(&v, 0.25) - 2.5).abs() < 1e-12);
+        assert!((percentile(&v, 0.9985) - 9.985).abs() < 1e-12);
+    }
+}
