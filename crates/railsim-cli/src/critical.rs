@@ -255,7 +255,12 @@ fn print_branch(res: &RampResult, r: &RampDown) -> Result<()> {
     for n in 0..res.branch.len() {
         write!(head, "  ws{n} mm")?;
     }
-    outln!("largest half-wave amplitude per speed band during the ramp:");
+    head.push_str("  ΣY rms/limit");
+    outln!(
+        "largest half-wave amplitude per speed band during the ramp, and the largest ratio of an \
+         axle's sliding r.m.s. of the track-shift force to its EN 14363 limit (100 m windows \
+         ending in the band):"
+    );
     outln!("{head}");
     for k in 0..n_bands {
         let hi = r.v_start - k as f64 * band;
@@ -276,9 +281,44 @@ fn print_branch(res: &RampResult, r: &RampDown) -> Result<()> {
                 None => write!(line, "  {:>7}", "-")?,
             }
         }
-        if any {
+        let ratio = res
+            .sum_y_rms
+            .iter()
+            .filter(|w| w.speed <= hi && w.speed > lo)
+            .map(|w| w.ratio)
+            .reduce(f64::max);
+        match ratio {
+            Some(q) => write!(line, "  {q:13.2}")?,
+            None => write!(line, "  {:>13}", "-")?,
+        }
+        if any || ratio.is_some() {
             outln!("{line}");
         }
+    }
+    let a = &res.summary.assessment;
+    let band = match a.band {
+        Some((lo, hi)) => format!("band-passed {lo:.2}-{hi:.2} Hz"),
+        None => "no band (no instability frequency found)".to_owned(),
+    };
+    match (
+        res.sum_y_rms_exceeded_to,
+        res.sum_y_rms
+            .iter()
+            .max_by(|x, y| x.ratio.total_cmp(&y.ratio)),
+    ) {
+        (Some(v), _) => outln!(
+            "EN 14363 track-shift force criterion ({band}): r.m.s. above its limit down to {:.1} km/h",
+            v * 3.6
+        ),
+        (None, Some(w)) => outln!(
+            "EN 14363 track-shift force criterion ({band}): r.m.s. below its limit throughout the \
+             ramp (largest ratio {:.2} at {:.1} km/h)",
+            w.ratio,
+            w.speed * 3.6
+        ),
+        (None, None) => outln!(
+            "EN 14363 track-shift force criterion: the run was shorter than one 100 m window"
+        ),
     }
     Ok(())
 }

@@ -10,8 +10,8 @@ use anyhow::Result;
 use clap::Args;
 
 use railsim_ode::Method;
-use railsim_sim::{RunOptions, RunSummary, Scene, SimError, Simulation, Y_OVER_Q_WINDOW};
 use railsim_sim::assess::{Assessment, STABILITY_WINDOW, SUM_Y_WINDOW};
+use railsim_sim::{RunOptions, RunSummary, Scene, SimError, Simulation, Y_OVER_Q_WINDOW};
 
 /// The built-in default scene, from the repository this binary was built in.
 pub const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/default.toml");

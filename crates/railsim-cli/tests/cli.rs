@@ -142,6 +142,11 @@ fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_setting
     assert_eq!(code, 1, "{out}\n{err}");
     assert!(out.contains("still hunting"), "{out}");
     assert!(out.contains("bifurcation diagram drawn to"), "{out}");
+    assert!(out.contains("ΣY rms/limit"), "{out}");
+    assert!(
+        out.contains("EN 14363 track-shift force criterion (band-passed"),
+        "{out}"
+    );
     assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();

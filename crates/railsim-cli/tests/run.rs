@@ -32,6 +32,8 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
         "real-time factor",
         "max |lateral displacement|",
         "max Y/Q",
+        "track-shift force ΣY (EN 14363",
+        "wheelset 0: (ΣY)2m max",
         "integrator:",
         "state digest",
     ] {

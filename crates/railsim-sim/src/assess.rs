@@ -22,9 +22,7 @@
 //! anti-aliasing filter precedes them, so a log rate well above 40 Hz is needed for the 20 Hz
 //! low-pass to mean what it says.
 
-use crate::signal::{
-    Filter, WindowValue, dominant_frequency, sliding_mean, sliding_rms,
-};
+use crate::signal::{Filter, WindowValue, dominant_frequency, sliding_mean, sliding_rms};
 
 /// \[m\] window of the sliding mean of the track-shift force.
 pub const SUM_Y_WINDOW: f64 = 2.0;
@@ -239,9 +237,7 @@ mod tests {
         let fs = 200.0;
         let n = (seconds * fs) as usize;
         let t = |i: usize| i as f64 / fs;
-        let sig = |i: usize, k: f64| {
-            bias + k * amp * (2.0 * std::f64::consts::PI * f * t(i)).sin()
-        };
+        let sig = |i: usize, k: f64| bias + k * amp * (2.0 * std::f64::consts::PI * f * t(i)).sin();
         Series {
             rate_hz: fs,
             distance: (0..n).map(|i| 50.0 * t(i)).collect(),
@@ -280,7 +276,12 @@ mod tests {
         // 2 m mean of a sine over 0.4 of its period: amplitude × sinc(0.2π) = 0.935
         let m = ax.sum_y_2m.unwrap();
         let expect = 10e3 + 8e3 * (0.2 * std::f64::consts::PI).sin() / (0.2 * std::f64::consts::PI);
-        assert!((m.value - expect).abs() < 0.01 * 8e3, "{} vs {expect} at {}", m.value, m.at);
+        assert!(
+            (m.value - expect).abs() < 0.01 * 8e3,
+            "{} vs {expect} at {}",
+            m.value,
+            m.at
+        );
         assert!(ax.sum_y_2m_percentile.unwrap() <= m.value.abs() + 1e-9);
         assert!(ax.sum_y_2m_percentile.unwrap() > 0.98 * m.value.abs());
         // r.m.s. of the band-passed sine: 8 kN / sqrt 2 times the filter's gain at 5 Hz (the
@@ -288,7 +289,11 @@ mod tests {
         let band = Filter::bandpass4(3.0, 7.0, 200.0).unwrap();
         let rms = ax.sum_y_rms.unwrap();
         let expect = 8e3 / 2f64.sqrt() * band.gain(5.0, 200.0);
-        assert!((rms.value - expect).abs() < 0.01 * expect, "{} vs {expect}", rms.value);
+        assert!(
+            (rms.value - expect).abs() < 0.01 * expect,
+            "{} vs {expect}",
+            rms.value
+        );
         // the second axle at half the amplitude
         let rms1 = a.axles[1].sum_y_rms.unwrap().value;
         assert!((rms1 / rms.value - 0.5).abs() < 0.01, "{rms1}");

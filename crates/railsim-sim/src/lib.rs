@@ -38,4 +38,5 @@ pub use scene::{
     longest_rigid_wheelbase, required_curve_radius,
 };
 pub use spec::{
-    AssessmentSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec};
+    AssessmentSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec,
+};

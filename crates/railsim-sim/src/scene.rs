@@ -9,8 +9,8 @@ use railsim_track::{SegmentKind, TrackError, TrackModel, TrackSpec};
 use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel, WheelsetId};
 use toml::Spanned;
 
-use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::assess::{AssessOptions, STABILITY_HALF_BAND, stability_band};
+use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::spec::{
     AssessmentSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec,
 };
@@ -712,7 +712,13 @@ impl Compiler<'_> {
             }
         }
         if let Some(v) = &a.instability_frequency_hz {
-            match self.range(v, "instability_frequency_hz", "Hz", (0.0, MAX_INSTABILITY_HZ), true) {
+            match self.range(
+                v,
+                "instability_frequency_hz",
+                "Hz",
+                (0.0, MAX_INSTABILITY_HZ),
+                true,
+            ) {
                 Some(f) => {
                     let top = stability_band(f).1;
                     match log {

@@ -107,7 +107,7 @@ impl Filter {
     /// `f_lo` followed by the 4th-order Butterworth low-pass at `f_hi` (−3 dB at both edges
     /// when they are an octave or more apart, a little more when closer).
     pub fn bandpass4(f_lo: f64, f_hi: f64, fs: f64) -> Result<Filter, FilterError> {
-        if !(f_lo < f_hi) {
+        if !(f_lo < f_hi && f_hi.is_finite()) {
             return Err(FilterError(format!(
                 "the band's lower edge {f_lo} Hz is not below its upper edge {f_hi} Hz"
             )));
@@ -203,7 +203,7 @@ fn sliding(
 ) -> Vec<WindowValue> {
     let n = dist.len().min(x.len());
     let mut out = Vec::new();
-    if n == 0 || !(window > 0.0) || !(step > 0.0) {
+    if n == 0 || !(window > 0.0 && step > 0.0) {
         return out;
     }
     let (first, last) = (dist[0], dist[n - 1]);
@@ -253,7 +253,7 @@ const COARSE_GRID: usize = 2000;
 pub fn dominant_frequency(x: &[f64], fs: f64, band: (f64, f64)) -> Option<f64> {
     let n = x.len();
     let (f0, f1) = (band.0.max(0.0), band.1.min(0.5 * fs));
-    if n < 8 || !(f0 < f1) || !(fs > 0.0) {
+    if n < 8 || !(f0 < f1 && fs > 0.0) {
         return None;
     }
     let mean = x.iter().sum::<f64>() / n as f64;
@@ -319,7 +319,11 @@ mod tests {
         let fs = 200.0;
         let lp = Filter::lowpass4(20.0, fs).unwrap();
         let half = std::f64::consts::FRAC_1_SQRT_2;
-        assert!((lp.gain(20.0, fs) - half).abs() < 1e-9, "{}", lp.gain(20.0, fs));
+        assert!(
+            (lp.gain(20.0, fs) - half).abs() < 1e-9,
+            "{}",
+            lp.gain(20.0, fs)
+        );
         assert!((lp.gain(0.0, fs) - 1.0).abs() < 1e-12);
         // 4th order: -24 dB per octave well above the corner (bilinear: steeper near Nyquist)
         assert!(lp.gain(40.0, fs) < 0.07, "{}", lp.gain(40.0, fs));
@@ -337,9 +341,17 @@ mod tests {
         // the two 4th-order edges 1.2 octaves apart: -3 dB at the edges, a 4 % dip between
         let half = std::f64::consts::FRAC_1_SQRT_2;
         for edge in [3.0, 7.0] {
-            assert!((bp.gain(edge, fs) - half).abs() < 0.01, "{}", bp.gain(edge, fs));
+            assert!(
+                (bp.gain(edge, fs) - half).abs() < 0.01,
+                "{}",
+                bp.gain(edge, fs)
+            );
         }
-        assert!((0.95..1.0).contains(&bp.gain(5.0, fs)), "{}", bp.gain(5.0, fs));
+        assert!(
+            (0.95..1.0).contains(&bp.gain(5.0, fs)),
+            "{}",
+            bp.gain(5.0, fs)
+        );
         assert!(bp.gain(0.0, fs) < 1e-12);
         // 4th order: about (1/3)^4 and (7/20)^4 an octave and more outside
         assert!(bp.gain(1.0, fs) < 0.015, "{}", bp.gain(1.0, fs));
@@ -369,7 +381,11 @@ mod tests {
     #[test]
     fn filters_reject_corners_the_sample_rate_cannot_carry() {
         let e = Filter::lowpass4(20.0, 30.0).unwrap_err();
-        assert!(e.0.contains("above 40 Hz") && e.0.contains("30 Hz"), "{}", e.0);
+        assert!(
+            e.0.contains("above 40 Hz") && e.0.contains("30 Hz"),
+            "{}",
+            e.0
+        );
         assert!(Filter::bandpass4(5.0, 3.0, 200.0).is_err());
         assert!(Filter::lowpass4(20.0, f64::NAN).is_err());
     }

@@ -229,8 +229,24 @@ pub struct RampResult {
     /// Whether a wheelset still reached the threshold in the last cycle of the ramp (the
     /// critical speed is then at or below `v_end`).
     pub hunting_at_end: bool,
+    /// EN 14363's stability criterion along the run (`crate::assess`): per 100 m window of the
+    /// sliding r.m.s. of the band-passed track-shift force, the speed at its end and the
+    /// largest ratio of any axle's r.m.s. to its limit.
+    pub sum_y_rms: Vec<SpeedRatio>,
+    /// \[m/s\] the lowest speed at the end of a window of the ramp in which some axle's
+    /// r.m.s. exceeds its limit; `None` when none does during the ramp.
+    pub sum_y_rms_exceeded_to: Option<f64>,
     /// The run's summary.
     pub summary: RunSummary,
+}
+
+/// A ratio to a limit at a speed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedRatio {
+    /// \[m/s\]
+    pub speed: f64,
+    /// \[-\]
+    pub ratio: f64,
 }
 
 /// The ramp-down study of `ramp` on `scene` (the scene's vehicle, track from its start,
@@ -298,12 +314,32 @@ pub fn ramp_down(
     let hunting_at_end = branch
         .iter()
         .any(|b| b.iter().rev().take(2).any(|p| hunting(&p)));
+    // EN 14363's criterion per window (the windows of all axles end at the same distances)
+    let axles = &summary.assessment.axles;
+    let sum_y_rms: Vec<SpeedRatio> = axles.first().map_or(Vec::new(), |first| {
+        (0..first.sum_y_rms_windows.len())
+            .map(|k| SpeedRatio {
+                speed: study.speed.speed_at(first.sum_y_rms_windows[k].end),
+                ratio: axles
+                    .iter()
+                    .filter_map(|a| a.sum_y_rms_windows.get(k).map(|w| w.value / a.rms_limit()))
+                    .fold(0.0, f64::max),
+            })
+            .collect()
+    });
+    let sum_y_rms_exceeded_to = sum_y_rms
+        .iter()
+        .filter(|w| w.ratio > 1.0 && w.speed < ramp.v_start)
+        .map(|w| w.speed)
+        .reduce(f64::min);
     Ok(RampResult {
         branch,
         ramp_start,
         amplitude_at_start,
         critical_speed,
         hunting_at_end,
+        sum_y_rms,
+        sum_y_rms_exceeded_to,
         summary,
     })
 }

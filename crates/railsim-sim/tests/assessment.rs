@@ -74,7 +74,7 @@ fn in_a_steady_curve_the_track_shift_forces_carry_the_uncompensated_acceleration
     let a = &summary.assessment;
     assert_eq!(a.axles.len(), 4);
     assert!(a.lowpass && a.alpha == 1.0);
-    let mut loads_by_number = vec![0.0; 4];
+    let mut loads_by_number = [0.0; 4];
     for (pair, q) in sim.model().wheels.chunks(2).zip(&axle_loads) {
         loads_by_number[pair[0].wheelset_number as usize] = *q;
     }

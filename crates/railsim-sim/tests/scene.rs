@@ -553,3 +553,39 @@ fn format_doc_example_compiles() {
     assert!(!scene.frozen.is_empty());
     let _ = Path::new(".");
 }
+
+#[test]
+fn assessment_settings_are_read_and_checked() {
+    let s = compile(&format!(
+        "{GOOD}[assessment]\nalpha = 0.85\ninstability_frequency_hz = 5.5\n"
+    ))
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.assessment.alpha, 0.85);
+    assert_eq!(s.assessment.instability_frequency, Some(5.5));
+    let s = compile(GOOD).unwrap();
+    assert_eq!(s.assessment, railsim_sim::assess::AssessOptions::default());
+    // out of range, a band the log rate cannot carry, an unknown key
+    let p = problems(&format!(
+        "{GOOD}[assessment]\nalpha = 1.2\ninstability_frequency_hz = 0\nbogus = 1\n"
+    ));
+    expect(&p, 6, &["alpha must lie in (0e0, 1e0]", "found 1.2"]);
+    expect(
+        &p,
+        7,
+        &["instability_frequency_hz must lie in", "Hz, found 0"],
+    );
+    expect(&p, 8, &["bogus"]);
+    let p = problems(&format!(
+        "{GOOD}[log]\nrate_hz = 15\n[assessment]\ninstability_frequency_hz = 6\n"
+    ));
+    expect(
+        &p,
+        8,
+        &[
+            "instability_frequency_hz = 6 Hz",
+            "reaches 8 Hz",
+            "log rate above 16 Hz",
+            "rate_hz is 15 Hz",
+        ],
+    );
+}
