@@ -10,7 +10,9 @@ use anyhow::Result;
 use clap::Args;
 
 use railsim_ode::Method;
-use railsim_sim::assess::{Assessment, STABILITY_WINDOW, SUM_Y_WINDOW};
+use railsim_sim::assess::{
+    Assessment, CARBODY_BAND, SPERLING_BAND, STABILITY_WINDOW, SUM_Y_WINDOW,
+};
 use railsim_sim::{RunOptions, RunSummary, Scene, SimError, Simulation, Y_OVER_Q_WINDOW};
 
 /// The built-in default scene, from the repository this binary was built in.
@@ -234,6 +236,35 @@ fn print_assessment(a: &Assessment) -> Result<()> {
             None => "no r.m.s.".to_owned(),
         };
         outln!("  wheelset {}: {mean}; {rms}", ax.wheelset);
+    }
+    if !a.comfort.is_empty() {
+        outln!(
+            "carbody accelerations, lateral / vertical: Sperling's ride index Wz ({}-{} Hz); \
+             max and r.m.s. band-passed {}-{} Hz (EN 14363):",
+            SPERLING_BAND.0,
+            SPERLING_BAND.1,
+            CARBODY_BAND.0,
+            CARBODY_BAND.1
+        );
+        let wz = |w: Option<f64>| {
+            w.map_or_else(|| "- (run under 2 s)".to_owned(), |w| format!("{w:.2}"))
+        };
+        let acc = |b: Option<(f64, f64)>| {
+            b.map_or_else(
+                || "- (log rate under 20 Hz)".to_owned(),
+                |(m, r)| format!("{m:.2} and {r:.3} m/s²"),
+            )
+        };
+        for c in &a.comfort {
+            outln!(
+                "  {}: Wz {} / {}; {} / {}",
+                c.name,
+                wz(c.wz[0]),
+                wz(c.wz[1]),
+                acc(c.band_passed[0]),
+                acc(c.band_passed[1])
+            );
+        }
     }
     Ok(())
 }

@@ -22,7 +22,9 @@
 //! anti-aliasing filter precedes them, so a log rate well above 40 Hz is needed for the 20 Hz
 //! low-pass to mean what it says.
 
-use crate::signal::{Filter, WindowValue, dominant_frequency, sliding_mean, sliding_rms};
+use crate::signal::{
+    Filter, WindowValue, dominant_frequency, sliding_mean, sliding_rms, welch_psd,
+};
 
 /// \[m\] window of the sliding mean of the track-shift force.
 pub const SUM_Y_WINDOW: f64 = 2.0;
@@ -43,6 +45,14 @@ const PRUDHOMME_CONSTANT: f64 = 10e3;
 /// Lower and upper percentile of the standard's statistic.
 const PERCENTILES: (f64, f64) = (0.0015, 0.9985);
 
+/// \[Hz\] the band over which Sperling's weighted spectrum is integrated.
+pub const SPERLING_BAND: (f64, f64) = (0.5, 30.0);
+/// \[Hz\] the band of EN 14363's carbody accelerations.
+pub const CARBODY_BAND: (f64, f64) = (0.4, 10.0);
+/// \[s\] length of the segments of the spectral estimate of the ride index (a power of two of
+/// samples at least this long).
+pub const SPERLING_SEGMENT: f64 = 10.0;
+
 /// The sampled series an assessment is made from: samples at a constant rate, in order.
 #[derive(Debug, Clone, Default)]
 pub struct Series {
@@ -53,6 +63,34 @@ pub struct Series {
     /// \[N\] per wheelset (numbered from the front): the track-shift force ΣY at each sample,
     /// positive toward +y.
     pub sum_y: Vec<Vec<f64>>,
+    /// Accelerations felt at points of the carbody, for the ride index.
+    pub comfort: Vec<ComfortSeries>,
+}
+
+/// What an accelerometer fixed to the carbody at one point measures: the specific force
+/// (acceleration minus gravity) in the carbody's axes.
+#[derive(Debug, Clone, Default)]
+pub struct ComfortSeries {
+    /// Where the point is (e.g. `carbody above bogie_front`).
+    pub name: String,
+    /// \[m/s²\] lateral (carbody y) at each sample.
+    pub lateral: Vec<f64>,
+    /// \[m/s²\] vertical (carbody z) at each sample.
+    pub vertical: Vec<f64>,
+}
+
+/// The ride index at one point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Comfort {
+    /// The point's name.
+    pub name: String,
+    /// Sperling's Wz of the lateral and the vertical acceleration; `None` for a run too short
+    /// for a spectrum.
+    pub wz: [Option<f64>; 2],
+    /// \[m/s²\] lateral and vertical: the largest magnitude and the r.m.s. of the
+    /// acceleration band-passed over 0.4–10 Hz (EN 14363's carbody accelerations ÿ*, z̈*);
+    /// `None` when the log rate cannot carry 10 Hz.
+    pub band_passed: [Option<(f64, f64)>; 2],
 }
 
 /// Settings of an assessment.
@@ -126,6 +164,8 @@ pub struct Assessment {
     pub lowpass: bool,
     /// \[α\] used for the limits.
     pub alpha: f64,
+    /// Ride index per carbody point.
+    pub comfort: Vec<Comfort>,
 }
 
 /// The band-pass around `f0`: f0 ± 2 Hz, the lower edge kept at or above f0 / 2 (a hunting
@@ -186,13 +226,80 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
             }
         })
         .collect();
+    let carbody_band = Filter::bandpass4(CARBODY_BAND.0, CARBODY_BAND.1, fs).ok();
+    let max_and_rms = |x: &[f64]| {
+        let f = carbody_band.as_ref()?;
+        let mut y = x.to_vec();
+        f.apply(&mut y);
+        let n = y.len().max(1) as f64;
+        Some((
+            y.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+            (y.iter().map(|v| v * v).sum::<f64>() / n).sqrt(),
+        ))
+    };
+    let comfort = series
+        .comfort
+        .iter()
+        .map(|c| Comfort {
+            name: c.name.clone(),
+            wz: [
+                sperling(&c.lateral, fs, Direction::Lateral),
+                sperling(&c.vertical, fs, Direction::Vertical),
+            ],
+            band_passed: [max_and_rms(&c.lateral), max_and_rms(&c.vertical)],
+        })
+        .collect();
     Assessment {
         axles,
         instability_frequency: f0,
         band: bandpass.is_some().then_some(band).flatten(),
         lowpass: lowpass.is_some(),
         alpha: opts.alpha,
+        comfort,
     }
+}
+
+/// Direction of a carbody acceleration, for Sperling's weighting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// Lateral (carbody y).
+    Lateral,
+    /// Vertical (carbody z).
+    Vertical,
+}
+
+/// Sperling's frequency weighting B(f) (`f` in Hz) of a vertical acceleration, and 1.25 times
+/// it for a lateral one: B_s(f) = 0.588 √[(1.911 f² + (0.25 f²)²) / ((1 − 0.277 f²)² +
+/// (1.563 f − 0.0368 f³)²)] (Sperling's ride index as implemented in comfpy,
+/// tobias-bettinger/comfpy `filters.py`, and in janiex/SimulinkMatlab `sperling.m`; checked
+/// against both).
+pub fn sperling_weight(f: f64, direction: Direction) -> f64 {
+    let f2 = f * f;
+    let num = 1.911 * f2 + (0.25 * f2).powi(2);
+    let den = (1.0 - 0.277 * f2).powi(2) + (1.563 * f - 0.0368 * f2 * f).powi(2);
+    let b = 0.588 * (num / den).sqrt();
+    match direction {
+        Direction::Vertical => b,
+        Direction::Lateral => 1.25 * b,
+    }
+}
+
+/// Sperling's ride index Wz of an acceleration signal `a` \[m/s²\] sampled at `fs`: for a
+/// single tone of peak amplitude `a` (in cm/s²) at `f`, Wz = (a B(f))^0.3 (Sperling's
+/// `0.896 (a³ F(f) / f)^0.1` written with the weighting B); for a spectrum, its spectral form
+/// Wz = (2 ∫ B² G df)^0.15 with G the one-sided spectral density in (cm/s²)²/Hz over 0.5–30 Hz,
+/// i.e. 4.42 (∫ B² G df)^0.15 with G in (m/s²)²/Hz (the form of comfpy's `weighting.py` and
+/// `sperling.m`: for one tone both forms agree). G by Welch's method over segments of about
+/// 10 s. `None` for a signal shorter than 2 s.
+pub fn sperling(a: &[f64], fs: f64, direction: Direction) -> Option<f64> {
+    if (a.len() as f64) < 2.0 * fs {
+        return None;
+    }
+    let segment = ((SPERLING_SEGMENT * fs).ceil() as usize).next_power_of_two();
+    let spectrum = welch_psd(a, fs, segment)?;
+    let band = (SPERLING_BAND.0, SPERLING_BAND.1.min(0.5 * fs));
+    let power_cm = 1e4 * spectrum.weighted_power(band, |f| sperling_weight(f, direction));
+    Some((2.0 * power_cm).powf(0.15))
 }
 
 /// The dominant frequency of the axles' ΣY: that of the axle with the largest ΣY variance.
@@ -245,6 +352,7 @@ mod tests {
                 (0..n).map(|i| sig(i, 1.0)).collect(),
                 (0..n).map(|i| sig(i, 0.5)).collect(),
             ],
+            comfort: Vec::new(),
         }
     }
 
@@ -328,6 +436,41 @@ mod tests {
         let a = assess(&s, &[100e3, 100e3], &AssessOptions::default());
         assert!(!a.lowpass);
         assert!((a.axles[0].sum_y_2m.unwrap().value - 1e3).abs() < 1e-9);
+    }
+
+    #[test]
+    fn sperlings_index_of_a_tone_is_its_single_frequency_value() {
+        // the weighting at 2 Hz by hand: num 7.644 + 1, den 0.01166 + 8.0185: 0.6100
+        let b2 = sperling_weight(2.0, Direction::Vertical);
+        assert!(
+            (b2 - 0.588 * (8.644f64 / 8.030_166).sqrt()).abs() < 1e-4,
+            "{b2}"
+        );
+        assert!((sperling_weight(2.0, Direction::Lateral) / b2 - 1.25).abs() < 1e-12);
+        // 0.1 m/s² peak at 2 Hz, vertical: Wz = (10 cm/s² × B)^0.3 = 1.72; 60 s at 200 Hz
+        let fs = 200.0;
+        let tone = |amp: f64, f: f64| -> Vec<f64> {
+            (0..12_000)
+                .map(|i| amp * (2.0 * std::f64::consts::PI * f * i as f64 / fs).sin() + 9.81)
+                .collect()
+        };
+        let wz = sperling(&tone(0.1, 2.0), fs, Direction::Vertical).unwrap();
+        let expect = (10.0 * b2).powf(0.3);
+        assert!((wz / expect - 1.0).abs() < 0.005, "{wz} vs {expect}");
+        // lateral, 5 Hz: B_w = 1.25 B_s
+        let wz = sperling(&tone(0.2, 5.0), fs, Direction::Lateral).unwrap();
+        let expect = (20.0 * sperling_weight(5.0, Direction::Lateral)).powf(0.3);
+        assert!((wz / expect - 1.0).abs() < 0.005, "{wz} vs {expect}");
+        // outside the band (0.2 Hz) almost nothing counts: what leaks past the windows is worth
+        // less than 1 % of the tone's amplitude weighted in band (Wz ∝ amplitude^0.3)
+        let wz = sperling(&tone(1.0, 0.2), fs, Direction::Vertical).unwrap();
+        let in_band = (100.0 * sperling_weight(0.2, Direction::Vertical)).powf(0.3);
+        assert!((wz / in_band).powf(1.0 / 0.3) < 0.01, "{wz} {in_band}");
+        // too short a signal gives none
+        assert_eq!(
+            sperling(&tone(0.1, 2.0)[..300], fs, Direction::Vertical),
+            None
+        );
     }
 
     #[test]

@@ -63,6 +63,9 @@ pub struct MemberKin {
     pub force: V3,
     /// \[N m\] sum of the moments about its centre of gravity.
     pub moment: V3,
+    /// \[rad/s²\] angular acceleration of a body, from stage 7 (zero before it, and for
+    /// wheelsets).
+    pub alpha: V3,
 }
 
 /// One patch as the simulation saw it, for logs and summaries.
@@ -335,6 +338,7 @@ impl Dynamics<'_> {
                 omega,
                 force: [0.0; 3],
                 moment: [0.0; 3],
+                alpha: [0.0; 3],
             };
         }
     }
@@ -552,7 +556,7 @@ impl Dynamics<'_> {
     fn equations(&mut self, dx: &mut [f64]) {
         let m = self.model;
         for (i, mm) in m.members.iter().enumerate() {
-            let k = &self.ws.kin[i];
+            let k = &mut self.ws.kin[i];
             let fr = &k.frame;
             let g_l = mul_t(fr, [0.0, 0.0, -m.gravity * mm.mass]);
             let f_l = add(mul_t(fr, k.force), g_l);
@@ -580,6 +584,7 @@ impl Dynamics<'_> {
                     for j in 0..3 {
                         acc[3 + j] = od[j] - wd[j];
                     }
+                    k.alpha = mul(fr, od);
                 }
                 MemberKind::Wheelset { .. } => {
                     // Axisymmetric rotor in its non-spinning axle frame (carrier ω_c):

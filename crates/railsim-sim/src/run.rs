@@ -13,10 +13,10 @@ use railsim_log::messages::{
 use railsim_log::{Channel, LogHeader, LogStats, LogWriter, WriterOptions, step_time_ns};
 use railsim_ode::{Integrator, Method, OdeSystem, Stats, StepOutcome, StopReason};
 
-use crate::assess::{Assessment, Series, assess};
+use crate::assess::{Assessment, ComfortSeries, Series, assess};
 use crate::dynamics::{CostSplit, Dynamics, Workspace, rail_frame};
 use crate::error::SimError;
-use crate::math::{mul_t, quaternion, rotation_rpy};
+use crate::math::{add, cross, mul, mul_t, quaternion, rotation_rpy, scale};
 use crate::model::{MemberKind, SimModel};
 use crate::scene::{Scene, Topic};
 
@@ -65,6 +65,10 @@ pub struct Sample {
     pub wheelsets: Vec<WheelsetMessage>,
     /// \[m\] per wheelset: lateral displacement relative to the track centre line.
     pub lateral: Vec<f64>,
+    /// \[m/s²\] per comfort point of the carbody (`RunSummary::assessment`'s `comfort`, same
+    /// order): the specific force an accelerometer fixed there measures, lateral and vertical in
+    /// the carbody's axes (at rest on level track: 0 and +g).
+    pub carbody: Vec<[f64; 2]>,
 }
 
 /// What a finished run reports.
@@ -724,6 +728,9 @@ struct LoopState {
     window: Vec<(std::collections::VecDeque<(f64, f64)>, f64)>,
     /// Distance and track-shift force per wheelset at every sample, for the assessment.
     series: Series,
+    /// The carbody (member index) and the offsets of its comfort points from its centre of
+    /// gravity (body axes), in the order of `series.comfort`.
+    comfort_points: Option<(usize, Vec<[f64; 3]>)>,
     digest: u64,
     /// The current sample, updated in place.
     sample: Sample,
@@ -731,7 +738,7 @@ struct LoopState {
 
 impl LoopState {
     fn new(model: &SimModel, rate_hz: f64) -> LoopState {
-        LoopState {
+        let mut state = LoopState {
             max_lateral: vec![0.0; model.wheels.len() / 2],
             max_yq: None,
             max_yq_2m: None,
@@ -744,7 +751,9 @@ impl LoopState {
                 rate_hz,
                 distance: Vec::new(),
                 sum_y: vec![Vec::new(); model.wheels.len() / 2],
+                comfort: Vec::new(),
             },
+            comfort_points: None,
             digest: 0xcbf2_9ce4_8422_2325,
             sample: Sample {
                 t: 0.0,
@@ -765,8 +774,21 @@ impl LoopState {
                     })
                     .collect(),
                 lateral: vec![0.0; model.wheels.len() / 2],
+                carbody: Vec::new(),
             },
+        };
+        if let Some((carbody, points)) = comfort_points(model) {
+            state.series.comfort = points
+                .iter()
+                .map(|(name, _)| ComfortSeries {
+                    name: name.clone(),
+                    ..Default::default()
+                })
+                .collect();
+            state.sample.carbody = vec![[0.0; 2]; points.len()];
+            state.comfort_points = Some((carbody, points.into_iter().map(|p| p.1).collect()));
         }
+        state
     }
 
     /// Update the sample in place from the state `x` and the recording evaluation `ws` at `t`
@@ -782,6 +804,29 @@ impl LoopState {
         smp.t_ns = t_ns;
         smp.x.copy_from_slice(x);
         self.series.distance.push(dist);
+        if let Some((cb, points)) = &self.comfort_points {
+            let (k, mass) = (&ws.kin[*cb], model.members[*cb].mass);
+            // specific force at the centre of gravity (the forces other than gravity over the
+            // mass) plus the rigid-body terms of the point's offset, in the carbody's axes
+            let f_cog = scale(1.0 / mass, k.force);
+            for ((c, d), out) in self
+                .series
+                .comfort
+                .iter_mut()
+                .zip(points)
+                .zip(&mut smp.carbody)
+            {
+                let arm = mul(&k.orient, *d);
+                let f = add(
+                    f_cog,
+                    add(cross(k.alpha, arm), cross(k.omega, cross(k.omega, arm))),
+                );
+                let f_body = mul_t(&k.orient, f);
+                c.lateral.push(f_body[1]);
+                c.vertical.push(f_body[2]);
+                *out = [f_body[1], f_body[2]];
+            }
+        }
         for (i, pair) in model.wheels.chunks(2).enumerate() {
             let number = pair[0].wheelset_number;
             let m = pair[0].member.0;
@@ -855,6 +900,31 @@ impl LoopState {
             smp.wheelsets[number as usize] = msg;
         }
     }
+}
+
+/// A point's name and its offset \[m\] from a body's centre of gravity, in the body's axes.
+type NamedPoint = (String, [f64; 3]);
+
+/// The carbody (the heaviest rigid body that is not a wheelset) and its comfort points: its
+/// centre, and above every other body at least 0.5 m from it along x (the bogies), at the
+/// height of its centre of gravity; `None` for a vehicle without rigid bodies.
+fn comfort_points(model: &SimModel) -> Option<(usize, Vec<NamedPoint>)> {
+    let bodies = || {
+        model
+            .members
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| m.kind == MemberKind::Body)
+    };
+    let (cb, carbody) = bodies().max_by(|a, b| a.1.mass.total_cmp(&b.1.mass))?;
+    let mut points = vec![(format!("{} centre", carbody.name), [0.0; 3])];
+    for (i, b) in bodies() {
+        let dx = b.p0[0] - carbody.p0[0];
+        if i != cb && dx.abs() >= 0.5 {
+            points.push((format!("{} above {}", carbody.name, b.name), [dx, 0.0, 0.0]));
+        }
+    }
+    Some((cb, points))
 }
 
 /// The MCAP log of a run: the channels of the topics chosen in the scene (empty or `None` for

@@ -96,6 +96,50 @@ fn in_a_steady_curve_the_track_shift_forces_carry_the_uncompensated_acceleration
         assert!(ax.sum_y_2m.unwrap().value.abs() < ax.sum_y_limit);
         assert!(ax.sum_y_rms.unwrap().value < ax.rms_limit());
     }
+    // What an accelerometer at the carbody's centre reads in the steady curve: the specific
+    // force of the frame's motion, (0, v²κ cos φ + g sin φ, g cos φ − v²κ sin φ) in the track
+    // plane's axes, turned into the carbody's by its roll ψ relative to the track plane (it
+    // leans out of the curve: ψ > 0 in a left curve).
+    let names: Vec<&str> = a.comfort.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "carbody centre",
+            "carbody above bogie_front",
+            "carbody above bogie_rear"
+        ]
+    );
+    let m = &sim.model().members;
+    let cb = m.iter().position(|mm| mm.name == "carbody").unwrap();
+    let roll_ix = m[cb].pos[3].unwrap();
+    let steady: Vec<&railsim_sim::Sample> = samples
+        .iter()
+        .filter(|smp| (450.0..=650.0).contains(&(smp.t * v)))
+        .collect();
+    let n = steady.len() as f64;
+    let psi = steady.iter().map(|smp| smp.x[roll_ix]).sum::<f64>() / n;
+    let f_t = [
+        v * v * kappa * roll.cos() + g * roll.sin(),
+        g * roll.cos() - v * v * kappa * roll.sin(),
+    ];
+    let expect = [
+        psi.cos() * f_t[0] + psi.sin() * f_t[1],
+        -psi.sin() * f_t[0] + psi.cos() * f_t[1],
+    ];
+    for (k, what) in ["lateral", "vertical"].iter().enumerate() {
+        let mean = steady.iter().map(|smp| smp.carbody[0][k]).sum::<f64>() / n;
+        println!(
+            "carbody centre, {what}: {mean:.4} m/s² against {:.4} (carbody roll {:.2} mrad)",
+            expect[k],
+            psi * 1e3
+        );
+        assert!(
+            (mean - expect[k]).abs() < 0.002 * g,
+            "{what}: {mean} against {}",
+            expect[k]
+        );
+    }
+    assert!(psi > 0.0, "the carbody leans out of the curve: {psi}");
 }
 
 #[test]
@@ -135,6 +179,19 @@ fn flange_hunting_exceeds_the_track_shift_limit_where_stable_running_does_not() 
     // disturbance far below (0.08)
     assert!(worst_rms(&h) > 0.7, "{}", worst_rms(&h));
     assert!(worst_rms(&st) < 0.2, "{}", worst_rms(&st));
+    // the ride: hunting shakes the carbody over its bogies far more than the decaying
+    // disturbance does (lateral Wz)
+    let wz = |s: &railsim_sim::RunSummary| -> Vec<f64> {
+        s.assessment
+            .comfort
+            .iter()
+            .map(|c| c.wz[0].unwrap())
+            .collect()
+    };
+    println!("lateral Wz: hunting {:?}, stable {:?}", wz(&h), wz(&st));
+    for (a, b) in wz(&h).iter().zip(wz(&st)) {
+        assert!(*a > b + 0.5, "{a} {b}");
+    }
     // the instability frequency found in ΣY is the hunting frequency of the half waves
     let (f0, found) = h.assessment.instability_frequency.unwrap();
     assert!(found);
