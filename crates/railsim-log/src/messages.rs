@@ -224,6 +224,31 @@ impl LogMessage for WheelsetMessage {
     }
 }
 
+/// What an accelerometer fixed to the carbody at one point measures at one instant.
+///
+/// Topic `/carbody/<n>` (points numbered from 0: the carbody's centre, then above each bogie),
+/// schema `railsim.CarbodyMessage`: the specific force (acceleration minus gravity) in the
+/// carbody's axes; at rest on level track (0, +9.81).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CarbodyMessage {
+    /// \[s\] simulation time
+    pub t_s: f64,
+    /// Name of the point, e.g. `carbody above bogie_front`.
+    pub point: String,
+    /// \[m/s^2\] lateral specific force, carbody y (to the left)
+    pub lateral_m_s2: f64,
+    /// \[m/s^2\] vertical specific force, carbody z (up)
+    pub vertical_m_s2: f64,
+}
+
+impl LogMessage for CarbodyMessage {
+    const SCHEMA_NAME: &'static str = "railsim.CarbodyMessage";
+    fn schema_json() -> Vec<u8> {
+        generated_schema::<Self>()
+    }
+}
+
 /// A time as Foxglove writes it: whole seconds and nanoseconds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct FoxgloveTime {
@@ -328,5 +353,10 @@ pub mod topics {
     /// `/wheelsets/<n>`.
     pub fn wheelset(wheelset: u32) -> String {
         format!("/wheelsets/{wheelset}")
+    }
+
+    /// `/carbody/<n>`.
+    pub fn carbody(point: usize) -> String {
+        format!("/carbody/{point}")
     }
 }

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use railsim_contact::{Side, WheelsetPose, WheelsetVelocity};
 use railsim_log::messages::{
-    BodyState, Creepages as LogCreepages, FrameTransform, PatchMessage, Quaternion,
+    BodyState, CarbodyMessage, Creepages as LogCreepages, FrameTransform, PatchMessage, Quaternion,
     Side as LogSide, WheelsetMessage, topics, wear_number,
 };
 use railsim_log::{Channel, LogHeader, LogStats, LogWriter, WriterOptions, step_time_ns};
@@ -934,6 +934,8 @@ struct Recorder {
     bodies: Vec<Channel<BodyState>>,
     contact: Vec<Channel<PatchMessage>>,
     wheelsets: Vec<Channel<WheelsetMessage>>,
+    /// Per comfort point of the carbody, with its name.
+    carbody: Vec<(Channel<CarbodyMessage>, String)>,
     tf: Option<Channel<FrameTransform>>,
     /// Patches written per wheel at the current sample.
     patch_count: Vec<u32>,
@@ -988,6 +990,16 @@ impl Recorder {
         for n in (0..model.wheels.len() / 2).filter(|_| want(Topic::Wheelsets)) {
             wheelsets.push(writer.channel::<WheelsetMessage>(&topics::wheelset(n as u32))?);
         }
+        let mut carbody = Vec::new();
+        if want(Topic::Carbody) {
+            for (n, (name, _)) in comfort_points(model)
+                .map_or(Vec::new(), |c| c.1)
+                .into_iter()
+                .enumerate()
+            {
+                carbody.push((writer.channel::<CarbodyMessage>(&topics::carbody(n))?, name));
+            }
+        }
         let tf = want(Topic::Tf)
             .then(|| writer.channel::<FrameTransform>(topics::TF))
             .transpose()?;
@@ -996,6 +1008,7 @@ impl Recorder {
             bodies,
             contact,
             wheelsets,
+            carbody,
             tf,
             patch_count: vec![0; model.wheels.len()],
         })
@@ -1065,6 +1078,15 @@ impl Recorder {
                 count[p.wheel] += 1;
                 self.writer.write(&self.contact[p.wheel], t_ns, &msg)?;
             }
+        }
+        for ((channel, name), a) in self.carbody.iter().zip(&s.carbody) {
+            let msg = CarbodyMessage {
+                t_s: s.t,
+                point: name.clone(),
+                lateral_m_s2: a[0],
+                vertical_m_s2: a[1],
+            };
+            self.writer.write(channel, t_ns, &msg)?;
         }
         if !self.wheelsets.is_empty() {
             for msg in &s.wheelsets {

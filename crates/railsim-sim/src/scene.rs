@@ -70,11 +70,19 @@ pub enum Topic {
     Wheelsets,
     /// Foxglove frame transforms: `/tf`.
     Tf,
+    /// Per carbody comfort point, the accelerometer's reading: `/carbody/<n>`.
+    Carbody,
 }
 
 impl Topic {
     /// All topics, in file-name order.
-    pub const ALL: [Topic; 4] = [Topic::Bodies, Topic::Contact, Topic::Wheelsets, Topic::Tf];
+    pub const ALL: [Topic; 5] = [
+        Topic::Bodies,
+        Topic::Carbody,
+        Topic::Contact,
+        Topic::Wheelsets,
+        Topic::Tf,
+    ];
     /// The name as written in `[log] topics`.
     pub fn name(self) -> &'static str {
         match self {
@@ -82,6 +90,7 @@ impl Topic {
             Topic::Contact => "contact",
             Topic::Wheelsets => "wheelsets",
             Topic::Tf => "tf",
+            Topic::Carbody => "carbody",
         }
     }
 }

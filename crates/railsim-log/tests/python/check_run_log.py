@@ -4,7 +4,8 @@
 Usage: check_run_log.py LOG.mcap [--rails]
 
 Checks that the log has a summary whose per-channel message counts equal the messages actually
-read, that the four kinds of topics are there (/bodies/*, /contact/*, /wheelsets/*, /tf), that
+read, that the five kinds of topics are there (/bodies/*, /carbody/*, /contact/*, /wheelsets/*,
+/tf), that the carbody's accelerometers read on average about +g vertically (9.81 ± 0.2 m/s²), that
 every message decodes as JSON with its own time equal to the log time, that no number is NaN or
 infinite, and that the `scene` and `railsim_result` metadata (with the state digest) are present.
 With --rails (a run on an elastic rail support, logging bodies, contact and wheelsets): /tf is
@@ -36,6 +37,7 @@ def main():
         return 2
     failures = []
     counts = {}
+    vertical = []
     with open(sys.argv[1], "rb") as f:
         reader = make_reader(f)
         summary = reader.get_summary()
@@ -51,6 +53,8 @@ def main():
                 d = body.get("rail_displacement_m")
                 if not (isinstance(d, list) and len(d) == 4 and d[1] < 0 and d[3] < 0):
                     failures.append(f"{channel.topic}: rail_displacement_m = {d!r}")
+            if channel.topic.startswith("/carbody/"):
+                vertical.append(body["vertical_m_s2"])
             if schema.name == "foxglove.FrameTransform":
                 st = body["timestamp"]
                 ok = st["sec"] * 1_000_000_000 + st["nsec"] == message.log_time
@@ -63,9 +67,12 @@ def main():
         for topic, n in stated.items():
             if counts.get(topic, 0) != n:
                 failures.append(f"{topic}: summary says {n} messages, read {counts.get(topic, 0)}")
-        for prefix in ("/bodies/", "/contact/", "/wheelsets/") + (() if rails else ("/tf",)):
+        for prefix in ("/bodies/", "/carbody/", "/contact/", "/wheelsets/") + (
+                () if rails else ("/tf",)):
             if not any(t.startswith(prefix) for t in counts):
                 failures.append(f"no topic {prefix}*")
+        if vertical and abs(sum(vertical) / len(vertical) - 9.81) > 0.2:
+            failures.append(f"carbody: mean vertical reading {sum(vertical) / len(vertical)} m/s²")
         f.seek(0)
         names = {m.name: m.metadata for m in make_reader(f).iter_metadata()}
         if "scene" not in names:
