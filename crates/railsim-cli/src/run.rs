@@ -256,8 +256,12 @@ fn print_assessment(a: &Assessment) -> Result<()> {
             )
         };
         for c in &a.comfort {
+            let n_mv = c.n_mv.map_or_else(
+                || "N_MV - (run under 5 s)".to_owned(),
+                |(n, w)| format!("EN 12299 N_MV {n:.2} over {w} windows of 5 s"),
+            );
             outln!(
-                "  {}: Wz {} / {}; {} / {}",
+                "  {}: Wz {} / {}; {} / {}; {n_mv}",
                 c.name,
                 wz(c.wz[0]),
                 wz(c.wz[1]),

@@ -228,7 +228,7 @@ impl LogMessage for WheelsetMessage {
 ///
 /// Topic `/carbody/<n>` (points numbered from 0: the carbody's centre, then above each bogie),
 /// schema `railsim.CarbodyMessage`: the specific force (acceleration minus gravity) in the
-/// carbody's axes; at rest on level track (0, +9.81).
+/// carbody's axes; at rest on level track (0, 0, +9.81).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CarbodyMessage {
@@ -236,6 +236,8 @@ pub struct CarbodyMessage {
     pub t_s: f64,
     /// Name of the point, e.g. `carbody above bogie_front`.
     pub point: String,
+    /// \[m/s^2\] longitudinal specific force, carbody x (forward)
+    pub longitudinal_m_s2: f64,
     /// \[m/s^2\] lateral specific force, carbody y (to the left)
     pub lateral_m_s2: f64,
     /// \[m/s^2\] vertical specific force, carbody z (up)

@@ -23,7 +23,8 @@
 //! low-pass to mean what it says.
 
 use crate::signal::{
-    Filter, WindowValue, dominant_frequency, sliding_mean, sliding_rms, welch_psd,
+    Filter, WindowValue, dominant_frequency, sliding_mean, sliding_rms, weighted_window_rms,
+    welch_psd,
 };
 
 /// \[m\] window of the sliding mean of the track-shift force.
@@ -73,6 +74,8 @@ pub struct Series {
 pub struct ComfortSeries {
     /// Where the point is (e.g. `carbody above bogie_front`).
     pub name: String,
+    /// \[m/s²\] longitudinal (carbody x) at each sample.
+    pub longitudinal: Vec<f64>,
     /// \[m/s²\] lateral (carbody y) at each sample.
     pub lateral: Vec<f64>,
     /// \[m/s²\] vertical (carbody z) at each sample.
@@ -91,6 +94,9 @@ pub struct Comfort {
     /// acceleration band-passed over 0.4–10 Hz (EN 14363's carbody accelerations ÿ*, z̈*);
     /// `None` when the log rate cannot carry 10 Hz.
     pub band_passed: [Option<(f64, f64)>; 2],
+    /// EN 12299's mean comfort N_MV by its standard method over the run's 5 s windows (with the
+    /// number of windows); `None` for a run shorter than one window.
+    pub n_mv: Option<(f64, usize)>,
 }
 
 /// Settings of an assessment.
@@ -247,6 +253,7 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
                 sperling(&c.vertical, fs, Direction::Vertical),
             ],
             band_passed: [max_and_rms(&c.lateral), max_and_rms(&c.vertical)],
+            n_mv: mean_comfort(c, fs),
         })
         .collect();
     Assessment {
@@ -257,6 +264,85 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         alpha: opts.alpha,
         comfort,
     }
+}
+
+/// \[s\] the windows of EN 12299's r.m.s. values.
+pub const COMFORT_WINDOW: f64 = 5.0;
+
+/// The magnitude of a frequency weighting of ISO 2631-1 / EN 12299 at `f` \[Hz\]: the product
+/// of a band-limiting high-pass at `f1` and low-pass at `f2` (2nd-order Butterworth), the
+/// acceleration–velocity transition `(1 + s/ω3) / (1 + s/(Q4 ω4) + (s/ω4)²)` and, where given,
+/// the upward step `K (1 + s/(Q5 ω5) + (s/ω5)²) / (1 + s/(Q6 ω6) + (s/ω6)²)`, s = i 2π f.
+/// A low-pass corner at or above the Nyquist frequency of the samples is beyond what they
+/// carry; it is kept in the formula (its effect below 30 Hz is under 1 %).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IsoWeighting {
+    /// \[Hz\] band limits f1, f2.
+    pub band: (f64, f64),
+    /// \[Hz\] f3, f4 and Q4 of the transition.
+    pub transition: (f64, f64, f64),
+    /// K, f5, Q5, f6, Q6 of the upward step.
+    pub step: Option<(f64, f64, f64, f64, f64)>,
+}
+
+/// W_d, horizontal (ISO 2631-1; EN 12299 for the x and y carbody accelerations): f1 0.4 Hz,
+/// f2 100 Hz, f3 = f4 = 2 Hz, Q4 0.63, no step (as in tobias-bettinger/comfpy `filters.py`,
+/// pyridy's `ComfortProcessor` and MoniRail's web rider, which agree).
+pub const W_D: IsoWeighting = IsoWeighting {
+    band: (0.4, 100.0),
+    transition: (2.0, 2.0, 0.63),
+    step: None,
+};
+
+/// W_b, vertical (EN 12299): f1 0.4 Hz, f2 100 Hz, f3 = f4 = 16 Hz, Q4 0.63, step K 0.4,
+/// f5 2.5 Hz, Q5 0.8, f6 4 Hz, Q6 0.8 (the same three implementations; with the step written
+/// as above, K = 0.4 is its low-frequency gain and 0.4 (f6/f5)² = 1.024 its high-frequency one).
+pub const W_B: IsoWeighting = IsoWeighting {
+    band: (0.4, 100.0),
+    transition: (16.0, 16.0, 0.63),
+    step: Some((0.4, 2.5, 0.8, 4.0, 0.8)),
+};
+
+impl IsoWeighting {
+    /// |W(i 2π f)|.
+    pub fn gain(&self, f: f64) -> f64 {
+        // complex numbers as (re, im); only magnitudes are needed
+        let abs = |a: (f64, f64)| a.0.hypot(a.1);
+        let w = 2.0 * std::f64::consts::PI * f;
+        // 1 + s/(q ω) + (s/ω)² at s = iw: (1 - (w/ω)², w/(q ω))
+        let quad = |om: f64, q: f64| (1.0 - (w / om).powi(2), w / (q * om));
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let (w1, w2) = (two_pi * self.band.0, two_pi * self.band.1);
+        let sqrt2 = std::f64::consts::SQRT_2;
+        // high-pass: 1 / (1 + √2 ω1/s + (ω1/s)²), with ω1/s = -i ω1/w
+        let hh = 1.0 / abs((1.0 - (w1 / w).powi(2), -sqrt2 * w1 / w));
+        let hl = 1.0 / abs(quad(w2, 1.0 / sqrt2));
+        let (f3, f4, q4) = self.transition;
+        let ht = abs((1.0, w / (two_pi * f3))) / abs(quad(two_pi * f4, q4));
+        let hs = self.step.map_or(1.0, |(k, f5, q5, f6, q6)| {
+            k * abs(quad(two_pi * f5, q5)) / abs(quad(two_pi * f6, q6))
+        });
+        hh * hl * ht * hs
+    }
+}
+
+/// EN 12299's mean comfort, standard method: N_MV = 6 √(a_x² + a_y² + a_z²) with a the 95th
+/// percentile of the r.m.s. values over 5 s windows of the W_d-weighted longitudinal and
+/// lateral and the W_b-weighted vertical acceleration (m/s²). The standard takes 5 minutes of
+/// running (60 windows); a shorter run gives the value over its windows (their number is
+/// returned), a coarser statistic. Sources: the standard's formula as implemented in pyridy's
+/// `ComfortProcessor` and credwood/ride_comfort `metrics.py` (which agree); vehicle-reference §6.5.
+pub fn mean_comfort(c: &ComfortSeries, fs: f64) -> Option<(f64, usize)> {
+    let window = (COMFORT_WINDOW * fs).round() as usize;
+    let p95 = |x: &[f64], w: &IsoWeighting| {
+        let mut r = weighted_window_rms(x, fs, window, |f| w.gain(f));
+        r.sort_by(f64::total_cmp);
+        (!r.is_empty()).then(|| (percentile(&r, 0.95), r.len()))
+    };
+    let (ax, n) = p95(&c.longitudinal, &W_D)?;
+    let (ay, _) = p95(&c.lateral, &W_D)?;
+    let (az, _) = p95(&c.vertical, &W_B)?;
+    Some((6.0 * (ax * ax + ay * ay + az * az).sqrt(), n))
 }
 
 /// Direction of a carbody acceleration, for Sperling's weighting.
@@ -471,6 +557,54 @@ mod tests {
             sperling(&tone(0.1, 2.0)[..300], fs, Direction::Vertical),
             None
         );
+    }
+
+    #[test]
+    fn the_iso_weightings_have_their_published_shape() {
+        // W_d: flat (1) between the band edge and its 2 Hz transition, then falling as 2/f
+        assert!((W_D.gain(1.0) - 1.01).abs() < 0.01, "{}", W_D.gain(1.0));
+        assert!(
+            (W_D.gain(16.0) / (2.0 / 16.0) - 1.0).abs() < 0.05,
+            "{}",
+            W_D.gain(16.0)
+        );
+        // W_b at 1, 4, 8, 16 Hz: 0.39, 0.82, 1.06, 0.92 (the formula evaluated independently)
+        for (f, g) in [(1.0, 0.39), (4.0, 0.82), (8.0, 1.06), (16.0, 0.92)] {
+            assert!((W_B.gain(f) - g).abs() < 0.01, "{f} Hz: {}", W_B.gain(f));
+        }
+        // the band edges: -3 dB at 0.4 Hz of the high-pass alone
+        assert!(W_D.gain(0.1) < 0.1);
+    }
+
+    #[test]
+    fn mean_comfort_of_tones_follows_the_weightings() {
+        // 0.3 m/s² r.m.s. lateral at 1 Hz, 0.2 m/s² r.m.s. vertical at 8 Hz, 20 s at 200 Hz
+        let fs = 200.0;
+        let tone = |rms: f64, f: f64, offset: f64| -> Vec<f64> {
+            (0..4000)
+                .map(|i| {
+                    offset
+                        + rms * 2f64.sqrt() * (2.0 * std::f64::consts::PI * f * i as f64 / fs).sin()
+                })
+                .collect()
+        };
+        let c = ComfortSeries {
+            name: "p".into(),
+            longitudinal: vec![0.0; 4000],
+            lateral: tone(0.3, 1.0, 0.0),
+            vertical: tone(0.2, 8.0, 9.81),
+        };
+        let (n_mv, windows) = mean_comfort(&c, fs).unwrap();
+        assert_eq!(windows, 4);
+        let expect = 6.0 * ((0.3 * W_D.gain(1.0)).powi(2) + (0.2 * W_B.gain(8.0)).powi(2)).sqrt();
+        assert!((n_mv / expect - 1.0).abs() < 0.01, "{n_mv} vs {expect}");
+        let short = ComfortSeries {
+            longitudinal: vec![0.0; 900],
+            lateral: vec![0.0; 900],
+            vertical: vec![0.0; 900],
+            ..c
+        };
+        assert_eq!(mean_comfort(&short, fs), None);
     }
 
     #[test]

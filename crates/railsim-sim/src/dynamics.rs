@@ -63,8 +63,11 @@ pub struct MemberKin {
     pub force: V3,
     /// \[N m\] sum of the moments about its centre of gravity.
     pub moment: V3,
-    /// \[rad/s²\] angular acceleration of a body, from stage 7 (zero before it, and for
-    /// wheelsets).
+    /// \[m/s²\] acceleration of the centre of gravity, from stage 7 (zero before it): that of
+    /// the frame's point plus the relative acceleration of the free coordinates (a frozen one
+    /// moves with its frame, whatever force its constraint takes).
+    pub accel: V3,
+    /// \[rad/s²\] angular acceleration of a body, from stage 7 likewise (zero for wheelsets).
     pub alpha: V3,
 }
 
@@ -338,6 +341,7 @@ impl Dynamics<'_> {
                 omega,
                 force: [0.0; 3],
                 moment: [0.0; 3],
+                accel: [0.0; 3],
                 alpha: [0.0; 3],
             };
         }
@@ -584,7 +588,6 @@ impl Dynamics<'_> {
                     for j in 0..3 {
                         acc[3 + j] = od[j] - wd[j];
                     }
-                    k.alpha = mul(fr, od);
                 }
                 MemberKind::Wheelset { .. } => {
                     // Axisymmetric rotor in its non-spinning axle frame (carrier ω_c):
@@ -598,6 +601,11 @@ impl Dynamics<'_> {
                         acc[3 + j] = rhs[j] / ii[j] - wd[j];
                     }
                 }
+            }
+            let rel = |j: usize| if mm.rate[j].is_some() { acc[j] } else { 0.0 };
+            k.accel = mul(fr, add(a_frame, [rel(0), rel(1), rel(2)]));
+            if mm.kind == MemberKind::Body {
+                k.alpha = mul(fr, add(wd, [rel(3), rel(4), rel(5)]));
             }
             for j in 0..6 {
                 if let Some(ix) = mm.rate[j] {

@@ -16,7 +16,7 @@ use railsim_ode::{Integrator, Method, OdeSystem, Stats, StepOutcome, StopReason}
 use crate::assess::{Assessment, ComfortSeries, Series, assess};
 use crate::dynamics::{CostSplit, Dynamics, Workspace, rail_frame};
 use crate::error::SimError;
-use crate::math::{add, cross, mul, mul_t, quaternion, rotation_rpy, scale};
+use crate::math::{add, cross, mul, mul_t, quaternion, rotation_rpy};
 use crate::model::{MemberKind, SimModel};
 use crate::scene::{Scene, Topic};
 
@@ -66,9 +66,9 @@ pub struct Sample {
     /// \[m\] per wheelset: lateral displacement relative to the track centre line.
     pub lateral: Vec<f64>,
     /// \[m/s²\] per comfort point of the carbody (`RunSummary::assessment`'s `comfort`, same
-    /// order): the specific force an accelerometer fixed there measures, lateral and vertical in
-    /// the carbody's axes (at rest on level track: 0 and +g).
-    pub carbody: Vec<[f64; 2]>,
+    /// order): the specific force an accelerometer fixed there measures, longitudinal, lateral
+    /// and vertical in the carbody's axes (at rest on level track: 0, 0 and +g).
+    pub carbody: Vec<[f64; 3]>,
 }
 
 /// What a finished run reports.
@@ -91,8 +91,9 @@ pub struct RunSummary {
     /// \[m\] on an elastic rail support: the largest lateral and vertical displacement (absolute
     /// values) of any rail at a sample, each with the wheelset and side of its wheel.
     pub max_rail: Option<[(f64, u32, Side); 2]>,
-    /// The EN 14363 track-shift force per axle: (ΣY)2m and the sliding r.m.s. stability
-    /// criterion against their limits (`crate::assess`).
+    /// The EN 14363 track-shift force per axle ((ΣY)2m and the sliding r.m.s. stability
+    /// criterion against their limits) and the carbody's ride quantities (Sperling's Wz,
+    /// band-passed accelerations) per comfort point (`crate::assess`).
     pub assessment: Assessment,
     /// Integrator statistics.
     pub stats: Stats,
@@ -785,7 +786,7 @@ impl LoopState {
                     ..Default::default()
                 })
                 .collect();
-            state.sample.carbody = vec![[0.0; 2]; points.len()];
+            state.sample.carbody = vec![[0.0; 3]; points.len()];
             state.comfort_points = Some((carbody, points.into_iter().map(|p| p.1).collect()));
         }
         state
@@ -805,10 +806,11 @@ impl LoopState {
         smp.x.copy_from_slice(x);
         self.series.distance.push(dist);
         if let Some((cb, points)) = &self.comfort_points {
-            let (k, mass) = (&ws.kin[*cb], model.members[*cb].mass);
-            // specific force at the centre of gravity (the forces other than gravity over the
-            // mass) plus the rigid-body terms of the point's offset, in the carbody's axes
-            let f_cog = scale(1.0 / mass, k.force);
+            let k = &ws.kin[*cb];
+            // specific force at the centre of gravity (its acceleration minus gravity; for free
+            // coordinates the forces other than gravity over the mass) plus the rigid-body terms
+            // of the point's offset, in the carbody's axes
+            let f_cog = add(k.accel, [0.0, 0.0, model.gravity]);
             for ((c, d), out) in self
                 .series
                 .comfort
@@ -822,9 +824,10 @@ impl LoopState {
                     add(cross(k.alpha, arm), cross(k.omega, cross(k.omega, arm))),
                 );
                 let f_body = mul_t(&k.orient, f);
+                c.longitudinal.push(f_body[0]);
                 c.lateral.push(f_body[1]);
                 c.vertical.push(f_body[2]);
-                *out = [f_body[1], f_body[2]];
+                *out = f_body;
             }
         }
         for (i, pair) in model.wheels.chunks(2).enumerate() {
@@ -1083,8 +1086,9 @@ impl Recorder {
             let msg = CarbodyMessage {
                 t_s: s.t,
                 point: name.clone(),
-                lateral_m_s2: a[0],
-                vertical_m_s2: a[1],
+                longitudinal_m_s2: a[0],
+                lateral_m_s2: a[1],
+                vertical_m_s2: a[2],
             };
             self.writer.write(channel, t_ns, &msg)?;
         }
