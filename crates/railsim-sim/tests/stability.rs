@@ -65,6 +65,19 @@ fn the_ramp_down_critical_speed_separates_hunting_from_stable_running() {
     assert!(res.amplitude_at_start > ramp.threshold);
     assert!(!res.hunting_at_end);
     assert!(vc > ramp.v_end && vc < ramp.v_start, "{vc}");
+    // EN 14363's r.m.s. criterion along the ramp: one value per 100 m window (every 10 m from
+    // 100 m of the 1400 m run; the last sample falls just short of 1400 m), speeds falling, at
+    // least three times lower once the hunting has died out than on the limit cycle at the start
+    assert!(
+        (130..=131).contains(&res.sum_y_rms.len()),
+        "{}",
+        res.sum_y_rms.len()
+    );
+    assert!(res.sum_y_rms.windows(2).all(|w| w[1].speed <= w[0].speed));
+    let first = res.sum_y_rms[0].ratio;
+    let last = res.sum_y_rms[res.sum_y_rms.len() - 1].ratio;
+    eprintln!("ΣY r.m.s. / limit: {first:.3} at the start, {last:.4} at the end");
+    assert!(last < first / 3.0, "{first} {last}");
     // every wheelset's half cycles carry the ramp's speeds, falling with time
     for b in &res.branch {
         assert!(
