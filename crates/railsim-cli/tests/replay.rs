@@ -74,6 +74,8 @@ fn write_log(path: &Path, options: WriterOptions) {
             y_over_q_left: (2000.0 + y * 1e6) / q,
             y_over_q_right: -2000.0 / q,
             angle_of_attack_rad: 0.0,
+            wear_number_left_n: 0.0,
+            wear_number_right_n: 0.0,
             rail_displacement_m: None,
         };
         log.write(&wheelset, t_ns, &message).unwrap();

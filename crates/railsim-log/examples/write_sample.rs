@@ -96,6 +96,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             y_over_q_left: (1000.0 + y * 1e6) / q,
             y_over_q_right: -1000.0 / q,
             angle_of_attack_rad: 1e-3 * (2.0 * PI * 2.0 * t_s).cos(),
+            wear_number_left_n: 0.0,
+            wear_number_right_n: 0.0,
             rail_displacement_m: None,
         };
         log.write(&wheelset, t_ns, &message)?;

@@ -211,6 +211,13 @@ pub struct WheelsetMessage {
     pub y_over_q_right: f64,
     /// \[rad\] angle of attack: wheelset yaw relative to the track, positive nose-left
     pub angle_of_attack_rad: f64,
+    /// \[N\] wear number Tγ of the left wheel: the sum over its patches (as on `/contact`);
+    /// 0 in logs written before it was added
+    #[serde(default)]
+    pub wear_number_left_n: f64,
+    /// \[N\] wear number Tγ of the right wheel, likewise
+    #[serde(default)]
+    pub wear_number_right_n: f64,
     /// \[m\] on an elastic rail support only: displacement of the rail under each wheel,
     /// track frame, `[left y, left z, right y, right z]` (y to the left, z up)
     #[serde(default, skip_serializing_if = "Option::is_none")]

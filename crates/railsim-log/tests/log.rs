@@ -79,6 +79,8 @@ fn wheelset(step: u64) -> WheelsetMessage {
         y_over_q_left: (1000.0 + step as f64) / 54_500.0,
         y_over_q_right: -1000.0 / 3.0 / 54_000.0,
         angle_of_attack_rad: -1.25e-3,
+        wear_number_left_n: 0.0,
+        wear_number_right_n: 0.0,
         rail_displacement_m: Some([1e-5 * step as f64, -5.45e-4, -1e-5, -5.4e-4]),
     }
 }

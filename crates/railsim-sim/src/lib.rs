@@ -20,6 +20,7 @@
 #![deny(rustdoc::broken_intra_doc_links)]
 
 pub mod assess;
+pub mod curving;
 pub mod dynamics;
 pub mod error;
 pub mod math;

@@ -771,6 +771,8 @@ impl LoopState {
                         y_over_q_left: 0.0,
                         y_over_q_right: 0.0,
                         angle_of_attack_rad: 0.0,
+                        wear_number_left_n: 0.0,
+                        wear_number_right_n: 0.0,
                         rail_displacement_m: None,
                     })
                     .collect(),
@@ -838,6 +840,13 @@ impl LoopState {
             // Y on the rail toward its field side; Q on the rail downward.
             let (yl, ql, yr, qr) = (-fl[1], fl[2], fr[1], fr[2]);
             let yq = |y: f64, q: f64| if q > 0.0 { y / q } else { 0.0 };
+            let wear = |wheel: usize| -> f64 {
+                ws.patches
+                    .iter()
+                    .filter(|p| p.wheel == wheel)
+                    .map(|p| patch_wear(&p.result))
+                    .sum()
+            };
             let msg = WheelsetMessage {
                 t_s: t,
                 wheelset: number,
@@ -848,6 +857,8 @@ impl LoopState {
                 y_over_q_left: yq(yl, ql),
                 y_over_q_right: yq(yr, qr),
                 angle_of_attack_rad: model.coord(m, 5, x),
+                wear_number_left_n: wear(2 * i),
+                wear_number_right_n: wear(2 * i + 1),
                 rail_displacement_m: model.rail_support.map(|_| {
                     let (l, r) = (model.rail_state(2 * i, x), model.rail_state(2 * i + 1, x));
                     [l[0], l[1], r[0], r[1]]
@@ -903,6 +914,20 @@ impl LoopState {
             smp.wheelsets[number as usize] = msg;
         }
     }
+}
+
+/// A patch's creepages as the log writes them.
+fn log_creepages(r: &railsim_contact::PatchResult) -> LogCreepages {
+    LogCreepages {
+        xi: r.creepages.xi,
+        eta: r.creepages.eta,
+        phi_per_m: r.creepages.phi,
+    }
+}
+
+/// \[N\] a patch's wear number Tγ (`railsim_log::wear_number`).
+fn patch_wear(r: &railsim_contact::PatchResult) -> f64 {
+    wear_number(r.forces.fx, r.forces.fs, &log_creepages(r))
 }
 
 /// A point's name and its offset \[m\] from a body's centre of gravity, in the body's axes.
@@ -1054,11 +1079,7 @@ impl Recorder {
             for p in &ws.patches {
                 let w = &model.wheels[p.wheel];
                 let r = &p.result;
-                let c = LogCreepages {
-                    xi: r.creepages.xi,
-                    eta: r.creepages.eta,
-                    phi_per_m: r.creepages.phi,
-                };
+                let c = log_creepages(r);
                 let msg = PatchMessage {
                     t_s: s.t,
                     wheelset: w.wheelset_number,
@@ -1076,7 +1097,7 @@ impl Recorder {
                     fx_n: r.forces.fx,
                     fy_n: r.forces.fs,
                     mz_nm: r.forces.mz,
-                    wear_number_n: wear_number(r.forces.fx, r.forces.fs, &c),
+                    wear_number_n: patch_wear(r),
                 };
                 count[p.wheel] += 1;
                 self.writer.write(&self.contact[p.wheel], t_ns, &msg)?;

@@ -1,0 +1,185 @@
+//! Steady-state curving (`railsim_sim::curving`) against the physics of a bogie vehicle in a
+//! curve: the track-shift forces carry the uncompensated acceleration, the leading wheelset of
+//! each bogie runs out toward the outer rail with a positive angle of attack and the flange
+//! force, the trailing one nearer the centre; a right curve mirrors a left one.
+
+mod common;
+
+use railsim_sim::RunOptions;
+use railsim_sim::curving::{CurveCase, CurvingRun, SteadyCurving, steady_curving};
+
+fn polach_scene() -> railsim_sim::Scene {
+    common::scene(
+        r#"
+        vehicle = "vehicles/manchester_vehicle1.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 80
+        duration_s = 1
+        freeze = ["carbody.x"]
+        [contact]
+        model = "polach"
+        [integrator]
+        method = "dopri5"
+        rtol = 1e-4
+        atol = 1e-6
+        "#,
+    )
+}
+
+fn case(left: bool) -> SteadyCurving {
+    let c = CurveCase {
+        radius: 300.0,
+        cant: 0.1,
+        left,
+        speed: 80.0 / 3.6,
+    };
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    steady_curving(
+        &polach_scene(),
+        &c,
+        &CurvingRun::default(),
+        &opts,
+        &mut |_, _| {},
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn print(r: &SteadyCurving) {
+    println!(
+        "R {} m, cant {} mm, {:.0} km/h: a_q {:.3} m/s², deficiency {:.1} mm, {} samples, carbody {:?}",
+        r.case.radius,
+        r.case.cant * 1e3,
+        r.case.speed * 3.6,
+        r.uncompensated,
+        r.cant_deficiency * 1e3,
+        r.samples,
+        r.carbody_lateral
+    );
+    for (n, w) in r.wheelsets.iter().enumerate() {
+        println!(
+            "  ws{n}: y {:7.3} mm (swing {:.3}) aoa {:7.3} mrad ΣY {:8.2} kN | L: Y {:7.2} Q {:7.2} Y/Q {:6.3} Tγ {:6.1} | R: Y {:7.2} Q {:7.2} Y/Q {:6.3} Tγ {:6.1}",
+            w.lateral * 1e3,
+            w.lateral_swing * 1e3,
+            w.angle_of_attack * 1e3,
+            w.sum_y * 1e-3,
+            w.wheels[0].y * 1e-3,
+            w.wheels[0].q * 1e-3,
+            w.wheels[0].y_over_q,
+            w.wheels[0].wear,
+            w.wheels[1].y * 1e-3,
+            w.wheels[1].q * 1e-3,
+            w.wheels[1].y_over_q,
+            w.wheels[1].wear
+        );
+    }
+}
+
+/// R = 300 m, 100 mm cant, 80 km/h (0.99 m/s² uncompensated, 151 mm cant deficiency),
+/// `polach`. Values when written, left curve: leading wheelsets 6.28 / 6.25 mm outward, angle
+/// of attack 7.7 / 6.9 mrad toward the outside, outer Y/Q 0.42 / 0.32; trailing wheelsets
+/// 0.7 / 0.9 mm inward; ΣY over the vehicle −43.94 kN against −M a = −43.95 kN.
+#[test]
+fn a_bogie_vehicle_curves_with_its_leading_wheelsets_in_flange_contact() {
+    let left = case(true);
+    print(&left);
+    let g = 9.81;
+    let mass: f64 = left
+        .summary
+        .assessment
+        .axles
+        .iter()
+        .map(|a| a.axle_load)
+        .sum::<f64>()
+        / g;
+    // toward the outside: -y in a left curve
+    let sum_y: f64 = left.wheelsets.iter().map(|w| w.sum_y).sum();
+    let expect = -mass * left.uncompensated;
+    assert!(
+        (sum_y / expect - 1.0).abs() < 0.01,
+        "ΣY {sum_y} against {expect}"
+    );
+    assert!((left.cant_deficiency - left.uncompensated * 1.5 / g).abs() < 1e-12);
+    let w = &left.wheelsets;
+    for lead in [0, 2] {
+        let (l, t) = (&w[lead], &w[lead + 1]);
+        // out toward the outer (right) rail, nose toward the outside, flange force there
+        assert!(l.lateral < -5e-3, "ws{lead}: {l:?}");
+        assert!(l.angle_of_attack < -3e-3, "ws{lead}: {l:?}");
+        assert!(l.wheels[1].y_over_q > 0.3, "ws{lead}: {l:?}");
+        assert!(l.wheels[1].y_over_q > t.wheels[1].y_over_q + 0.1);
+        // the trailing wheelset near the centre
+        assert!(t.lateral.abs() < 2e-3, "ws{}: {t:?}", lead + 1);
+        assert!(t.angle_of_attack.abs() < 2e-3, "ws{}: {t:?}", lead + 1);
+    }
+    for (n, ws) in w.iter().enumerate() {
+        // the outer wheels carry more (cant deficiency), the vehicle runs steadily
+        assert!(ws.wheels[1].q > ws.wheels[0].q + 10e3, "ws{n}: {ws:?}");
+        assert!(ws.lateral_swing < 0.1e-3, "ws{n}: {ws:?}");
+    }
+    // the carbody leans out: its accelerometer reads more than the track plane's acceleration,
+    // toward the curve's centre
+    let cb = left.carbody_lateral.unwrap();
+    assert!(cb > left.uncompensated, "{cb}");
+    // the right curve mirrors it: left and right wheels swapped, lateral quantities negated
+    let right = case(false);
+    print(&right);
+    let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol;
+    for (a, b) in left.wheelsets.iter().zip(&right.wheelsets) {
+        assert!(close(a.lateral, -b.lateral, 1e-6), "{a:?}\n{b:?}");
+        assert!(close(a.angle_of_attack, -b.angle_of_attack, 1e-6));
+        assert!(close(a.sum_y, -b.sum_y, 50.0));
+        for k in 0..2 {
+            assert!(close(a.wheels[k].y, b.wheels[1 - k].y, 50.0));
+            assert!(close(a.wheels[k].q, b.wheels[1 - k].q, 50.0));
+            assert!(close(a.wheels[k].wear, b.wheels[1 - k].wear, 0.5));
+        }
+    }
+    assert!(close(cb, -right.carbody_lateral.unwrap(), 1e-3));
+}
+
+#[test]
+fn bad_curving_cases_are_reported() {
+    let s = polach_scene();
+    let good = CurveCase {
+        radius: 300.0,
+        cant: 0.1,
+        left: true,
+        speed: 20.0,
+    };
+    let run = CurvingRun::default();
+    let with = |f: &dyn Fn(&mut CurveCase)| {
+        let mut c = good;
+        f(&mut c);
+        railsim_sim::curving::curving_scene(&s, &c, &run)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    };
+    assert!(with(&|c| c.radius = 30.0).contains("the radius must be at least"));
+    assert!(with(&|c| c.radius = f64::NAN).contains("found NaN m"));
+    assert!(with(&|c| c.cant = 0.25).contains("the cant must lie in [0, 200] mm, found 250 mm"));
+    assert!(with(&|c| c.speed = 0.0).contains("the speed must be positive"));
+    let short = CurvingRun {
+        average: 0.0,
+        ..run
+    };
+    let e = railsim_sim::curving::curving_scene(&s, &good, &short)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("averaging length (0 m)"), "{e}");
+    // a good case: the track's curve starts after the vehicle and the transition
+    let (scene, curve_start) = railsim_sim::curving::curving_scene(&s, &good, &run).unwrap();
+    let f = scene.track.frame_at(curve_start + 1.0);
+    assert!((f.curvature - 1.0 / 300.0).abs() < 1e-12);
+    assert!(
+        scene
+            .track
+            .frame_at(curve_start - run.transition - 0.5)
+            .curvature
+            == 0.0
+    );
+    assert!(scene.track.irregularities().is_none());
+}
