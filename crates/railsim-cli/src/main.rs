@@ -34,6 +34,7 @@ macro_rules! outln {
 
 mod chart;
 mod critical;
+mod curving;
 mod replay;
 mod run;
 
@@ -62,6 +63,10 @@ enum Command {
     /// hunting limit cycle (default; the nonlinear critical speed), or bisect on the growth rate
     /// of a small disturbance at constant speed (--method bisect).
     CriticalSpeed(critical::CriticalArgs),
+    /// Steady-state curving: run the vehicle into curves of given radius and cant at given
+    /// speeds and tabulate the means per wheelset and wheel once it runs steadily (lateral
+    /// displacement, angle of attack, Y, Q, Y/Q, ΣY, wear number).
+    Curving(curving::CurvingArgs),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -230,6 +235,7 @@ fn main() -> ExitCode {
         Command::Conicity(a) => run_conicity(&a),
         Command::Replay(a) => replay::run_replay(&a),
         Command::CriticalSpeed(a) => critical::run_critical(&a),
+        Command::Curving(a) => curving::run_curving(&a),
     };
     match result {
         Ok(code) => code,

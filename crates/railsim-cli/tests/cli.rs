@@ -182,3 +182,74 @@ fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_setting
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `railsim curving`: one short case of the shipped study scene with `polach` prints its table
+/// and writes one CSV row per wheelset; bad settings exit 2 naming the option. (The study's
+/// physics: `railsim-sim/tests/curving.rs`.)
+#[test]
+fn curving_tabulates_a_case_and_rejects_bad_settings() {
+    let dir = common::temp_dir("cli", "curving");
+    let csv = dir.join("curving.csv");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene = dir.join("curving_polach.toml");
+    let text = std::fs::read_to_string(root.join("scenes/manchester_curving.toml"))
+        .unwrap()
+        .replace("model = \"stripes\"", "model = \"polach\"")
+        .replace("\"../", &format!("\"{}/", root.display()));
+    assert!(text.contains("model = \"polach\""));
+    std::fs::write(&scene, text).unwrap();
+    let (code, out, err) = railsim(&[
+        "curving",
+        scene.to_str().unwrap(),
+        "--radius-m",
+        "400",
+        "--cant-mm",
+        "50",
+        "--speed-kmh",
+        "70",
+        "--direction",
+        "right",
+        "--transition-m",
+        "40",
+        "--settle-m",
+        "40",
+        "--average-m",
+        "30",
+        "--quiet",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    assert!(out.contains("R = 400 m, cant 50 mm, 70 km/h: uncompensated"), "{out}");
+    assert!(out.contains("Y/Q outer"), "{out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(head[0], "radius_m");
+    assert!(head.contains(&"angle_of_attack_mrad") && head.contains(&"wear_right_n"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 4);
+    for (n, r) in rows.iter().enumerate() {
+        assert_eq!(r.len(), head.len());
+        assert_eq!((r[0], r[3], r[6]), ("400", "right", n.to_string().as_str()));
+    }
+    // a right curve: the leading wheelset runs out to the left (+y)
+    let lateral: f64 = rows[0][7].parse().unwrap();
+    assert!(lateral > 3.0, "{lateral}");
+    for (args, want) in [
+        (vec!["--radius-m", "0"], "--radius-m: expected positive numbers"),
+        (vec!["--radius-m", "20"], "the radius must be at least"),
+        (
+            vec!["--radius-m", "300,600", "--cant-mm", "1,2,3"],
+            "--cant-mm: expected one value or one per radius (2), found 3",
+        ),
+        (vec!["--settle-m=-1"], "--settle-m: expected a number of metres"),
+    ] {
+        let mut a = vec!["curving", "--quiet"];
+        a.extend(args);
+        let (code, _, err) = railsim(&a);
+        assert_eq!(code, 2, "{a:?}: {err}");
+        assert!(err.contains(want), "{a:?}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -157,8 +157,8 @@ pub fn curving_scene(
     let lead_in = length + LEAD_MARGIN;
     let curve_start = lead_in + run.transition;
     let curve_len = run.settle + run.average + length + END_MARGIN;
-    let track = case_track(&scene.track_file, case, lead_in, run.transition, curve_len)
-        .map_err(bad)?;
+    let track =
+        case_track(&scene.track_file, case, lead_in, run.transition, curve_len).map_err(bad)?;
     let mut base = scene.clone();
     base.track = track;
     base.start = -x_min;

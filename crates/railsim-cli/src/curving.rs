@@ -1,0 +1,237 @@
+//! `railsim curving [SCENE]`: steady-state curving of a vehicle for a set of curves and speeds
+//! (`railsim_sim::curving`, docs/models/dynamics.md "Steady-state curving").
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+
+use railsim_sim::curving::{CurveCase, CurvingRun, SteadyCurving, steady_curving};
+use railsim_sim::{RunOptions, Scene};
+
+/// The built-in scene of the study, from the repository this binary was built in.
+pub const DEFAULT_SCENE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenes/manchester_curving.toml"
+);
+
+#[derive(Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum Direction {
+    /// The curve's centre on the left.
+    Left,
+    /// The curve's centre on the right.
+    Right,
+}
+
+#[derive(Args)]
+pub struct CurvingArgs {
+    /// Scene file: its vehicle, track file (rail profiles, gauge, inclination, cant base, rail
+    /// support; its alignment and irregularities replaced), contact model, integrator and log
+    /// rate are used; default: the built-in scenes/manchester_curving.toml
+    pub scene: Option<PathBuf>,
+    /// Curve radii (m), comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [300.0, 600.0, 1200.0])]
+    pub radius_m: Vec<f64>,
+    /// Cant (mm), one value for all curves or one per radius.
+    #[arg(long, value_delimiter = ',', default_values_t = [100.0])]
+    pub cant_mm: Vec<f64>,
+    /// Speeds (km/h), comma-separated: every radius is run at every speed.
+    #[arg(long, value_delimiter = ',', default_values_t = [80.0])]
+    pub speed_kmh: Vec<f64>,
+    /// Side of the curve's centre.
+    #[arg(long, value_enum, default_value = "left")]
+    pub direction: Direction,
+    /// Length of the transition (clothoid and cant ramp) into the curve (m).
+    #[arg(long, default_value_t = 80.0)]
+    pub transition_m: f64,
+    /// Distance the rearmost wheelset runs in the curve before the averaging (m).
+    #[arg(long, default_value_t = 100.0)]
+    pub settle_m: f64,
+    /// Distance over which the means are taken (m).
+    #[arg(long, default_value_t = 100.0)]
+    pub average_m: f64,
+    /// Write one row per case and wheelset as CSV.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// No progress line.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+pub fn run_curving(a: &CurvingArgs) -> Result<ExitCode> {
+    let path = a
+        .scene
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENE));
+    for (name, v) in [
+        ("--transition-m", a.transition_m),
+        ("--average-m", a.average_m),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            bail!("{name}: expected a positive number, found {v}");
+        }
+    }
+    if !(a.settle_m.is_finite() && a.settle_m >= 0.0) {
+        bail!(
+            "--settle-m: expected a number of metres ≥ 0, found {}",
+            a.settle_m
+        );
+    }
+    for (name, list) in [("--radius-m", &a.radius_m), ("--speed-kmh", &a.speed_kmh)] {
+        if let Some(v) = list.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+            bail!("{name}: expected positive numbers, found {v}");
+        }
+    }
+    if a.cant_mm.len() != 1 && a.cant_mm.len() != a.radius_m.len() {
+        bail!(
+            "--cant-mm: expected one value or one per radius ({}), found {}",
+            a.radius_m.len(),
+            a.cant_mm.len()
+        );
+    }
+    let scene = Scene::from_file(&path)?;
+    let run = CurvingRun {
+        transition: a.transition_m,
+        settle: a.settle_m,
+        average: a.average_m,
+    };
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    eprintln!(
+        "railsim curving: {} (contact model {}): {} curve(s) × {} speed(s), transition {} m, means over {} m after {} m in the curve",
+        scene.name,
+        scene.contact.model.name(),
+        a.radius_m.len(),
+        a.speed_kmh.len(),
+        a.transition_m,
+        a.average_m,
+        a.settle_m
+    );
+    let mut results = Vec::new();
+    for (i, &radius) in a.radius_m.iter().enumerate() {
+        let cant = a.cant_mm[if a.cant_mm.len() == 1 { 0 } else { i }] * 1e-3;
+        for &kmh in &a.speed_kmh {
+            let case = CurveCase {
+                radius,
+                cant,
+                left: a.direction == Direction::Left,
+                speed: kmh / 3.6,
+            };
+            let mut progress = crate::run::throttled(a.quiet, |t, t_end, w| {
+                eprint!("\rR {radius} m, {kmh} km/h: t = {t:7.3} / {t_end:.3} s   real {w:7.1} s ");
+            });
+            let r = steady_curving(&scene, &case, &run, &opts, &mut progress)
+                .context("railsim curving");
+            if !a.quiet {
+                eprintln!();
+            }
+            let r = r?;
+            print_case(&r)?;
+            results.push(r);
+        }
+    }
+    if let Some(p) = &a.csv {
+        std::fs::write(p, csv(&results)?).with_context(|| format!("writing {}", p.display()))?;
+        outln!("cases written to {}", p.display());
+    }
+    // a case in which the vehicle did not settle is reported, and makes the exit code 1
+    let unsteady = results
+        .iter()
+        .any(|r| r.wheelsets.iter().any(|w| w.lateral_swing > UNSTEADY_SWING));
+    if unsteady {
+        outln!(
+            "some wheelset's lateral displacement swung by more than {} mm during the averaging: \
+             not a steady state (hunting, or a longer --settle-m needed)",
+            UNSTEADY_SWING * 1e3
+        );
+        return Ok(ExitCode::from(1));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// \[m\] lateral swing during the averaging above which a case is reported as not steady.
+const UNSTEADY_SWING: f64 = 0.5e-3;
+
+/// Outer and inner wheel index (left 0, right 1) of a case.
+fn outer_inner(r: &SteadyCurving) -> (usize, usize) {
+    if r.case.left { (1, 0) } else { (0, 1) }
+}
+
+fn print_case(r: &SteadyCurving) -> Result<()> {
+    let c = &r.case;
+    let cb = r.carbody_lateral.map_or_else(String::new, |a| {
+        format!("; carbody centre reads {:.3} m/s² laterally", a)
+    });
+    outln!(
+        "R = {} m, cant {} mm, {} km/h: uncompensated {:.3} m/s² (cant deficiency {:.0} mm){cb}",
+        c.radius,
+        c.cant * 1e3,
+        c.speed * 3.6,
+        r.uncompensated,
+        r.cant_deficiency * 1e3
+    );
+    outln!(
+        "  ws  y out mm  AoA out mrad   ΣY out kN  Y outer kN  Q outer kN  Y/Q outer  Y inner kN  Q inner kN  Tγ outer N  Tγ inner N  swing mm"
+    );
+    let (o, i) = outer_inner(r);
+    // "out": toward the outside of the curve (−y in a left curve)
+    let out = if c.left { -1.0 } else { 1.0 };
+    for (n, w) in r.wheelsets.iter().enumerate() {
+        outln!(
+            "  {n:2}  {:8.2}  {:12.2}  {:10.2}  {:10.2}  {:10.2}  {:9.3}  {:10.2}  {:10.2}  {:10.1}  {:10.1}  {:8.3}",
+            out * w.lateral * 1e3,
+            out * w.angle_of_attack * 1e3,
+            out * w.sum_y * 1e-3,
+            w.wheels[o].y * 1e-3,
+            w.wheels[o].q * 1e-3,
+            w.wheels[o].y_over_q,
+            w.wheels[i].y * 1e-3,
+            w.wheels[i].q * 1e-3,
+            w.wheels[o].wear,
+            w.wheels[i].wear,
+            w.lateral_swing * 1e3
+        );
+    }
+    Ok(())
+}
+
+fn csv(results: &[SteadyCurving]) -> Result<String> {
+    let mut text = String::from(
+        "radius_m,cant_mm,speed_kmh,direction,uncompensated_m_s2,cant_deficiency_mm,wheelset,\
+         lateral_mm,angle_of_attack_mrad,sum_y_kn,y_left_kn,q_left_kn,y_over_q_left,wear_left_n,\
+         y_right_kn,q_right_kn,y_over_q_right,wear_right_n,lateral_swing_mm\n",
+    );
+    for r in results {
+        let c = &r.case;
+        for (n, w) in r.wheelsets.iter().enumerate() {
+            let [l, rt] = &w.wheels;
+            writeln!(
+                text,
+                "{},{},{},{},{:.6},{:.3},{n},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.3},{:.6},{:.6},{:.6},{:.3},{:.6}",
+                c.radius,
+                c.cant * 1e3,
+                c.speed * 3.6,
+                if c.left { "left" } else { "right" },
+                r.uncompensated,
+                r.cant_deficiency * 1e3,
+                w.lateral * 1e3,
+                w.angle_of_attack * 1e3,
+                w.sum_y * 1e-3,
+                l.y * 1e-3,
+                l.q * 1e-3,
+                l.y_over_q,
+                l.wear,
+                rt.y * 1e-3,
+                rt.q * 1e-3,
+                rt.y_over_q,
+                rt.wear,
+                w.lateral_swing * 1e3
+            )?;
+        }
+    }
+    Ok(text)
+}
