@@ -698,3 +698,16 @@ fn sigkill_leaves_a_log_readable_up_to_the_last_flush() {
     }
     assert_eq!(reader.channel("/wheelsets/1").unwrap().message_count, n);
 }
+
+/// A wheelset message of a log written before the wear numbers were added still reads (as 0);
+/// an unknown field is still rejected.
+#[test]
+fn wheelset_messages_without_wear_numbers_read_as_zero() {
+    let old = r#"{"t_s":0.5,"wheelset":1,"y_left_n":1.0,"q_left_n":2.0,"y_right_n":3.0,
+        "q_right_n":4.0,"y_over_q_left":0.5,"y_over_q_right":0.75,"angle_of_attack_rad":0.001}"#;
+    let m: WheelsetMessage = serde_json::from_str(old).unwrap();
+    assert_eq!((m.wear_number_left_n, m.wear_number_right_n), (0.0, 0.0));
+    assert_eq!(m.q_right_n, 4.0);
+    let bad = old.replace("\"t_s\"", "\"bogus\":1,\"t_s\"");
+    assert!(serde_json::from_str::<WheelsetMessage>(&bad).is_err());
+}
