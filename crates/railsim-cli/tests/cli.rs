@@ -220,7 +220,10 @@ fn curving_tabulates_a_case_and_rejects_bad_settings() {
         csv.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{out}\n{err}");
-    assert!(out.contains("R = 400 m, cant 50 mm, 70 km/h: uncompensated"), "{out}");
+    assert!(
+        out.contains("R = 400 m, cant 50 mm, 70 km/h: uncompensated"),
+        "{out}"
+    );
     assert!(out.contains("Y/Q outer"), "{out}");
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
@@ -237,13 +240,19 @@ fn curving_tabulates_a_case_and_rejects_bad_settings() {
     let lateral: f64 = rows[0][7].parse().unwrap();
     assert!(lateral > 3.0, "{lateral}");
     for (args, want) in [
-        (vec!["--radius-m", "0"], "--radius-m: expected positive numbers"),
+        (
+            vec!["--radius-m", "0"],
+            "--radius-m: expected positive numbers",
+        ),
         (vec!["--radius-m", "20"], "the radius must be at least"),
         (
             vec!["--radius-m", "300,600", "--cant-mm", "1,2,3"],
             "--cant-mm: expected one value or one per radius (2), found 3",
         ),
-        (vec!["--settle-m=-1"], "--settle-m: expected a number of metres"),
+        (
+            vec!["--settle-m=-1"],
+            "--settle-m: expected a number of metres",
+        ),
     ] {
         let mut a = vec!["curving", "--quiet"];
         a.extend(args);
