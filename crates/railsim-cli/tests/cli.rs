@@ -114,14 +114,7 @@ fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_setting
     let csv = dir.join("branch.csv");
     let png = dir.join("branch.png");
     // the shipped study scene with `polach` (five times cheaper than its `stripes`)
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let scene = dir.join("hunting_polach.toml");
-    let text = std::fs::read_to_string(root.join("scenes/manchester_hunting.toml"))
-        .unwrap()
-        .replace("model = \"stripes\"", "model = \"polach\"")
-        .replace("\"../", &format!("\"{}/", root.display()));
-    assert!(text.contains("model = \"polach\""));
-    std::fs::write(&scene, text).unwrap();
+    let scene = common::polach_copy(&dir, "manchester_hunting.toml");
     let (code, out, err) = railsim(&[
         "critical-speed",
         scene.to_str().unwrap(),
@@ -190,14 +183,7 @@ fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_setting
 fn curving_tabulates_a_case_and_rejects_bad_settings() {
     let dir = common::temp_dir("cli", "curving");
     let csv = dir.join("curving.csv");
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let scene = dir.join("curving_polach.toml");
-    let text = std::fs::read_to_string(root.join("scenes/manchester_curving.toml"))
-        .unwrap()
-        .replace("model = \"stripes\"", "model = \"polach\"")
-        .replace("\"../", &format!("\"{}/", root.display()));
-    assert!(text.contains("model = \"polach\""));
-    std::fs::write(&scene, text).unwrap();
+    let scene = common::polach_copy(&dir, "manchester_curving.toml");
     let (code, out, err) = railsim(&[
         "curving",
         scene.to_str().unwrap(),

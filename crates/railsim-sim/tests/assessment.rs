@@ -5,25 +5,12 @@
 
 mod common;
 
-use common::{run, scene};
+use common::run;
 
 /// The Manchester vehicle with the Hertz/Polach contact on `track` at `kmh` over `metres`.
 fn manchester(track: &str, kmh: f64, metres: f64, initial: &str) -> railsim_sim::Scene {
-    scene(&format!(
-        r#"
-        vehicle = "vehicles/manchester_vehicle1.toml"
-        track = "{track}"
-        speed_kmh = {kmh}
-        distance_m = {metres}
-        freeze = ["carbody.x"]
-        [contact]
-        model = "polach"
-        [integrator]
-        method = "dopri5"
-        rtol = 1e-4
-        atol = 1e-6
-        {initial}
-        "#
+    common::manchester_polach(&format!(
+        "track = \"{track}\"\nspeed_kmh = {kmh}\ndistance_m = {metres}\n{initial}"
     ))
 }
 

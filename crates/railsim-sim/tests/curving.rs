@@ -9,21 +9,7 @@ use railsim_sim::RunOptions;
 use railsim_sim::curving::{CurveCase, CurvingRun, SteadyCurving, steady_curving};
 
 fn polach_scene() -> railsim_sim::Scene {
-    common::scene(
-        r#"
-        vehicle = "vehicles/manchester_vehicle1.toml"
-        track = "tracks/straight.toml"
-        speed_kmh = 80
-        duration_s = 1
-        freeze = ["carbody.x"]
-        [contact]
-        model = "polach"
-        [integrator]
-        method = "dopri5"
-        rtol = 1e-4
-        atol = 1e-6
-        "#,
-    )
+    common::manchester_polach("track = \"tracks/straight.toml\"\nspeed_kmh = 80\nduration_s = 1")
 }
 
 fn case(left: bool) -> SteadyCurving {

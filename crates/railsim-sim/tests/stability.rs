@@ -12,22 +12,8 @@ use railsim_sim::{RunOptions, Scene};
 /// shipped scene's `stripes`; the two differ in where the vehicle stops hunting,
 /// docs/validation.md §8).
 fn polach_scene() -> Scene {
-    common::scene(
-        r#"
-        vehicle = "vehicles/manchester_vehicle1.toml"
-        track = "tracks/straight.toml"
-        speed_kmh = 300
-        duration_s = 5
-        freeze = ["carbody.x"]
-        [contact]
-        model = "polach"
-        [integrator]
-        method = "dopri5"
-        rtol = 1e-4
-        atol = 1e-6
-        [log]
-        rate_hz = 200
-        "#,
+    common::manchester_polach(
+        "track = \"tracks/straight.toml\"\nspeed_kmh = 300\nduration_s = 5\n[log]\nrate_hz = 200",
     )
 }
 

@@ -1,6 +1,7 @@
-//! Helpers shared by the CLI's integration tests.
+//! Helpers shared by the CLI's integration tests (each binary uses a part of them).
+#![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The repository root (scenes, vehicles and tracks are named relative to it).
@@ -28,4 +29,17 @@ pub fn temp_dir(group: &str, name: &str) -> PathBuf {
     std::fs::remove_dir_all(&dir).ok();
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+/// A copy in `dir` of the shipped scene `scenes/<name>` with the contact model `polach` (five
+/// times cheaper than the shipped scenes' `stripes`) and its relative paths made absolute.
+pub fn polach_copy(dir: &Path, name: &str) -> PathBuf {
+    let text = std::fs::read_to_string(root().join("scenes").join(name))
+        .unwrap()
+        .replace("model = \"stripes\"", "model = \"polach\"")
+        .replace("\"../", &format!("\"{}/", root().display()));
+    assert!(text.contains("model = \"polach\""), "{name}");
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
 }

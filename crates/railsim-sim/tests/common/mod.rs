@@ -30,3 +30,22 @@ pub fn run(scene: &Scene) -> (Simulation, Vec<Sample>, RunSummary) {
         .unwrap_or_else(|e| panic!("{e}"));
     (sim, samples, summary)
 }
+
+/// The Manchester vehicle 1 with the Hertz/Polach contact (five times cheaper than `stripes`),
+/// its carbody's x frozen, DOPRI5 at rtol 1e-4 / atol 1e-6, and the scene keys in `keys`
+/// (track, speed, length; tables such as `[initial]` last).
+pub fn manchester_polach(keys: &str) -> Scene {
+    scene(&format!(
+        r#"
+        vehicle = "vehicles/manchester_vehicle1.toml"
+        freeze = ["carbody.x"]
+        {keys}
+        [contact]
+        model = "polach"
+        [integrator]
+        method = "dopri5"
+        rtol = 1e-4
+        atol = 1e-6
+        "#
+    ))
+}
