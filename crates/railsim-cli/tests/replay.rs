@@ -154,7 +154,8 @@ fn exports_topics_and_a_time_range_to_csv() {
     assert_eq!(
         lines.next().unwrap(),
         "log_time_ns,t_s [s],wheelset,y_left_n [N],q_left_n [N],y_right_n [N],q_right_n [N],\
-         y_over_q_left [1],y_over_q_right [1],angle_of_attack_rad [rad]"
+         y_over_q_left [1],y_over_q_right [1],angle_of_attack_rad [rad],wear_number_left_n [N],\
+         wear_number_right_n [N]"
     );
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 101);
