@@ -137,6 +137,12 @@ fn io_err<'p>(
 /// How many bytes to hand a reader that asks for `need` at `pos` of a file of `len` bytes: never
 /// more than the file still holds (at least 1, so that the end of the file is seen), since a
 /// damaged length field can ask for exabytes, which the reader would allocate.
+/// \[B\] the largest record or chunk (compressed or decompressed) the reader accepts: far
+/// above what the writer produces (chunks of 256 KiB by default), far below what a damaged length
+/// field can ask for. A damaged chunk header's decompressed size is checked against it before
+/// anything is allocated.
+const RECORD_LENGTH_LIMIT: usize = 256 << 20;
+
 fn read_size(need: usize, pos: u64, len: u64) -> usize {
     let left = usize::try_from(len.saturating_sub(pos)).unwrap_or(usize::MAX);
     need.min(left).max(1)
@@ -187,7 +193,8 @@ fn scan(
         .with_skip_end_magic(!finished)
         // A chunk's messages are only handed out once the whole chunk is present and its CRC
         // checks: a chunk cut off by a crash contributes nothing rather than a partial tail.
-        .with_prevalidate_chunk_crcs(true);
+        .with_prevalidate_chunk_crcs(true)
+        .with_record_length_limit(RECORD_LENGTH_LIMIT);
     let mut reader = LinearReader::new_with_options(options);
     let mut consumed: u64 = 0;
     while let Some(event) = reader.next_event() {
@@ -210,10 +217,14 @@ fn scan(
                 on_record(record)?;
             }
             Err(e) => {
-                let eof = matches!(
-                    e,
-                    mcap::McapError::UnexpectedEof | mcap::McapError::UnexpectedEoc
-                );
+                // (a record or chunk longer than the whole file ends inside it as well: its
+                // length is refused by the limit before anything is read or allocated)
+                let eof = match e {
+                    mcap::McapError::UnexpectedEof | mcap::McapError::UnexpectedEoc => true,
+                    mcap::McapError::RecordTooLarge { len: n, .. }
+                    | mcap::McapError::ChunkTooLarge(n) => n > len,
+                    _ => false,
+                };
                 if !finished && eof {
                     return Ok(ScanEnd {
                         truncation: Some(format!(
@@ -505,8 +516,9 @@ impl LogReader {
         accepts: impl Fn(u16, u64) -> bool,
         visit: &mut impl FnMut(LogMessageRef<'_>) -> Result<()>,
     ) -> Result<()> {
-        let mut options =
-            IndexedReaderOptions::new().with_order(mcap::sans_io::indexed_reader::ReadOrder::File);
+        let mut options = IndexedReaderOptions::new()
+            .with_order(mcap::sans_io::indexed_reader::ReadOrder::File)
+            .with_record_length_limit(RECORD_LENGTH_LIMIT);
         if let Some(topics) = &query.topics {
             options = options.include_topics(topics.iter().cloned());
         }
@@ -525,10 +537,25 @@ impl LogReader {
         };
         let mut reader = IndexedReader::new_with_options(summary, options).map_err(index_err)?;
         let mut file = File::open(&self.path).map_err(io_err(&self.path, "opening the log"))?;
+        let file_len = file
+            .metadata()
+            .map_err(io_err(&self.path, "reading the log"))?
+            .len();
         let mut buffer = Vec::new();
         while let Some(event) = reader.next_event() {
             match event.map_err(index_err)? {
                 IndexedReadEvent::ReadChunkRequest { offset, length } => {
+                    // a damaged index must not make the buffer larger than the file
+                    if offset.saturating_add(length as u64) > file_len {
+                        return Err(corrupt(
+                            &self.path,
+                            format!(
+                                "the chunk index points at {length} bytes from offset {offset}, \
+                                 beyond the end of the file ({file_len} bytes)"
+                            ),
+                            "chunks matching the summary's chunk index",
+                        ));
+                    }
                     file.seek(SeekFrom::Start(offset))
                         .map_err(io_err(&self.path, "seeking a chunk"))?;
                     buffer.resize(length, 0);
