@@ -185,7 +185,8 @@ fn stability_note(method: &Method, rail_mass: Option<f64>) -> Option<String> {
     }
 }
 
-/// The EN 14363 track-shift force lines of the summary.
+/// The assessment lines of the summary: EN 14363's track-shift force per axle, and the
+/// carbody's ride quantities per point.
 fn print_assessment(a: &Assessment) -> Result<()> {
     let band = match (a.band, a.instability_frequency) {
         (Some((lo, hi)), Some((f0, found))) => format!(
