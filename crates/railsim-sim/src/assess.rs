@@ -99,8 +99,17 @@ pub struct Comfort {
     pub n_mv: Option<(f64, usize)>,
 }
 
+/// A measuring point of the carbody's accelerations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ComfortPoint {
+    /// Its name in the summary and the log.
+    pub name: String,
+    /// \[m\] offset from the carbody's centre of gravity, carbody axes (x forward, y left, z up).
+    pub offset: [f64; 3],
+}
+
 /// Settings of an assessment.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct AssessOptions {
     /// \[-\] α of Prud'homme's limit: 1 for locomotives and passenger vehicles, 0.85 for
     /// freight wagons.
@@ -108,6 +117,9 @@ pub struct AssessOptions {
     /// \[Hz\] the instability frequency f0 of the band-pass; `None`: the dominant frequency of
     /// the axles' ΣY in [`INSTABILITY_SEARCH_BAND`].
     pub instability_frequency: Option<f64>,
+    /// The carbody's measuring points; empty: its centre and above each bogie, at the height of
+    /// its centre of gravity.
+    pub comfort_points: Vec<ComfortPoint>,
 }
 
 impl Default for AssessOptions {
@@ -115,6 +127,7 @@ impl Default for AssessOptions {
         AssessOptions {
             alpha: 1.0,
             instability_frequency: None,
+            comfort_points: Vec::new(),
         }
     }
 }

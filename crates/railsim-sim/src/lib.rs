@@ -39,5 +39,6 @@ pub use scene::{
     longest_rigid_wheelbase, required_curve_radius,
 };
 pub use spec::{
-    AssessmentSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec,
+    AssessmentSpec, ComfortPointSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec,
+    SpeedProfileSpec,
 };

@@ -13,7 +13,7 @@ use railsim_log::messages::{
 use railsim_log::{Channel, LogHeader, LogStats, LogWriter, WriterOptions, step_time_ns};
 use railsim_ode::{Integrator, Method, OdeSystem, Stats, StepOutcome, StopReason};
 
-use crate::assess::{Assessment, ComfortSeries, Series, assess};
+use crate::assess::{Assessment, ComfortPoint, ComfortSeries, Series, assess};
 use crate::dynamics::{CostSplit, Dynamics, Workspace, rail_frame};
 use crate::error::SimError;
 use crate::math::{add, cross, mul, mul_t, quaternion, rotation_rpy};
@@ -337,7 +337,7 @@ impl Simulation {
         let n = self.model.dim();
         let mut xs = vec![0.0; n];
         let mut dxs = vec![0.0; n];
-        let mut state = LoopState::new(&self.model, scene.log.rate_hz);
+        let mut state = LoopState::new(&self.model, scene);
         let wall = Instant::now();
         let mut logging = 0.0;
         let mut next = 0usize;
@@ -738,7 +738,8 @@ struct LoopState {
 }
 
 impl LoopState {
-    fn new(model: &SimModel, rate_hz: f64) -> LoopState {
+    fn new(model: &SimModel, scene: &Scene) -> LoopState {
+        let rate_hz = scene.log.rate_hz;
         let mut state = LoopState {
             max_lateral: vec![0.0; model.wheels.len() / 2],
             max_yq: None,
@@ -780,7 +781,7 @@ impl LoopState {
                 carbody: Vec::new(),
             },
         };
-        if let Some((carbody, points)) = comfort_points(model) {
+        if let Some((carbody, points)) = comfort_points(model, &scene.assessment.comfort_points) {
             state.series.comfort = points
                 .iter()
                 .map(|(name, _)| ComfortSeries {
@@ -933,10 +934,11 @@ fn patch_wear(r: &railsim_contact::PatchResult) -> f64 {
 /// A point's name and its offset \[m\] from a body's centre of gravity, in the body's axes.
 type NamedPoint = (String, [f64; 3]);
 
-/// The carbody (the heaviest rigid body that is not a wheelset) and its comfort points: its
-/// centre, and above every other body at least 0.5 m from it along x (the bogies), at the
-/// height of its centre of gravity; `None` for a vehicle without rigid bodies.
-fn comfort_points(model: &SimModel) -> Option<(usize, Vec<NamedPoint>)> {
+/// The carbody (the heaviest rigid body that is not a wheelset) and its comfort points: the
+/// scene's (`given`), or by default its centre and above every other body at least 0.5 m from
+/// it along x (the bogies), at the height of its centre of gravity; `None` for a vehicle
+/// without rigid bodies.
+fn comfort_points(model: &SimModel, given: &[ComfortPoint]) -> Option<(usize, Vec<NamedPoint>)> {
     let bodies = || {
         model
             .members
@@ -945,6 +947,12 @@ fn comfort_points(model: &SimModel) -> Option<(usize, Vec<NamedPoint>)> {
             .filter(|(_, m)| m.kind == MemberKind::Body)
     };
     let (cb, carbody) = bodies().max_by(|a, b| a.1.mass.total_cmp(&b.1.mass))?;
+    if !given.is_empty() {
+        return Some((
+            cb,
+            given.iter().map(|p| (p.name.clone(), p.offset)).collect(),
+        ));
+    }
     let mut points = vec![(format!("{} centre", carbody.name), [0.0; 3])];
     for (i, b) in bodies() {
         let dx = b.p0[0] - carbody.p0[0];
@@ -1020,7 +1028,7 @@ impl Recorder {
         }
         let mut carbody = Vec::new();
         if want(Topic::Carbody) {
-            for (n, (name, _)) in comfort_points(model)
+            for (n, (name, _)) in comfort_points(model, &scene.assessment.comfort_points)
                 .map_or(Vec::new(), |c| c.1)
                 .into_iter()
                 .enumerate()

@@ -9,7 +9,7 @@ use railsim_track::{SegmentKind, TrackError, TrackModel, TrackSpec};
 use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel, WheelsetId};
 use toml::Spanned;
 
-use crate::assess::{AssessOptions, STABILITY_HALF_BAND, stability_band};
+use crate::assess::{AssessOptions, ComfortPoint, STABILITY_HALF_BAND, stability_band};
 use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::spec::{
     AssessmentSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec,
@@ -49,6 +49,8 @@ pub const DEFAULT_LOG_RATE_HZ: f64 = 200.0;
 /// \[Hz\] largest instability frequency of `[assessment]` (hunting of wheelsets and bogies lies
 /// far below).
 pub const MAX_INSTABILITY_HZ: f64 = 50.0;
+/// \[m\] largest offset of a comfort point from the carbody's centre of gravity.
+pub const MAX_COMFORT_OFFSET: f64 = 50.0;
 /// Log file when the file gives none.
 pub const DEFAULT_LOG_PATH: &str = "out/run.mcap";
 /// \[mm\] largest |lateral_offset_mm| of the initial disturbance (S1002 on UIC60 1:40 is in
@@ -643,7 +645,11 @@ impl Compiler<'_> {
         let contact = self.contact(spec.contact.as_ref());
         let integrator = self.integrator(spec.integrator.as_ref());
         let log = self.log(spec.log.as_ref());
-        let assessment = self.assessment(spec.assessment.as_ref(), log.as_ref());
+        let assessment = self.assessment(
+            spec.assessment.as_ref(),
+            log.as_ref(),
+            vehicle.as_ref().map(|v| &v.1),
+        );
         let mut start_ok = true;
         let start = spec.start_m.as_ref().and_then(|v| {
             let x = *v.get_ref();
@@ -707,6 +713,7 @@ impl Compiler<'_> {
         &mut self,
         a: Option<&Spanned<AssessmentSpec>>,
         log: Option<&LogOptions>,
+        vehicle: Option<&VehicleModel>,
     ) -> Option<AssessOptions> {
         let mut out = AssessOptions::default();
         let Some(a) = a else {
@@ -749,6 +756,52 @@ impl Compiler<'_> {
                     }
                 }
                 None => ok = false,
+            }
+        }
+        if let Some(points) = &a.comfort_points {
+            if vehicle.is_some_and(|v| v.bodies().is_empty()) {
+                self.err(
+                    &points.span(),
+                    "comfort_points",
+                    "[assessment] comfort_points: the vehicle has no rigid body (carbody) to \
+                     carry them"
+                        .into(),
+                );
+                ok = false;
+            }
+            for p in points.get_ref() {
+                let p = p.get_ref();
+                let name = p.name.get_ref().trim().to_owned();
+                if name.is_empty() || out.comfort_points.iter().any(|q| q.name == name) {
+                    self.err(
+                        &p.name.span(),
+                        "name",
+                        format!(
+                            "[assessment] comfort point name '{name}': expected a non-empty \
+                             name used once"
+                        ),
+                    );
+                    ok = false;
+                }
+                let mut offset = [0.0; 3];
+                for (k, (v, key)) in [(&p.x_m, "x_m"), (&p.y_m, "y_m"), (&p.z_m, "z_m")]
+                    .into_iter()
+                    .enumerate()
+                {
+                    if let Some(v) = v {
+                        match self.range(
+                            v,
+                            key,
+                            "m",
+                            (-MAX_COMFORT_OFFSET, MAX_COMFORT_OFFSET),
+                            false,
+                        ) {
+                            Some(x) => offset[k] = x,
+                            None => ok = false,
+                        }
+                    }
+                }
+                out.comfort_points.push(ComfortPoint { name, offset });
             }
         }
         ok.then_some(out)

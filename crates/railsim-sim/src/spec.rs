@@ -183,6 +183,26 @@ pub struct AssessmentSpec {
     /// dominant frequency of the track-shift force.
     #[serde(default)]
     pub instability_frequency_hz: Option<Spanned<f64>>,
+    /// The carbody's measuring points; default: its centre and above each bogie.
+    #[serde(default)]
+    pub comfort_points: Option<Spanned<Vec<Spanned<ComfortPointSpec>>>>,
+}
+
+/// One `[[assessment.comfort_points]]` entry: a measuring point on the carbody.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComfortPointSpec {
+    /// Name in the summary and the log.
+    pub name: Spanned<String>,
+    /// \[m\] offset from the carbody's centre of gravity, forward; default 0.
+    #[serde(default)]
+    pub x_m: Option<Spanned<f64>>,
+    /// \[m\] offset to the left; default 0.
+    #[serde(default)]
+    pub y_m: Option<Spanned<f64>>,
+    /// \[m\] offset upward (a floor below the centre of gravity: negative); default 0.
+    #[serde(default)]
+    pub z_m: Option<Spanned<f64>>,
 }
 
 /// Keys of the root table.
@@ -222,7 +242,7 @@ pub const LOG_KEYS: &[&str] = &["path", "rate_hz", "topics"];
 /// Keys of `[initial]`.
 pub const INITIAL_KEYS: &[&str] = &["lateral_offset_mm", "yaw_mrad"];
 /// Keys of `[assessment]`.
-pub const ASSESSMENT_KEYS: &[&str] = &["alpha", "instability_frequency_hz"];
+pub const ASSESSMENT_KEYS: &[&str] = &["alpha", "instability_frequency_hz", "comfort_points"];
 
 const SUBTABLES: [(&str, &[&str]); 6] = [
     ("speed_profile", SPEED_PROFILE_KEYS),

@@ -245,3 +245,33 @@ fn the_carbody_accelerometers_are_logged_as_sampled() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_scene_places_its_own_measuring_points() {
+    let base = manchester("tracks/straight.toml", 100.0, 15.0, "");
+    let custom = manchester(
+        "tracks/straight.toml",
+        100.0,
+        15.0,
+        "[assessment]\ncomfort_points = [{ name = \"floor\", x_m = 9.5, z_m = -1.0 }, \
+         { name = \"cog\" }]",
+    );
+    let (_, a, sa) = run(&base);
+    let (_, b, sb) = run(&custom);
+    let names: Vec<&str> = sb
+        .assessment
+        .comfort
+        .iter()
+        .map(|c| c.name.as_str())
+        .collect();
+    assert_eq!(names, ["floor", "cog"]);
+    // the points do not change the motion: the centre of gravity reads as the default centre
+    assert_eq!(sa.digest, sb.digest);
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(x.carbody[0], y.carbody[1]);
+    }
+    // and a point off the centre reads the rigid-body terms: different, but close at rest
+    let last = &b[b.len() - 1].carbody;
+    assert_ne!(last[0], last[1]);
+    assert!((last[0][2] - last[1][2]).abs() < 0.05, "{last:?}");
+}

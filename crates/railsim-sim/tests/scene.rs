@@ -589,3 +589,48 @@ fn assessment_settings_are_read_and_checked() {
         ],
     );
 }
+
+#[test]
+fn comfort_points_are_read_and_checked() {
+    let s = compile(&format!(
+        "{GOOD}[assessment]\ncomfort_points = [{{ name = \"floor front\", x_m = 1.2, z_m = -0.8 }}, {{ name = \"floor centre\", z_m = -0.8 }}]\n"
+    ))
+    .unwrap_or_else(|e| panic!("{e}"));
+    let p = &s.assessment.comfort_points;
+    assert_eq!(p.len(), 2);
+    assert_eq!(
+        (p[0].name.as_str(), p[0].offset),
+        ("floor front", [1.2, 0.0, -0.8])
+    );
+    assert_eq!(
+        (p[1].name.as_str(), p[1].offset),
+        ("floor centre", [0.0, 0.0, -0.8])
+    );
+    let p = problems(&format!(
+        "{GOOD}[assessment]\ncomfort_points = [{{ name = \"a\", x_m = 99 }}, {{ name = \"a\" }}, {{ name = \" \" }}]\n"
+    ));
+    expect(&p, 6, &["x_m must lie in [-5e1, 5e1] m, found 99"]);
+    expect(
+        &p,
+        6,
+        &["comfort point name 'a': expected a non-empty name used once"],
+    );
+    expect(
+        &p,
+        6,
+        &["comfort point name '': expected a non-empty name used once"],
+    );
+    let p = problems(&format!(
+        "{GOOD}[assessment]\ncomfort_points = [{{ name = \"a\", q_m = 1 }}]\n"
+    ));
+    assert!(p.iter().any(|x| x.contains("q_m")), "{p:?}");
+    // a vehicle without a rigid body has no carbody to carry them
+    let p = problems(
+        "vehicle = \"../vehicles/wheelset_free.toml\"\ntrack = \"../tracks/straight.toml\"\nspeed_kmh = 10\nduration_s = 1\n[assessment]\ncomfort_points = [{ name = \"a\" }]\n",
+    );
+    expect(
+        &p,
+        6,
+        &["the vehicle has no rigid body (carbody) to carry them"],
+    );
+}
