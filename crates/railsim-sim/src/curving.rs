@@ -16,7 +16,7 @@
 
 use std::path::Path;
 
-use railsim_track::{TrackModel, TrackSpec};
+use railsim_track::{HARD_MIN_RADIUS_M, TrackModel, TrackSpec};
 
 use crate::error::SimError;
 use crate::run::{RunOptions, RunSummary, Sample, Simulation};
@@ -124,13 +124,12 @@ pub fn curving_scene(
     let bad = |message: String| SimError::Study {
         message: format!("curving study of scene '{}': {message}", scene.name),
     };
-    let required = required_curve_radius(&scene.vehicle);
-    if !(case.radius.is_finite() && case.radius >= required.max(50.0)) {
+    let required = required_curve_radius(&scene.vehicle).max(HARD_MIN_RADIUS_M);
+    if !(case.radius.is_finite() && case.radius >= required) {
         return Err(bad(format!(
             "the radius must be at least {:.0} m (the track's lower limit, and what the \
              vehicle's rigid wheelbase needs), found {} m",
-            required.max(50.0),
-            case.radius
+            required, case.radius
         )));
     }
     if !(case.cant >= 0.0 && case.cant <= 0.2) {

@@ -63,11 +63,11 @@ pub struct MemberKin {
     pub force: V3,
     /// \[N m\] sum of the moments about its centre of gravity.
     pub moment: V3,
-    /// \[m/s²\] acceleration of the centre of gravity, from stage 7 (zero before it): that of
-    /// the frame's point plus the relative acceleration of the free coordinates (a frozen one
-    /// moves with its frame, whatever force its constraint takes).
+    /// \[m/s²\] acceleration of the centre of gravity, from stage 7 of a recording evaluation
+    /// (zero otherwise): that of the frame's point plus the relative acceleration of the free
+    /// coordinates (a frozen one moves with its frame, whatever force its constraint takes).
     pub accel: V3,
-    /// \[rad/s²\] angular acceleration of a body, from stage 7 likewise (zero for wheelsets).
+    /// \[rad/s²\] angular acceleration of a body, likewise (zero for wheelsets).
     pub alpha: V3,
 }
 
@@ -602,10 +602,13 @@ impl Dynamics<'_> {
                     }
                 }
             }
-            let rel = |j: usize| if mm.rate[j].is_some() { acc[j] } else { 0.0 };
-            k.accel = mul(fr, add(a_frame, [rel(0), rel(1), rel(2)]));
-            if mm.kind == MemberKind::Body {
-                k.alpha = mul(fr, add(wd, [rel(3), rel(4), rel(5)]));
+            // absolute accelerations, for the samples' accelerometers only
+            if self.ws.record {
+                let rel = |j: usize| if mm.rate[j].is_some() { acc[j] } else { 0.0 };
+                k.accel = mul(fr, add(a_frame, [rel(0), rel(1), rel(2)]));
+                if mm.kind == MemberKind::Body {
+                    k.alpha = mul(fr, add(wd, [rel(3), rel(4), rel(5)]));
+                }
             }
             for j in 0..6 {
                 if let Some(ix) = mm.rate[j] {

@@ -15,6 +15,7 @@ use railsim_track::{RailProfile, RailSupport, TrackModel};
 use railsim_vehicle::model::{Endpoint, ForceLaw, Member, WheelProfile};
 use railsim_vehicle::{DofKind, VehicleModel};
 
+use crate::assess::ComfortPoint;
 use crate::error::SimError;
 use crate::math::{M3, V3, inverse};
 use crate::scene::{Scene, SpeedProfile};
@@ -154,6 +155,11 @@ pub struct SimModel {
     pub n_rail: usize,
     /// Names of the state variables, for messages.
     pub state_names: Vec<String>,
+    /// The carbody (member index: the heaviest rigid body) and its measuring points
+    /// (`crate::assess`): the scene's, or by default its centre and above every other body at
+    /// least 0.5 m from it along x (the bogies), at the height of its centre of gravity; `None`
+    /// for a vehicle without rigid bodies.
+    pub comfort: Option<(usize, Vec<ComfortPoint>)>,
 }
 
 impl SimModel {
@@ -329,7 +335,42 @@ impl SimModel {
             rail_support,
             n_rail,
             state_names,
-        })
+            comfort: None,
+        }
+        .with_comfort_points(&scene.assessment.comfort_points))
+    }
+
+    /// `self` with [`SimModel::comfort`] resolved from the scene's points (`given`).
+    fn with_comfort_points(mut self, given: &[ComfortPoint]) -> SimModel {
+        let bodies = || {
+            self.members
+                .iter()
+                .enumerate()
+                .filter(|(_, m)| m.kind == MemberKind::Body)
+        };
+        let Some((cb, carbody)) = bodies().max_by(|a, b| a.1.mass.total_cmp(&b.1.mass)) else {
+            return self;
+        };
+        let points = if given.is_empty() {
+            let mut points = vec![ComfortPoint {
+                name: format!("{} centre", carbody.name),
+                offset: [0.0; 3],
+            }];
+            for (i, b) in bodies() {
+                let dx = b.p0[0] - carbody.p0[0];
+                if i != cb && dx.abs() >= 0.5 {
+                    points.push(ComfortPoint {
+                        name: format!("{} above {}", carbody.name, b.name),
+                        offset: [dx, 0.0, 0.0],
+                    });
+                }
+            }
+            points
+        } else {
+            given.to_vec()
+        };
+        self.comfort = Some((cb, points));
+        self
     }
 
     /// Length of the state vector.

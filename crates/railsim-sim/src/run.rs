@@ -13,7 +13,7 @@ use railsim_log::messages::{
 use railsim_log::{Channel, LogHeader, LogStats, LogWriter, WriterOptions, step_time_ns};
 use railsim_ode::{Integrator, Method, OdeSystem, Stats, StepOutcome, StopReason};
 
-use crate::assess::{Assessment, ComfortPoint, ComfortSeries, Series, assess};
+use crate::assess::{Assessment, ComfortSeries, Series, assess};
 use crate::dynamics::{CostSplit, Dynamics, Workspace, rail_frame};
 use crate::error::SimError;
 use crate::math::{add, cross, mul, mul_t, quaternion, rotation_rpy};
@@ -337,7 +337,7 @@ impl Simulation {
         let n = self.model.dim();
         let mut xs = vec![0.0; n];
         let mut dxs = vec![0.0; n];
-        let mut state = LoopState::new(&self.model, scene);
+        let mut state = LoopState::new(&self.model, scene.log.rate_hz);
         let wall = Instant::now();
         let mut logging = 0.0;
         let mut next = 0usize;
@@ -729,17 +729,13 @@ struct LoopState {
     window: Vec<(std::collections::VecDeque<(f64, f64)>, f64)>,
     /// Distance and track-shift force per wheelset at every sample, for the assessment.
     series: Series,
-    /// The carbody (member index) and the offsets of its comfort points from its centre of
-    /// gravity (body axes), in the order of `series.comfort`.
-    comfort_points: Option<(usize, Vec<[f64; 3]>)>,
     digest: u64,
     /// The current sample, updated in place.
     sample: Sample,
 }
 
 impl LoopState {
-    fn new(model: &SimModel, scene: &Scene) -> LoopState {
-        let rate_hz = scene.log.rate_hz;
+    fn new(model: &SimModel, rate_hz: f64) -> LoopState {
         let mut state = LoopState {
             max_lateral: vec![0.0; model.wheels.len() / 2],
             max_yq: None,
@@ -755,7 +751,6 @@ impl LoopState {
                 sum_y: vec![Vec::new(); model.wheels.len() / 2],
                 comfort: Vec::new(),
             },
-            comfort_points: None,
             digest: 0xcbf2_9ce4_8422_2325,
             sample: Sample {
                 t: 0.0,
@@ -781,16 +776,15 @@ impl LoopState {
                 carbody: Vec::new(),
             },
         };
-        if let Some((carbody, points)) = comfort_points(model, &scene.assessment.comfort_points) {
+        if let Some((_, points)) = &model.comfort {
             state.series.comfort = points
                 .iter()
-                .map(|(name, _)| ComfortSeries {
-                    name: name.clone(),
+                .map(|p| ComfortSeries {
+                    name: p.name.clone(),
                     ..Default::default()
                 })
                 .collect();
             state.sample.carbody = vec![[0.0; 3]; points.len()];
-            state.comfort_points = Some((carbody, points.into_iter().map(|p| p.1).collect()));
         }
         state
     }
@@ -808,7 +802,7 @@ impl LoopState {
         smp.t_ns = t_ns;
         smp.x.copy_from_slice(x);
         self.series.distance.push(dist);
-        if let Some((cb, points)) = &self.comfort_points {
+        if let Some((cb, points)) = &model.comfort {
             let k = &ws.kin[*cb];
             // specific force at the centre of gravity (its acceleration minus gravity; for free
             // coordinates the forces other than gravity over the mass) plus the rigid-body terms
@@ -821,7 +815,7 @@ impl LoopState {
                 .zip(points)
                 .zip(&mut smp.carbody)
             {
-                let arm = mul(&k.orient, *d);
+                let arm = mul(&k.orient, d.offset);
                 let f = add(
                     f_cog,
                     add(cross(k.alpha, arm), cross(k.omega, cross(k.omega, arm))),
@@ -931,38 +925,6 @@ fn patch_wear(r: &railsim_contact::PatchResult) -> f64 {
     wear_number(r.forces.fx, r.forces.fs, &log_creepages(r))
 }
 
-/// A point's name and its offset \[m\] from a body's centre of gravity, in the body's axes.
-type NamedPoint = (String, [f64; 3]);
-
-/// The carbody (the heaviest rigid body that is not a wheelset) and its comfort points: the
-/// scene's (`given`), or by default its centre and above every other body at least 0.5 m from
-/// it along x (the bogies), at the height of its centre of gravity; `None` for a vehicle
-/// without rigid bodies.
-fn comfort_points(model: &SimModel, given: &[ComfortPoint]) -> Option<(usize, Vec<NamedPoint>)> {
-    let bodies = || {
-        model
-            .members
-            .iter()
-            .enumerate()
-            .filter(|(_, m)| m.kind == MemberKind::Body)
-    };
-    let (cb, carbody) = bodies().max_by(|a, b| a.1.mass.total_cmp(&b.1.mass))?;
-    if !given.is_empty() {
-        return Some((
-            cb,
-            given.iter().map(|p| (p.name.clone(), p.offset)).collect(),
-        ));
-    }
-    let mut points = vec![(format!("{} centre", carbody.name), [0.0; 3])];
-    for (i, b) in bodies() {
-        let dx = b.p0[0] - carbody.p0[0];
-        if i != cb && dx.abs() >= 0.5 {
-            points.push((format!("{} above {}", carbody.name, b.name), [dx, 0.0, 0.0]));
-        }
-    }
-    Some((cb, points))
-}
-
 /// The MCAP log of a run: the channels of the topics chosen in the scene (empty or `None` for
 /// the others).
 struct Recorder {
@@ -1028,12 +990,11 @@ impl Recorder {
         }
         let mut carbody = Vec::new();
         if want(Topic::Carbody) {
-            for (n, (name, _)) in comfort_points(model, &scene.assessment.comfort_points)
-                .map_or(Vec::new(), |c| c.1)
-                .into_iter()
-                .enumerate()
-            {
-                carbody.push((writer.channel::<CarbodyMessage>(&topics::carbody(n))?, name));
+            for (n, p) in model.comfort.iter().flat_map(|c| &c.1).enumerate() {
+                carbody.push((
+                    writer.channel::<CarbodyMessage>(&topics::carbody(n))?,
+                    p.name.clone(),
+                ));
             }
         }
         let tf = want(Topic::Tf)

@@ -83,23 +83,23 @@ impl Filter {
     /// A 4th-order Butterworth low-pass filter with corner `fc` \[Hz\] (−3 dB) at sample rate
     /// `fs` \[Hz\]; the corner must lie below the Nyquist frequency `fs / 2`.
     pub fn lowpass4(fc: f64, fs: f64) -> Result<Filter, FilterError> {
-        check(fc, fs)?;
-        Ok(Filter {
-            sections: BUTTERWORTH4_Q
-                .iter()
-                .map(|&q| Biquad::lowpass(fc, fs, q))
-                .collect(),
-        })
+        Filter::butterworth4(fc, fs, Biquad::lowpass)
     }
 
     /// A 4th-order Butterworth high-pass filter with corner `fc` \[Hz\] at sample rate `fs`.
     pub fn highpass4(fc: f64, fs: f64) -> Result<Filter, FilterError> {
+        Filter::butterworth4(fc, fs, Biquad::highpass)
+    }
+
+    /// The two sections of a 4th-order Butterworth filter of kind `section`.
+    fn butterworth4(
+        fc: f64,
+        fs: f64,
+        section: fn(f64, f64, f64) -> Biquad,
+    ) -> Result<Filter, FilterError> {
         check(fc, fs)?;
         Ok(Filter {
-            sections: BUTTERWORTH4_Q
-                .iter()
-                .map(|&q| Biquad::highpass(fc, fs, q))
-                .collect(),
+            sections: BUTTERWORTH4_Q.iter().map(|&q| section(fc, fs, q)).collect(),
         })
     }
 
