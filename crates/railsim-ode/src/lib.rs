@@ -53,6 +53,7 @@
 mod explicit;
 mod integrator;
 mod linalg;
+pub mod linear;
 mod radau;
 pub mod tableau;
 

@@ -177,6 +177,35 @@ fn case_track(
     transition: f64,
     curve_len: f64,
 ) -> Result<TrackModel, String> {
+    let side = if case.left { "left" } else { "right" };
+    let curve = Some((case.radius, case.cant, side));
+    smooth_track(
+        file,
+        &format!(
+            "curving case R = {} m, cant {} mm",
+            case.radius,
+            case.cant * 1e3
+        ),
+        &[
+            ("tangent", lead_in, None),
+            ("clothoid", transition, None),
+            ("curve", curve_len, curve),
+        ],
+    )
+}
+
+/// One segment of [`smooth_track`]: type, length \[m\], and for a curve its radius \[m\],
+/// cant \[m\] and direction (`"left"` or `"right"`).
+pub(crate) type Segment<'a> = (&'a str, f64, Option<(f64, f64, &'a str)>);
+
+/// The track file `file` with its alignment replaced by `segments` and its irregularities
+/// removed (rail profiles, gauge, inclination, cant base and rail support kept), named `what`
+/// (the file's name is appended).
+pub(crate) fn smooth_track(
+    file: &Path,
+    what: &str,
+    segments: &[Segment],
+) -> Result<TrackModel, String> {
     let name = file.display().to_string();
     let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {name}: {e}"))?;
     let mut table: toml::Table = text
@@ -185,31 +214,22 @@ fn case_track(
     table.remove("irregularities");
     table.insert(
         "name".into(),
-        toml::Value::String(format!(
-            "curving case R = {} m, cant {} mm ({name})",
-            case.radius,
-            case.cant * 1e3
-        )),
+        toml::Value::String(format!("{what} ({name})")),
     );
-    let segment = |kind: &str, length: f64, curve: bool| {
+    let segment = |&(kind, length, curve): &Segment| {
         let mut t = toml::Table::new();
         t.insert("type".into(), toml::Value::String(kind.into()));
         t.insert("length_m".into(), toml::Value::Float(length));
-        if curve {
-            t.insert("radius_m".into(), toml::Value::Float(case.radius));
-            t.insert("cant_mm".into(), toml::Value::Float(case.cant * 1e3));
-            let side = if case.left { "left" } else { "right" };
+        if let Some((radius, cant, side)) = curve {
+            t.insert("radius_m".into(), toml::Value::Float(radius));
+            t.insert("cant_mm".into(), toml::Value::Float(cant * 1e3));
             t.insert("direction".into(), toml::Value::String(side.into()));
         }
         toml::Value::Table(t)
     };
     table.insert(
         "segment".into(),
-        toml::Value::Array(vec![
-            segment("tangent", lead_in, false),
-            segment("clothoid", transition, false),
-            segment("curve", curve_len, true),
-        ]),
+        toml::Value::Array(segments.iter().map(segment).collect()),
     );
     let text = toml::to_string(&table).map_err(|e| format!("{name}: {e}"))?;
     let spec = TrackSpec::from_toml_str(&text, &name).map_err(|e| e.to_string())?;

@@ -24,6 +24,7 @@ pub mod curving;
 pub mod dynamics;
 pub mod error;
 pub mod math;
+pub mod modal;
 pub mod model;
 pub mod run;
 pub mod scene;

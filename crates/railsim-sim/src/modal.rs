@@ -1,0 +1,393 @@
+//! Linear stability and modes of a vehicle running at constant speed on straight, ideal track:
+//! the eigenvalue analysis of vehicle dynamics (root locus against speed, the **linear critical
+//! speed** where the least damped oscillatory mode loses its damping).
+//!
+//! The vehicle's equations (`crate::dynamics`, with the scene's contact model evaluated online,
+//! as in a run) are linearised about its centred equilibrium at speed V: the static equilibrium
+//! with every wheelset settled on its rails, spinning at pure rolling ([`Simulation::new`] with
+//! no disturbance), on the scene's track file with its alignment replaced by a tangent and its
+//! irregularities removed. The Jacobian is a central difference of the right-hand side
+//! ([`railsim_ode::linear::jacobian`]) with steps of 1 µm (1 µrad) on positions and internal
+//! states and 10 µm/s (10 µrad/s) on rates, far above the contact search's tolerances (the
+//! travelling's rail-anchored pairs make the forces smooth at that scale,
+//! `docs/models/contact.md` §3) and small enough that the creep forces stay linear. The motion
+//! about the equilibrium is `Σ c_k v_k e^{λ_k t}`; a mode is stable when `Re λ < 0`.
+//!
+//! A mode is described by its damped frequency `|Im λ|/2π`, its damping ratio `−Re λ/|λ|` and
+//! the coordinates it moves most (eigenvector components of the positions, angles counted with
+//! a lever of 1 m). The linear critical speed is the lowest speed at which an oscillatory mode
+//! (above [`MIN_FREQUENCY`]) has `Re λ ≥ 0`: the Hopf point of the centred running. For a
+//! railway vehicle it usually lies above the nonlinear critical speed of
+//! [`crate::stability::ramp_down`], because the bifurcation is subcritical (True 2013; Polach
+//! 2006): the two methods answer different questions, and the linear one needs a contact that is
+//! smooth about the centred position (the conicity at small amplitude decides it).
+//!
+//! Sources: Lyapunov's indirect method and the root locus of railway vehicles as in Wickens,
+//! *Fundamentals of Rail Vehicle Dynamics* (2003), ch. 3–4, and Knothe & Stichel, *Rail Vehicle
+//! Dynamics* (2017), ch. 8; the eigen decomposition is faer's (Francis QR).
+
+use railsim_ode::OdeSystem;
+use railsim_ode::linear::{Eigenpair, eigenpairs, jacobian};
+
+use crate::curving::smooth_track;
+use crate::dynamics::Dynamics;
+use crate::error::SimError;
+use crate::run::Simulation;
+use crate::scene::{RunLength, Scene, SpeedProfile, extent};
+
+/// \[Hz\] modes slower than this are not counted as oscillatory (a real eigenvalue pair may
+/// split into a slow complex pair through round-off).
+pub const MIN_FREQUENCY: f64 = 0.05;
+
+/// Settings of the linearisation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModalOptions {
+    /// \[m, rad\] difference step of positions, internal states and rail displacements.
+    pub position_step: f64,
+    /// \[m/s, rad/s\] difference step of rates (at least 1e-7 of a large one, e.g. a spin).
+    pub rate_step: f64,
+}
+
+impl Default for ModalOptions {
+    fn default() -> Self {
+        ModalOptions {
+            position_step: 1e-6,
+            rate_step: 1e-5,
+        }
+    }
+}
+/// \[m\] track ahead of and behind the vehicle.
+const MARGIN: f64 = 10.0;
+
+/// One mode of the linearised vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mode {
+    /// \[1/s\] real part of the eigenvalue (growth rate; negative: decaying).
+    pub re: f64,
+    /// \[rad/s\] imaginary part, ≥ 0 (one of each conjugate pair is kept).
+    pub im: f64,
+    /// \[Hz\] damped frequency.
+    pub frequency: f64,
+    /// \[-\] damping ratio `−Re λ / |λ|`.
+    pub damping_ratio: f64,
+    /// The position coordinates the mode moves most: (state name, magnitude relative to the
+    /// largest), at most five, largest first, down to a tenth of the largest.
+    pub shape: Vec<(String, f64)>,
+}
+
+impl Mode {
+    /// Whether it is an oscillatory mode (frequency at least [`MIN_FREQUENCY`]).
+    pub fn is_oscillatory(&self) -> bool {
+        self.frequency >= MIN_FREQUENCY
+    }
+}
+
+/// The modes of a scene's vehicle at one speed.
+#[derive(Debug, Clone)]
+pub struct ModalAnalysis {
+    /// \[m/s\]
+    pub speed: f64,
+    /// Every mode (one per real eigenvalue and per conjugate pair), least stable first.
+    pub modes: Vec<Mode>,
+    /// Number of state variables.
+    pub states: usize,
+    /// The largest acceleration (or rate of an internal state) at the equilibrium, with its
+    /// state's name: how far the linearisation point is from an equilibrium \[m/s², rad/s²\].
+    pub residual: (String, f64),
+}
+
+impl ModalAnalysis {
+    /// The least damped oscillatory mode (largest real part), if any.
+    pub fn least_stable(&self) -> Option<&Mode> {
+        self.modes.iter().find(|m| m.is_oscillatory())
+    }
+}
+
+/// The scene that [`modes_at`] linearises: `scene` at constant `speed` on its track file with
+/// the alignment replaced by a tangent long enough for the vehicle and its irregularities
+/// removed, undisturbed.
+pub fn modal_scene(scene: &Scene, speed: f64) -> Result<Scene, SimError> {
+    if !(speed.is_finite() && speed > 0.0) {
+        return Err(SimError::Study {
+            message: format!(
+                "modal analysis of scene '{}': the speed must be positive, found {speed} m/s",
+                scene.name
+            ),
+        });
+    }
+    let (_, x_max, x_min) = extent(&scene.vehicle);
+    let length = x_max - x_min + 2.0 * MARGIN + 1.0;
+    let track = smooth_track(
+        &scene.track_file,
+        "straight ideal track of a modal analysis",
+        &[("tangent", length, None)],
+    )
+    .map_err(|message| SimError::Study {
+        message: format!("modal analysis of scene '{}': {message}", scene.name),
+    })?;
+    let mut base = scene.clone();
+    base.track = track;
+    base.start = MARGIN - x_min;
+    base.initial.yaw = 0.0;
+    // a run of 0.5 m: the study checks it stays on the track
+    base.study(
+        SpeedProfile::constant(speed),
+        RunLength::Duration(0.5 / speed),
+        0.0,
+    )
+}
+
+/// The modes of `scene`'s vehicle at constant `speed` \[m/s\] (module docs).
+pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalAnalysis, SimError> {
+    if !(opts.position_step > 0.0
+        && opts.position_step <= 1e-3
+        && opts.rate_step > 0.0
+        && opts.rate_step <= 1e-2)
+    {
+        return Err(SimError::Study {
+            message: format!(
+                "modal analysis of scene '{}': the difference steps must lie in (0, 1] mm and (0, 10] mm/s, found {} mm and {} mm/s",
+                scene.name,
+                opts.position_step * 1e3,
+                opts.rate_step * 1e3
+            ),
+        });
+    }
+    let study = modal_scene(scene, speed)?;
+    let sim = Simulation::new(&study)?;
+    let model = sim.model();
+    let x0 = sim.initial_state().to_vec();
+    let n = x0.len();
+    let mut sys = Dynamics::new(model);
+    let fail = |what: String| SimError::Study {
+        message: format!(
+            "modal analysis of scene '{}' at {:.2} km/h: {what}",
+            scene.name,
+            speed * 3.6
+        ),
+    };
+    let mut x0 = x0;
+    let spins: Vec<usize> = model
+        .members
+        .iter()
+        .filter(|m| m.is_wheelset())
+        .filter_map(|m| m.rate[4])
+        .collect();
+    let f0 = settle_spins(&mut sys, &mut x0, &spins, opts.rate_step).map_err(|e| fail(e.0))?;
+    // positions' derivatives are the rates; the rest are accelerations and rates of internal
+    // and rail states, which vanish at an equilibrium
+    let residual = (model.n_pos..n)
+        .map(|i| (i, f0[i].abs()))
+        .fold(None::<(usize, f64)>, |b, (i, v)| match b {
+            Some((_, bv)) if bv >= v => b,
+            _ => Some((i, v)),
+        })
+        .map_or((String::new(), 0.0), |(i, v)| {
+            (model.state_names[i].clone(), v)
+        });
+    let rate_states = model.n_pos..model.n_pos + model.n_rate;
+    let rail_rates = |i: usize| {
+        model
+            .wheels
+            .iter()
+            .filter_map(|w| w.rail)
+            .any(|r| i == r + 2 || i == r + 3)
+    };
+    let steps: Vec<f64> = (0..n)
+        .map(|i| {
+            if rate_states.contains(&i) || rail_rates(i) {
+                opts.rate_step.max(1e-7 * x0[i].abs())
+            } else {
+                opts.position_step
+            }
+        })
+        .collect();
+    let jac = jacobian(&mut sys, 0.0, &x0, &steps).map_err(|e| fail(e.0))?;
+    let pairs = eigenpairs(&jac).map_err(fail)?;
+    let modes = pairs
+        .iter()
+        .filter(|p| p.im >= 0.0)
+        .map(|p| mode(p, &model.state_names[..model.n_pos]))
+        .collect();
+    Ok(ModalAnalysis {
+        speed,
+        modes,
+        states: n,
+        residual,
+    })
+}
+
+/// Set the wheelsets' spin rates (states `spins`) to their rolling equilibrium, where the
+/// creep forces' torque about each axle vanishes: [`Simulation::new`] spins each wheelset at
+/// `V / r` with `r` its mean rolling radius, but a wide conformal patch with spin also carries
+/// a longitudinal creep force (the contact benchmark's Fx at y = 0.5 mm, docs/validation.md §1),
+/// so that the axles start with a small torque (8.6 rad/s² on the Manchester vehicle). Newton
+/// per axle on its own spin acceleration, with its derivative by central difference (the axles
+/// are coupled only through the bodies, weakly), to 1e-6 rad/s² or 20 iterations. Returns the
+/// right-hand side at the settled state.
+fn settle_spins(
+    sys: &mut Dynamics,
+    x: &mut [f64],
+    spins: &[usize],
+    rate_step: f64,
+) -> Result<Vec<f64>, railsim_ode::RhsError> {
+    let n = x.len();
+    let (mut f, mut fp, mut fm) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    sys.rhs(0.0, x, &mut f)?;
+    for _ in 0..20 {
+        if spins.iter().all(|&i| f[i].abs() < 1e-6) {
+            break;
+        }
+        let mut step = vec![0.0; spins.len()];
+        for (k, &i) in spins.iter().enumerate() {
+            let (xi, h) = (x[i], rate_step.max(1e-7 * x[i].abs()));
+            x[i] = xi + h;
+            sys.rhs(0.0, x, &mut fp)?;
+            x[i] = xi - h;
+            sys.rhs(0.0, x, &mut fm)?;
+            x[i] = xi;
+            let d = (fp[i] - fm[i]) / (2.0 * h);
+            if d.is_finite() && d != 0.0 {
+                step[k] = -f[i] / d;
+            }
+        }
+        for (k, &i) in spins.iter().enumerate() {
+            x[i] += step[k];
+        }
+        sys.rhs(0.0, x, &mut f)?;
+    }
+    Ok(f)
+}
+
+/// A mode from an eigenpair: the positions' components (the first `names.len()`).
+fn mode(p: &Eigenpair, names: &[String]) -> Mode {
+    let mut parts: Vec<(usize, f64)> = p.vector[..names.len()]
+        .iter()
+        .map(|c| c[0].hypot(c[1]))
+        .enumerate()
+        .collect();
+    parts.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let big = parts.first().map_or(0.0, |q| q.1);
+    let shape = parts
+        .iter()
+        .take(5)
+        .filter(|q| big > 0.0 && q.1 >= 0.1 * big)
+        .map(|&(i, v)| (names[i].clone(), v / big))
+        .collect();
+    Mode {
+        re: p.re,
+        im: p.im.abs(),
+        frequency: p.frequency(),
+        damping_ratio: p.damping_ratio(),
+        shape,
+    }
+}
+
+/// The linear critical speed found by [`linear_critical_speed`].
+#[derive(Debug, Clone)]
+pub struct LinearCritical {
+    /// \[m/s\] the speed where the real part of the mode that loses its damping crosses zero,
+    /// interpolated linearly in the last bracket (that mode's eigenvalue at the bracket's lower
+    /// end is the one nearest to it).
+    pub critical_speed: f64,
+    /// The least stable mode at the end of the bracket above the critical speed.
+    pub mode: Mode,
+    /// Every analysis made, in the order made: (speed, real part of the least damped
+    /// oscillatory mode).
+    pub scan: Vec<(f64, f64)>,
+}
+
+/// The lowest speed in `[lo, hi]` \[m/s\] at which an oscillatory mode of `scene`'s vehicle
+/// becomes unstable: `n_scan` equal intervals are scanned from `lo` for the first one over
+/// which the least damped mode's real part changes sign from negative to positive, and that
+/// interval is bisected until it is narrower than `rel_tol` of its upper end. Errors when the
+/// vehicle is already unstable at `lo` or stable up to `hi`.
+pub fn linear_critical_speed(
+    scene: &Scene,
+    opts: &ModalOptions,
+    (lo, hi): (f64, f64),
+    n_scan: usize,
+    rel_tol: f64,
+    progress: &mut dyn FnMut(&ModalAnalysis),
+) -> Result<LinearCritical, SimError> {
+    let bad = |message: String| SimError::Study {
+        message: format!("linear critical speed of scene '{}': {message}", scene.name),
+    };
+    if !(lo > 0.0 && hi > lo && hi.is_finite() && rel_tol > 0.0 && n_scan >= 1) {
+        return Err(bad(format!(
+            "expected 0 < lo < hi (found {lo} and {hi} m/s), a positive tolerance ({rel_tol}) and at least one scan interval ({n_scan})"
+        )));
+    }
+    let mut scan = Vec::new();
+    // each analysis: the least stable oscillatory mode's real part, and all oscillatory modes
+    let mut eval = |v: f64, scan: &mut Vec<(f64, f64)>| -> Result<(f64, Vec<Mode>), SimError> {
+        let a = modes_at(scene, v, opts)?;
+        progress(&a);
+        let g = a.least_stable().map(|m| m.re).ok_or_else(|| {
+            bad(format!(
+                "the vehicle has no oscillatory mode at {:.2} km/h",
+                v * 3.6
+            ))
+        })?;
+        scan.push((v, g));
+        Ok((
+            g,
+            a.modes.into_iter().filter(Mode::is_oscillatory).collect(),
+        ))
+    };
+    let (mut a, (mut ga, mut modes_a)) = (lo, eval(lo, &mut scan)?);
+    if ga >= 0.0 {
+        return Err(bad(format!(
+            "an oscillatory mode is already unstable at {:.2} km/h (Re λ = {ga:.4}/s): start lower",
+            lo * 3.6
+        )));
+    }
+    let mut upper = None;
+    for k in 1..=n_scan {
+        let v = lo + (hi - lo) * k as f64 / n_scan as f64;
+        let (g, modes) = eval(v, &mut scan)?;
+        if g >= 0.0 {
+            upper = Some((v, modes));
+            break;
+        }
+        (a, ga, modes_a) = (v, g, modes);
+    }
+    let Some((mut b, mut modes_b)) = upper else {
+        return Err(bad(format!(
+            "every oscillatory mode is damped up to {:.2} km/h (the least damped: Re λ = {ga:.4}/s): search higher",
+            hi * 3.6
+        )));
+    };
+    while b - a > rel_tol * b {
+        let v = 0.5 * (a + b);
+        let (g, modes) = eval(v, &mut scan)?;
+        if g < 0.0 {
+            (a, modes_a) = (v, modes);
+        } else {
+            (b, modes_b) = (v, modes);
+        }
+    }
+    // The mode that is unstable at b, and the same mode at a (the nearest eigenvalue): its
+    // real part crosses zero in between (the least stable mode at a may be another one).
+    let mode = modes_b[0].clone();
+    let (gb, ga) = (
+        mode.re,
+        modes_a
+            .iter()
+            .min_by(|p, q| {
+                let d = |m: &Mode| (m.re - mode.re).hypot(m.im - mode.im);
+                d(p).total_cmp(&d(q))
+            })
+            .map_or(f64::NEG_INFINITY, |m| m.re.min(0.0)),
+    );
+    let frac = if ga.is_finite() {
+        (-ga) / (gb - ga).max(f64::MIN_POSITIVE)
+    } else {
+        1.0
+    };
+    Ok(LinearCritical {
+        critical_speed: a + (b - a) * frac,
+        mode,
+        scan,
+    })
+}
