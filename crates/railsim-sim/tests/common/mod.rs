@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use railsim_contact::{Side, WheelsetPose, WheelsetVelocity};
 use railsim_sim::{RunOptions, RunSummary, Sample, Scene, Simulation};
 
 /// The repository root (scene paths in the tests are relative to it).
@@ -48,4 +49,55 @@ pub fn manchester_polach(keys: &str) -> Scene {
         atol = 1e-6
         "#
     ))
+}
+
+/// Rolling radius and half the distance between the contact points of the centred wheelset
+/// under half its weight per wheel (the r0 and b of the linear formulas, measured on the actual
+/// wheel/rail pair).
+pub fn centred_contact(sim: &Simulation, load: f64, v: f64) -> (f64, f64) {
+    let w = &sim.model().wheels[0];
+    let mut ws = railsim_contact::ContactWorkspace::new();
+    let vel = WheelsetVelocity {
+        vx: v,
+        spin: v / 0.46,
+        ..Default::default()
+    };
+    w.contact
+        .evaluate_with_load(
+            Side::Left,
+            &WheelsetPose::default(),
+            &vel,
+            load,
+            1e-9,
+            &mut ws,
+        )
+        .unwrap();
+    let p = ws.patches[0];
+    (p.rolling_radius, p.point_track[1].abs())
+}
+
+/// Effective conicity of a pure cone of slope `lambda` on UIC60 1:40 (gauge 1435 mm,
+/// flange-back 1360 mm, r0 = 0.46 m): the slope of the rigid rolling-radius difference,
+/// Δr = 2 λe y, computed by `railsim-profile`'s conicity module (independent of the dynamics).
+/// The wheelset rolls by Δr / (2 e0) as it shifts, which moves both wheel contacts further by
+/// r φ, so λe = λ / (1 − r λ / e0) for a cone on a rail whose contact point does not move.
+pub fn cone_effective_conicity(lambda: f64) -> f64 {
+    use railsim_profile::conicity::{WheelsetTrackSetup, rolling_radius_difference};
+    use railsim_profile::{Profile, ProfileKind, analytic};
+    let pts: Vec<[f64; 2]> = (0..=250)
+        .map(|i| {
+            let y = -0.065 + i as f64 * 0.0005;
+            [y, lambda * y]
+        })
+        .collect();
+    let cone = Profile::new("cone", ProfileKind::Wheel, pts).unwrap();
+    let ys = [-1e-3, 1e-3];
+    let d = rolling_radius_difference(
+        &cone,
+        &analytic::uic60(),
+        &WheelsetTrackSetup::default(),
+        &ys,
+    )
+    .unwrap();
+    (d[1].delta_r - d[0].delta_r) / (2.0 * (ys[1] - ys[0]))
 }

@@ -1,0 +1,273 @@
+//! Linear stability analysis (`railsim_sim::modal`): the eigenvalues of the linearised vehicle
+//! against closed-form results (Klingel, Wickens) and against the time integration of the same
+//! model (growth rates and the critical speed of the nonlinear simulator).
+
+use railsim_sim::modal::{ModalOptions, Mode, linear_critical_speed, modes_at};
+use railsim_sim::stability::{growth_at, half_cycles};
+use railsim_sim::{RunOptions, Scene, Simulation};
+
+mod common;
+use common::{centred_contact, cone_effective_conicity, manchester_polach, scene};
+
+/// The oscillatory mode whose largest component is `coord`, least damped first.
+fn mode_of<'a>(modes: &'a [Mode], coord: &str) -> &'a Mode {
+    modes
+        .iter()
+        .find(|m| m.is_oscillatory() && m.shape.first().is_some_and(|s| s.0 == coord))
+        .unwrap_or_else(|| panic!("no oscillatory mode led by {coord}: {modes:#?}"))
+}
+
+#[test]
+fn the_free_conical_wheelsets_kinematic_mode_has_klingels_frequency() {
+    // λ = 0.2 cones; Klingel's wavelength L = 2π sqrt(r e0 / λ) with r, e0 of the centred
+    // contact, so f = V / L, proportional to the speed (vehicle-reference.md §2.1). Hertz and
+    // Polach: the rigid contact pair moves smoothly with the pose (STRIPES' strips make the
+    // linearisation depend on the difference step, docs/validation.md §11).
+    let s = scene(
+        r#"
+        vehicle = "scenes/vehicles/wheelset_free_cone.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 18
+        duration_s = 1
+        [contact]
+        model = "polach"
+        "#,
+    );
+    let (r, e0) = centred_contact(&Simulation::new(&s).unwrap(), 0.5 * 1813.0 * 9.81, 5.0);
+    let l_k = std::f64::consts::TAU * (r * e0 / 0.2).sqrt();
+    for v in [5.0, 10.0] {
+        let a = modes_at(&s, v, &ModalOptions::default()).unwrap();
+        let m = mode_of(&a.modes, "ws.y");
+        eprintln!(
+            "{v} m/s: kinematic mode {:.4} Hz (Klingel {:.4} Hz, {:+.2} %), damping ratio {:.4}, shape {:?}; residual {:?}",
+            m.frequency,
+            v / l_k,
+            100.0 * (m.frequency * l_k / v - 1.0),
+            m.damping_ratio,
+            m.shape,
+            a.residual
+        );
+        // the simulated wavelength's criterion (tests/dynamics.rs): Klingel's formula neglects the
+        // gravitational stiffness and takes the creep coefficients as infinite
+        assert!((m.frequency * l_k / v - 1.0).abs() < 0.02);
+        // the wheelset yaws with its lateral motion (ψ = ±2π y0 / L at a quarter period)
+        assert!(m.shape.iter().any(|(n, _)| n == "ws.yaw"), "{:?}", m.shape);
+        // a kinematic oscillation is nearly undamped at low speed
+        assert!(m.damping_ratio.abs() < 0.05, "{}", m.damping_ratio);
+    }
+}
+
+/// The Wickens scene of `tests/dynamics.rs` (linear creep f = 1e8 N, no spin).
+fn wickens_scene() -> Scene {
+    scene(
+        r#"
+        vehicle = "vehicles/wheelset_springs.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 1000
+        duration_s = 1.4
+        [contact]
+        model = "linear"
+        creep_coefficient_n = 1e8
+        [integrator]
+        method = "dopri5"
+        rtol = 1e-7
+        atol = 1e-10
+        [log]
+        rate_hz = 2000
+        "#,
+    )
+}
+
+#[test]
+fn the_wickens_wheelset_loses_its_damping_where_the_simulation_starts_to_grow() {
+    // vehicle-reference.md §2.2: the formula with the wheelset's roll on the rails folded in
+    // (tests/dynamics.rs) gives the reference speed; the time simulation's growth-rate bisection
+    // found +2.07 % (docs/validation.md §6).
+    let (m, i, lambda, f) = (1813.0, 1120.0, 0.15, 1e8);
+    let (ky, kpsi) = (2.0 * 3.884e6, 2.0 * 31.391e6);
+    let base = wickens_scene();
+    let probe = scene(
+        r#"
+        vehicle = "vehicles/wheelset_springs.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 100
+        duration_s = 0.01
+        "#,
+    );
+    let (r0, b) = centred_contact(&Simulation::new(&probe).unwrap(), 0.5 * m * 9.81, 28.0);
+    let c = r0 * cone_effective_conicity(lambda) / b;
+    let (m_e, ky_e) = (
+        m / (1.0 + c).powi(2) + i * (lambda / b).powi(2),
+        ky / (1.0 + c).powi(2),
+    );
+    let mb = m_e * b * b + i;
+    let vc_formula = (4.0 * f * f * b * r0 * (kpsi + b * b * ky_e)
+        / (4.0 * f * f * lambda * mb - b * r0 * (m_e * kpsi - i * ky_e).powi(2) / mb))
+        .sqrt();
+    let opts = ModalOptions::default();
+    let res = linear_critical_speed(&base, &opts, (250.0, 350.0), 4, 1e-3, &mut |_| {}).unwrap();
+    let vc = res.critical_speed;
+    eprintln!(
+        "Wickens: eigenvalues {vc:.2} m/s ({:+.2} % from the formula's {vc_formula:.2} m/s), mode {:.2} Hz {:?}",
+        100.0 * (vc / vc_formula - 1.0),
+        res.mode.frequency,
+        res.mode.shape
+    );
+    assert!((vc / vc_formula - 1.0).abs() < 0.03);
+    // linear creep without spin: the initial state is an exact equilibrium
+    let a = modes_at(&base, vc, &opts).unwrap();
+    assert!(a.residual.1 < 1e-6, "{:?}", a.residual);
+    assert!(res.mode.shape[0].0 == "ws.y" || res.mode.shape[0].0 == "ws.yaw");
+    // The same model integrated in time from a 2 µm offset (small enough to stay linear): the measured growth rate of the
+    // lateral motion (second half of 1.4 s) is the real part of the eigenvalue, and its sign
+    // changes at the linear critical speed.
+    for k in [0.97, 1.03] {
+        let v = k * vc;
+        let a = modes_at(&base, v, &opts).unwrap();
+        let lam = mode_of(&a.modes, &res.mode.shape[0].0);
+        let g = growth_at(&base, v, 1.4, 0.002e-3).unwrap();
+        let rate = g.late_rate.unwrap();
+        eprintln!(
+            "{:.2} m/s: Re λ = {:.3}/s at {:.3} Hz, simulated growth {rate:.3}/s",
+            v, lam.re, lam.frequency
+        );
+        assert_eq!(lam.re > 0.0, k > 1.0);
+        assert_eq!(rate > 0.0, k > 1.0);
+        assert!(
+            (rate - lam.re).abs() < 0.1 * lam.re.abs(),
+            "simulated {rate} vs Re λ {}",
+            lam.re
+        );
+    }
+}
+
+#[test]
+fn the_manchester_vehicles_linear_critical_speed_is_a_bogie_hunting_mode_that_the_simulation_confirms()
+ {
+    // Polach's contact (smooth in the pose at the difference steps' scale): the critical speed
+    // must not depend on the step, the unstable mode must be a bogie's lateral motion, and the
+    // simulator itself must see a 10 µm disturbance decay 5 % below and grow 5 % above.
+    let s = manchester_polach(
+        r#"
+        track = "tracks/straight.toml"
+        speed_kmh = 200
+        duration_s = 1
+        "#,
+    );
+    let range = (150.0 / 3.6, 400.0 / 3.6);
+    let fine = ModalOptions {
+        position_step: 0.25e-6,
+        rate_step: 0.25e-5,
+    };
+    let coarse = ModalOptions {
+        position_step: 4e-6,
+        rate_step: 4e-5,
+    };
+    let a =
+        linear_critical_speed(&s, &ModalOptions::default(), range, 5, 2e-3, &mut |_| {}).unwrap();
+    let vc = a.critical_speed;
+    let (f, c) = (
+        linear_critical_speed(&s, &fine, range, 5, 2e-3, &mut |_| {})
+            .unwrap()
+            .critical_speed,
+        linear_critical_speed(&s, &coarse, range, 5, 2e-3, &mut |_| {})
+            .unwrap()
+            .critical_speed,
+    );
+    eprintln!(
+        "Manchester, polach: linear critical speed {:.2} km/h (steps 0.25 µm {:.2}, 4 µm {:.2}), mode {:.2} Hz, ζ {:.4}, {:?}",
+        vc * 3.6,
+        f * 3.6,
+        c * 3.6,
+        a.mode.frequency,
+        a.mode.damping_ratio,
+        a.mode.shape
+    );
+    for other in [f, c] {
+        assert!((other / vc - 1.0).abs() < 0.005);
+    }
+    assert!(a.mode.shape[0].0.starts_with("bogie_") && a.mode.shape[0].0.ends_with(".y"));
+    assert!(a.mode.frequency > 4.0 && a.mode.frequency < 10.0);
+    // the time integration of the same vehicle
+    for (k, grows) in [(0.95, false), (1.05, true)] {
+        let g = growth_at(&s, k * vc, 6.0, 0.01e-3).unwrap();
+        eprintln!(
+            "{:.1} km/h: simulated growth {:?}/s, last half wave {:.2} µm",
+            k * vc * 3.6,
+            g.late_rate,
+            g.last_amplitude * 1e6
+        );
+        assert_eq!(g.late_rate.unwrap() > 0.0, grows);
+    }
+}
+
+#[test]
+fn the_half_cycles_of_a_run_at_the_linear_critical_speed_have_the_modes_frequency() {
+    // the Wickens wheelset just above its critical speed: the simulated oscillation's period
+    // (between centre-line crossings) against the eigenvalue's frequency
+    let base = wickens_scene();
+    let v = 305.0;
+    let a = modes_at(&base, v, &ModalOptions::default()).unwrap();
+    let lam = a.least_stable().unwrap().clone();
+    let study = base
+        .study(
+            railsim_sim::SpeedProfile::constant(v),
+            railsim_sim::RunLength::Duration(1.0),
+            0.02e-3,
+        )
+        .unwrap();
+    let mut sim = Simulation::new(&study).unwrap();
+    let (mut t, mut y) = (Vec::new(), Vec::new());
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    sim.run(&study, &opts, &mut |_, _| {}, &mut |s| {
+        t.push(s.t);
+        y.push(s.lateral[0]);
+    })
+    .unwrap();
+    let c = half_cycles(&t, &y, 0.0, 1e-9);
+    let late: Vec<_> = c.iter().filter(|h| h.t > 0.3).collect();
+    let f_sim = (late.len() - 1) as f64 / (2.0 * (late[late.len() - 1].t - late[0].t));
+    eprintln!(
+        "{v} m/s: simulated {f_sim:.3} Hz over {} half waves, eigenvalue {:.3} Hz",
+        late.len(),
+        lam.frequency
+    );
+    assert!((f_sim / lam.frequency - 1.0).abs() < 0.01);
+}
+
+#[test]
+fn bad_modal_settings_are_reported() {
+    let s = wickens_scene();
+    let err = |r: Result<_, railsim_sim::SimError>| r.err().expect("an error").to_string();
+    let e = err(modes_at(&s, -3.0, &ModalOptions::default()).map(|_| ()));
+    assert!(
+        e.contains("speed must be positive") && e.contains("-3"),
+        "{e}"
+    );
+    let e = err(modes_at(
+        &s,
+        100.0,
+        &ModalOptions {
+            position_step: 0.0,
+            rate_step: 1e-5,
+        },
+    )
+    .map(|_| ()));
+    assert!(e.contains("difference steps"), "{e}");
+    let opts = ModalOptions::default();
+    let e = err(linear_critical_speed(&s, &opts, (320.0, 350.0), 2, 1e-3, &mut |_| {}).map(|_| ()));
+    assert!(
+        e.contains("already unstable") && e.contains("start lower"),
+        "{e}"
+    );
+    let e = err(linear_critical_speed(&s, &opts, (100.0, 200.0), 2, 1e-3, &mut |_| {}).map(|_| ()));
+    assert!(
+        e.contains("damped up to") && e.contains("search higher"),
+        "{e}"
+    );
+    let e = err(linear_critical_speed(&s, &opts, (200.0, 100.0), 2, 1e-3, &mut |_| {}).map(|_| ()));
+    assert!(e.contains("0 < lo < hi"), "{e}");
+}
