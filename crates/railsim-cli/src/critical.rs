@@ -27,6 +27,9 @@ pub enum MethodName {
     Ramp,
     /// Bisect on the growth rate of a small disturbance at constant speeds.
     Bisect,
+    /// Eigenvalues of the vehicle linearised about its centred running: the lowest speed at
+    /// which an oscillatory mode loses its damping (the linear critical speed).
+    Linear,
 }
 
 #[derive(Args)]
@@ -39,11 +42,12 @@ pub struct CriticalArgs {
     #[arg(long, value_enum, default_value = "ramp")]
     pub method: MethodName,
     /// Highest speed (km/h): ramp: the start, where the vehicle should hunt; bisect: the upper
-    /// end of the bracket, where a small disturbance should grow.
+    /// end of the bracket, where a small disturbance should grow; linear: the end of the scan.
     #[arg(long, default_value_t = 320.0)]
     pub from_kmh: f64,
     /// Lowest speed (km/h): ramp: the end of the ramp; bisect: the lower end of the bracket,
-    /// where a small disturbance should decay.
+    /// where a small disturbance should decay; linear: the start of the scan, where every mode
+    /// should be damped.
     #[arg(long, default_value_t = 200.0)]
     pub to_kmh: f64,
     /// Ramp: distance run at the start speed before the ramp (m).
@@ -65,15 +69,26 @@ pub struct CriticalArgs {
     /// second half.
     #[arg(long, default_value_t = 8.0)]
     pub duration_s: f64,
-    /// Bisect: stop when the bracket is narrower than this fraction of its upper speed.
-    #[arg(long, default_value_t = 0.01)]
-    pub tol: f64,
-    /// Write the result as CSV: the ramp's half waves (wheelset, time, speed, amplitude) or the
-    /// bisection's runs (speed, growth rate, last amplitude).
+    /// Bisect, linear: stop when the bracket is narrower than this fraction of its upper speed
+    /// (default 0.01 for bisect, 0.002 for linear).
+    #[arg(long)]
+    pub tol: Option<f64>,
+    /// Linear: number of equal intervals scanned from --to-kmh to --from-kmh for the first
+    /// change from damped to undamped, which is then bisected.
+    #[arg(long, default_value_t = 8)]
+    pub scan: usize,
+    /// Linear: difference step of the positions (µm, µrad; rates ten times it per second); the
+    /// search is repeated with four times the step as a check.
+    #[arg(long, default_value_t = 1.0)]
+    pub step_um: f64,
+    /// Write the result as CSV: the ramp's half waves (wheelset, time, speed, amplitude), the
+    /// bisection's runs (speed, growth rate, last amplitude) or the linear method's analyses
+    /// (speed, real part of the least damped oscillatory mode).
     #[arg(long)]
     pub csv: Option<PathBuf>,
     /// Draw the result to this PNG: the ramp's bifurcation diagram (half-wave amplitude of each
-    /// wheelset against speed, with the threshold) or the bisection's growth rates against speed.
+    /// wheelset against speed, with the threshold), the bisection's growth rates against speed,
+    /// or the linear method's least damped real part against speed.
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// Ramp: write the MCAP log of the ramp run here (default: no log).
@@ -96,7 +111,7 @@ pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
         ("--ramp-m", a.ramp_m),
         ("--threshold-mm", a.threshold_mm),
         ("--duration-s", a.duration_s),
-        ("--tol", a.tol),
+        ("--tol", a.tol.unwrap_or(0.01)),
     ] {
         if !(v.is_finite() && v > 0.0) {
             bail!("{name}: expected a positive number, found {v}");
@@ -114,10 +129,14 @@ pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
     {
         bail!("--offset-mm: expected a non-zero number of millimetres, found {o}");
     }
+    if a.scan == 0 {
+        bail!("--scan: expected at least one interval, found 0");
+    }
     let scene = Scene::from_file(&path)?;
     match a.method {
         MethodName::Ramp => ramp(a, &path, &scene),
         MethodName::Bisect => bisect(a, &scene),
+        MethodName::Linear => crate::modes::linear(a, &scene),
     }
 }
 
@@ -351,7 +370,7 @@ fn bisect(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
         (a.to_kmh / 3.6, a.from_kmh / 3.6),
         a.duration_s,
         offset,
-        a.tol,
+        a.tol.unwrap_or(0.01),
         &mut progress,
     )
     .context("railsim critical-speed")?;

@@ -35,6 +35,7 @@ macro_rules! outln {
 mod chart;
 mod critical;
 mod curving;
+mod modes;
 mod replay;
 mod run;
 
@@ -61,8 +62,12 @@ enum Command {
     Replay(replay::ReplayArgs),
     /// Hunting (critical) speed of a vehicle on straight track: ramp the speed down from a
     /// hunting limit cycle (default; the nonlinear critical speed), or bisect on the growth rate
-    /// of a small disturbance at constant speed (--method bisect).
+    /// of a small disturbance at constant speed (--method bisect), or from the eigenvalues of the
+    /// linearised vehicle (--method linear).
     CriticalSpeed(critical::CriticalArgs),
+    /// Modes of the vehicle linearised about its centred running on straight ideal track at
+    /// given speeds: frequency, damping ratio, eigenvalue and the coordinates each mode moves.
+    Modes(modes::ModesArgs),
     /// Steady-state curving: run the vehicle into curves of given radius and cant at given
     /// speeds and tabulate the means per wheelset and wheel once it runs steadily (lateral
     /// displacement, angle of attack, Y, Q, Y/Q, ΣY, wear number).
@@ -236,6 +241,7 @@ fn main() -> ExitCode {
         Command::Replay(a) => replay::run_replay(&a),
         Command::CriticalSpeed(a) => critical::run_critical(&a),
         Command::Curving(a) => curving::run_curving(&a),
+        Command::Modes(a) => modes::run_modes(&a),
     };
     match result {
         Ok(code) => code,

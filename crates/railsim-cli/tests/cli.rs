@@ -248,3 +248,103 @@ fn curving_tabulates_a_case_and_rejects_bad_settings() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `railsim modes` and `railsim critical-speed --method linear` on the Wickens wheelset
+/// (`scenes/wheelset_springs_critical.toml`, linear creep): the modes table marks the hunting
+/// mode unstable above the critical speed, the linear method finds it (301.7 m/s, as the
+/// library test) with its step check, and writes its analyses; bad settings exit 2 naming the
+/// option. (The method's physics: `railsim-sim/tests/modal.rs`.)
+#[test]
+fn modes_and_the_linear_critical_speed_of_the_wickens_wheelset() {
+    let dir = common::temp_dir("cli", "modes");
+    let scene = common::root().join("scenes/wheelset_springs_critical.toml");
+    let scene = scene.to_str().unwrap();
+    let csv = dir.join("modes.csv");
+    let (code, out, err) = railsim(&[
+        "modes",
+        scene,
+        "--speed-kmh",
+        "1000,1100",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (below, above) = out.split_once("1100.0 km/h").expect("two speeds");
+    assert!(below.contains("1000.0 km/h: 11 states"), "{out}");
+    assert!(!below.contains("UNSTABLE"), "{out}");
+    let first = above.lines().nth(2).unwrap();
+    assert!(
+        first.contains("ws.y 1.00") && first.ends_with("UNSTABLE"),
+        "{out}"
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        text.starts_with("speed_kmh,frequency_hz,damping_ratio,re_per_s,im_rad_s,coordinates\n")
+    );
+    assert!(text.lines().count() > 8, "{text}");
+    let scan = dir.join("scan.csv");
+    let (code, out, err) = railsim(&[
+        "critical-speed",
+        scene,
+        "--method",
+        "linear",
+        "--to-kmh",
+        "1000",
+        "--from-kmh",
+        "1150",
+        "--quiet",
+        "--csv",
+        scan.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("linear critical speed"))
+        .unwrap_or_else(|| panic!("{out}"));
+    let v: f64 = line
+        .split("): ")
+        .nth(1)
+        .and_then(|r| r.split(" km/h").next())
+        .and_then(|x| x.trim().parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!((v / 3.6 / 301.73 - 1.0).abs() < 0.003, "{line}");
+    assert!(out.contains("check with 4x the difference steps"), "{out}");
+    assert!(!out.contains("warning"), "{out}");
+    assert!(
+        std::fs::read_to_string(&scan)
+            .unwrap()
+            .starts_with("speed_kmh,least_damped_re_per_s\n")
+    );
+    for (args, want) in [
+        (
+            vec!["modes", scene, "--speed-kmh=-5"],
+            "--speed-kmh: expected positive",
+        ),
+        (
+            vec!["modes", scene, "--step-um", "0"],
+            "--step-um: expected a number",
+        ),
+        (
+            vec!["critical-speed", scene, "--method", "linear", "--scan", "0"],
+            "--scan: expected at least one",
+        ),
+        (
+            vec![
+                "critical-speed",
+                scene,
+                "--method",
+                "linear",
+                "--to-kmh",
+                "100",
+                "--from-kmh",
+                "200",
+            ],
+            "search higher",
+        ),
+    ] {
+        let (code, _, err) = railsim(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

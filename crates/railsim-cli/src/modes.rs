@@ -1,0 +1,257 @@
+//! `railsim modes [SCENE]` and `railsim critical-speed --method linear`: the eigenvalue analysis
+//! of a vehicle running centred on straight ideal track (`railsim_sim::modal`).
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+
+use railsim_sim::Scene;
+use railsim_sim::modal::{LinearCritical, ModalAnalysis, ModalOptions, Mode};
+
+use crate::chart::{Labels, Series, line_chart};
+use crate::critical::{CriticalArgs, DEFAULT_SCENE};
+
+/// The check of a linearisation: the same analysis with the difference steps this many times
+/// larger.
+const CHECK_FACTOR: f64 = 4.0;
+/// \[-\] relative difference of the two critical speeds above which the result is flagged.
+const CHECK_TOL: f64 = 0.01;
+
+#[derive(Args)]
+pub struct ModesArgs {
+    /// Scene file: its vehicle, track file (rail profiles, gauge, inclination, rail support;
+    /// the alignment is replaced by a tangent and irregularities removed) and contact model are
+    /// used; default: the built-in scenes/manchester_hunting.toml
+    pub scene: Option<PathBuf>,
+    /// Speeds (km/h), comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [100.0, 200.0, 300.0])]
+    pub speed_kmh: Vec<f64>,
+    /// Modes listed per speed, least damped first (oscillatory modes only unless --all).
+    #[arg(long, default_value_t = 12)]
+    pub count: usize,
+    /// List real (non-oscillatory) modes too.
+    #[arg(long)]
+    pub all: bool,
+    /// Difference step of the positions (µm, µrad); rates use ten times it per second.
+    #[arg(long, default_value_t = 1.0)]
+    pub step_um: f64,
+    /// Write every mode at every speed as CSV (speed, frequency, damping ratio, eigenvalue,
+    /// leading coordinates).
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+fn options(step_um: f64) -> Result<ModalOptions> {
+    if !(step_um.is_finite() && step_um > 0.0 && step_um <= 1000.0) {
+        bail!("--step-um: expected a number in (0, 1000] µm, found {step_um}");
+    }
+    Ok(ModalOptions {
+        position_step: step_um * 1e-6,
+        rate_step: step_um * 1e-5,
+    })
+}
+
+fn shape_text(m: &Mode) -> String {
+    m.shape
+        .iter()
+        .map(|(n, v)| format!("{n} {v:.2}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
+    let path = a
+        .scene
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENE));
+    if a.speed_kmh.is_empty() {
+        bail!("--speed-kmh: give at least one speed");
+    }
+    if let Some(v) = a.speed_kmh.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        bail!("--speed-kmh: expected positive speeds, found {v}");
+    }
+    let opts = options(a.step_um)?;
+    let scene = Scene::from_file(&path)?;
+    eprintln!(
+        "railsim modes: {} (contact model {}): eigenvalues of the vehicle linearised about its centred running on straight ideal track",
+        scene.name,
+        scene.contact.model.name()
+    );
+    let mut csv =
+        String::from("speed_kmh,frequency_hz,damping_ratio,re_per_s,im_rad_s,coordinates\n");
+    for &kmh in &a.speed_kmh {
+        let r = railsim_sim::modal::modes_at(&scene, kmh / 3.6, &opts).context("railsim modes")?;
+        print_modes(&r, a)?;
+        for m in &r.modes {
+            writeln!(
+                csv,
+                "{kmh},{:.6},{:.6},{:.6},{:.6},\"{}\"",
+                m.frequency,
+                m.damping_ratio,
+                m.re,
+                m.im,
+                shape_text(m)
+            )?;
+        }
+    }
+    if let Some(p) = &a.csv {
+        std::fs::write(p, csv).with_context(|| format!("writing {}", p.display()))?;
+        outln!("modes written to {}", p.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_modes(r: &ModalAnalysis, a: &ModesArgs) -> Result<()> {
+    outln!(
+        "{:.1} km/h: {} states, {} modes ({} oscillatory); largest residual at the equilibrium {:.2e} ({})",
+        r.speed * 3.6,
+        r.states,
+        r.modes.len(),
+        r.modes.iter().filter(|m| m.is_oscillatory()).count(),
+        r.residual.1,
+        r.residual.0
+    );
+    outln!("  frequency Hz  damping ratio   Re λ 1/s  leading coordinates (relative amplitude)");
+    for m in r
+        .modes
+        .iter()
+        .filter(|m| a.all || m.is_oscillatory())
+        .take(a.count)
+    {
+        outln!(
+            "  {:12.3}  {:13.4}  {:9.3}  {}{}",
+            m.frequency,
+            m.damping_ratio,
+            m.re,
+            shape_text(m),
+            if m.re >= 0.0 { "  UNSTABLE" } else { "" }
+        );
+    }
+    Ok(())
+}
+
+/// `railsim critical-speed --method linear`.
+pub fn linear(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
+    let opts = options(a.step_um)?;
+    let tol = a.tol.unwrap_or(0.002);
+    let (lo, hi) = (a.to_kmh / 3.6, a.from_kmh / 3.6);
+    eprintln!(
+        "railsim critical-speed: {} (contact model {}): eigenvalues of the linearised vehicle from {} to {} km/h ({} intervals, then bisection to {} %)",
+        scene.name,
+        scene.contact.model.name(),
+        a.to_kmh,
+        a.from_kmh,
+        a.scan,
+        tol * 100.0
+    );
+    let quiet = a.quiet;
+    let mut progress = |r: &ModalAnalysis| {
+        if !quiet && let Some(m) = r.least_stable() {
+            eprintln!(
+                "  {:7.2} km/h: least damped mode {:.3} Hz, Re λ {:+.4}/s ({})",
+                r.speed * 3.6,
+                m.frequency,
+                m.re,
+                m.shape.first().map_or("", |s| s.0.as_str())
+            );
+        }
+    };
+    let res = railsim_sim::modal::linear_critical_speed(
+        scene,
+        &opts,
+        (lo, hi),
+        a.scan,
+        tol,
+        &mut progress,
+    )
+    .context("railsim critical-speed")?;
+    // the check: the same search with larger steps (a contact whose forces are not smooth at
+    // the steps' scale gives a different answer)
+    let check_opts = ModalOptions {
+        position_step: CHECK_FACTOR * opts.position_step,
+        rate_step: CHECK_FACTOR * opts.rate_step,
+    };
+    let check = railsim_sim::modal::linear_critical_speed(
+        scene,
+        &check_opts,
+        (lo, hi),
+        a.scan,
+        tol,
+        &mut |_| {},
+    )
+    .map(|c| c.critical_speed);
+    write_scan(a, scene, &res)?;
+    let v = res.critical_speed;
+    outln!(
+        "unstable mode above it: {:.3} Hz ({})",
+        res.mode.frequency,
+        shape_text(&res.mode)
+    );
+    match check {
+        Ok(vc) => {
+            outln!(
+                "check with {CHECK_FACTOR}x the difference steps ({} µm): {:.1} km/h ({:+.2} %)",
+                a.step_um * CHECK_FACTOR,
+                vc * 3.6,
+                100.0 * (vc / v - 1.0)
+            );
+            if (vc / v - 1.0).abs() > CHECK_TOL {
+                outln!(
+                    "warning: the two differ by more than {} %: the contact model's forces are not smooth at the steps' scale (STRIPES' strips, docs/validation.md §11); use model = \"polach\" or \"fastsim\" for eigenvalue analyses, or compare with --method bisect",
+                    CHECK_TOL * 100.0
+                );
+            }
+        }
+        Err(e) => outln!("check with {CHECK_FACTOR}x the difference steps failed: {e:#}"),
+    }
+    outln!(
+        "linear critical speed (an oscillatory mode loses its damping): {:.1} km/h ({:.2} m/s), {} analyses",
+        v * 3.6,
+        v,
+        res.scan.len()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn write_scan(a: &CriticalArgs, scene: &Scene, res: &LinearCritical) -> Result<()> {
+    let mut pts: Vec<(f64, f64)> = res.scan.iter().map(|&(v, g)| (v * 3.6, g)).collect();
+    pts.sort_by(|p, q| p.0.total_cmp(&q.0));
+    if let Some(p) = &a.csv {
+        let mut text = String::from("speed_kmh,least_damped_re_per_s\n");
+        for (v, g) in &pts {
+            writeln!(text, "{v:.4},{g:.6}")?;
+        }
+        std::fs::write(p, text).with_context(|| format!("writing {}", p.display()))?;
+        outln!("analyses written to {}", p.display());
+    }
+    if let Some(png) = &a.png {
+        let title = format!(
+            "{} ({}): least damped oscillatory mode",
+            scene.name,
+            scene.contact.model.name()
+        );
+        line_chart(
+            png,
+            &Labels {
+                title: &title,
+                x: "speed [km/h]",
+                y: "Re λ [1/s]",
+            },
+            &[
+                Series {
+                    name: "Re λ".into(),
+                    points: pts,
+                },
+                Series {
+                    name: "zero".into(),
+                    points: vec![(a.to_kmh, 0.0), (a.from_kmh, 0.0)],
+                },
+            ],
+        )?;
+        outln!("real parts drawn to {}", png.display());
+    }
+    Ok(())
+}
