@@ -41,6 +41,10 @@ pub struct CriticalArgs {
     /// Method.
     #[arg(long, value_enum, default_value = "ramp")]
     pub method: MethodName,
+    /// Contact model instead of the scene's (e.g. `polach` for the linear method, whose
+    /// linearisation STRIPES' strips make depend on the difference step).
+    #[arg(long, value_enum)]
+    pub model: Option<crate::ModelName>,
     /// Highest speed (km/h): ramp: the start, where the vehicle should hunt; bisect: the upper
     /// end of the bracket, where a small disturbance should grow; linear: the end of the scan.
     #[arg(long, default_value_t = 320.0)]
@@ -132,7 +136,10 @@ pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
     if a.scan == 0 {
         bail!("--scan: expected at least one interval, found 0");
     }
-    let scene = Scene::from_file(&path)?;
+    let mut scene = Scene::from_file(&path)?;
+    if let Some(m) = a.model {
+        scene.contact.model = m.into();
+    }
     match a.method {
         MethodName::Ramp => ramp(a, &path, &scene),
         MethodName::Bisect => bisect(a, &scene),

@@ -75,7 +75,7 @@ enum Command {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum ModelName {
+pub(crate) enum ModelName {
     Linear,
     Polach,
     Fastsim,

@@ -26,6 +26,9 @@ pub struct ModesArgs {
     /// the alignment is replaced by a tangent and irregularities removed) and contact model are
     /// used; default: the built-in scenes/manchester_hunting.toml
     pub scene: Option<PathBuf>,
+    /// Contact model instead of the scene's.
+    #[arg(long, value_enum)]
+    pub model: Option<crate::ModelName>,
     /// Speeds (km/h), comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = [100.0, 200.0, 300.0])]
     pub speed_kmh: Vec<f64>,
@@ -74,7 +77,10 @@ pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
         bail!("--speed-kmh: expected positive speeds, found {v}");
     }
     let opts = options(a.step_um)?;
-    let scene = Scene::from_file(&path)?;
+    let mut scene = Scene::from_file(&path)?;
+    if let Some(m) = a.model {
+        scene.contact.model = m.into();
+    }
     eprintln!(
         "railsim modes: {} (contact model {}): eigenvalues of the vehicle linearised about its centred running on straight ideal track",
         scene.name,
@@ -200,7 +206,7 @@ pub fn linear(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
             );
             if (vc / v - 1.0).abs() > CHECK_TOL {
                 outln!(
-                    "warning: the two differ by more than {} %: the contact model's forces are not smooth at the steps' scale (STRIPES' strips, docs/validation.md §11); use model = \"polach\" or \"fastsim\" for eigenvalue analyses, or compare with --method bisect",
+                    "warning: the two differ by more than {} %: the contact model's forces are not smooth at the steps' scale (STRIPES' strips, docs/validation.md §11); use --model polach or fastsim for eigenvalue analyses, or compare with --method bisect",
                     CHECK_TOL * 100.0
                 );
             }

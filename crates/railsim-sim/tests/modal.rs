@@ -241,7 +241,7 @@ fn the_half_cycles_of_a_run_at_the_linear_critical_speed_have_the_modes_frequenc
 #[test]
 fn bad_modal_settings_are_reported() {
     let s = wickens_scene();
-    let err = |r: Result<_, railsim_sim::SimError>| r.err().expect("an error").to_string();
+    let err = |r: Result<(), railsim_sim::SimError>| r.expect_err("an error").to_string();
     let e = err(modes_at(&s, -3.0, &ModalOptions::default()).map(|_| ()));
     assert!(
         e.contains("speed must be positive") && e.contains("-3"),
