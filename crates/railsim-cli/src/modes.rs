@@ -45,6 +45,11 @@ pub struct ModesArgs {
     /// leading coordinates).
     #[arg(long)]
     pub csv: Option<PathBuf>,
+    /// Draw a root locus to this PNG: the damping ratio against speed of the --count least
+    /// damped oscillatory modes at the lowest speed, each followed to the nearest eigenvalue at
+    /// the next speed (give several speeds).
+    #[arg(long)]
+    pub png: Option<PathBuf>,
 }
 
 fn options(step_um: f64) -> Result<ModalOptions> {
@@ -88,6 +93,7 @@ pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
     );
     let mut csv =
         String::from("speed_kmh,frequency_hz,damping_ratio,re_per_s,im_rad_s,coordinates\n");
+    let mut analyses = Vec::new();
     for &kmh in &a.speed_kmh {
         let r = railsim_sim::modal::modes_at(&scene, kmh / 3.6, &opts).context("railsim modes")?;
         print_modes(&r, a)?;
@@ -102,12 +108,79 @@ pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
                 shape_text(m)
             )?;
         }
+        analyses.push(r);
     }
     if let Some(p) = &a.csv {
         std::fs::write(p, csv).with_context(|| format!("writing {}", p.display()))?;
         outln!("modes written to {}", p.display());
     }
+    if let Some(png) = &a.png {
+        let lines = root_locus(&mut analyses, a.count);
+        let title = format!(
+            "{} ({}): root locus",
+            scene.name,
+            scene.contact.model.name()
+        );
+        line_chart(
+            png,
+            &Labels {
+                title: &title,
+                x: "speed [km/h]",
+                y: "damping ratio [%]",
+            },
+            &lines,
+        )?;
+        outln!("root locus drawn to {}", png.display());
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The damping ratio \[%\] against speed of the oscillatory modes, each followed from speed to
+/// speed to the nearest unclaimed eigenvalue (distance in the complex plane relative to the
+/// mode's magnitude): the `count` whose smallest damping over the speeds is lowest, named by
+/// their frequency and leading coordinate at the highest speed.
+fn root_locus(analyses: &mut [ModalAnalysis], count: usize) -> Vec<Series> {
+    analyses.sort_by(|p, q| p.speed.total_cmp(&q.speed));
+    let Some(first) = analyses.first() else {
+        return Vec::new();
+    };
+    let mut tracks: Vec<(Vec<(f64, f64)>, Mode)> = first
+        .modes
+        .iter()
+        .filter(|m| m.is_oscillatory())
+        .map(|m| {
+            (
+                vec![(first.speed * 3.6, 100.0 * m.damping_ratio)],
+                m.clone(),
+            )
+        })
+        .collect();
+    for r in &analyses[1..] {
+        let mut free: Vec<&Mode> = r.modes.iter().filter(|m| m.is_oscillatory()).collect();
+        for (points, last) in &mut tracks {
+            let d = |m: &Mode| (m.re - last.re).hypot(m.im - last.im) / last.re.hypot(last.im);
+            let Some(k) = (0..free.len()).min_by(|&i, &j| d(free[i]).total_cmp(&d(free[j]))) else {
+                continue;
+            };
+            let m = free.swap_remove(k);
+            points.push((r.speed * 3.6, 100.0 * m.damping_ratio));
+            *last = m.clone();
+        }
+    }
+    let lowest = |p: &[(f64, f64)]| p.iter().map(|q| q.1).fold(f64::INFINITY, f64::min);
+    tracks.sort_by(|p, q| lowest(&p.0).total_cmp(&lowest(&q.0)));
+    tracks
+        .into_iter()
+        .take(count)
+        .map(|(points, m)| Series {
+            name: format!(
+                "{:.2} Hz {}",
+                m.frequency,
+                m.shape.first().map_or("", |s| s.0.as_str())
+            ),
+            points,
+        })
+        .collect()
 }
 
 fn print_modes(r: &ModalAnalysis, a: &ModesArgs) -> Result<()> {

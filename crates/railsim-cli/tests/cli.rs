@@ -260,6 +260,7 @@ fn modes_and_the_linear_critical_speed_of_the_wickens_wheelset() {
     let scene = common::root().join("scenes/wheelset_springs_critical.toml");
     let scene = scene.to_str().unwrap();
     let csv = dir.join("modes.csv");
+    let png = dir.join("locus.png");
     let (code, out, err) = railsim(&[
         "modes",
         scene,
@@ -267,6 +268,10 @@ fn modes_and_the_linear_critical_speed_of_the_wickens_wheelset() {
         "1000,1100",
         "--csv",
         csv.to_str().unwrap(),
+        "--png",
+        png.to_str().unwrap(),
+        "--count",
+        "3",
     ]);
     assert_eq!(code, 0, "{err}");
     let (below, above) = out.split_once("1100.0 km/h").expect("two speeds");
@@ -282,6 +287,8 @@ fn modes_and_the_linear_critical_speed_of_the_wickens_wheelset() {
         text.starts_with("speed_kmh,frequency_hz,damping_ratio,re_per_s,im_rad_s,coordinates\n")
     );
     assert!(text.lines().count() > 8, "{text}");
+    assert!(out.contains("root locus drawn to"), "{out}");
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
     let scan = dir.join("scan.csv");
     let (code, out, err) = railsim(&[
         "critical-speed",
