@@ -355,3 +355,36 @@ fn modes_and_the_linear_critical_speed_of_the_wickens_wheelset() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `railsim curving --method quasi-static`: a case solved directly prints its table and the
+/// solution's iterations; a case without a steady state exits 2 pointing to the time
+/// integration. (The method against the time integration: `railsim-sim/tests/curving.rs`.)
+#[test]
+fn curving_quasi_static_solves_a_case_and_reports_one_without_a_steady_state() {
+    let scene = common::root().join("scenes/manchester_curving.toml");
+    let scene = scene.to_str().unwrap();
+    let base = [
+        "curving",
+        scene,
+        "--method",
+        "quasi-static",
+        "--model",
+        "polach",
+        "--radius-m",
+        "600",
+    ];
+    let (code, out, err) = railsim(&base);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("R 600 m, 80 km/h: quasi-static solution")
+            && out.contains("Newton iterations"),
+        "{out}"
+    );
+    assert!(out.contains("Y/Q outer"), "{out}");
+    let mut args = base.to_vec();
+    args[7] = "300";
+    args.extend(["--speed-kmh", "120"]);
+    let (code, _, err) = railsim(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("time integration"), "{err}");
+}

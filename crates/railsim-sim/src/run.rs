@@ -285,6 +285,28 @@ impl Simulation {
         &self.x0
     }
 
+    /// The sample (wheel forces, Y/Q, angles of attack, wear numbers, carbody readings) of
+    /// state `x` at time `t`, as a run would record it there; for states found otherwise than
+    /// by a run (a quasi-static solution).
+    pub fn sample_at(&mut self, t: f64, x: &[f64]) -> Result<Sample, SimError> {
+        let mut dynamics = Dynamics {
+            model: &self.model,
+            ws: self.ws.take().expect("workspace present"),
+        };
+        let mut dx = vec![0.0; x.len()];
+        dynamics.ws.record = true;
+        let r = dynamics.rhs(t, x, &mut dx);
+        dynamics.ws.record = false;
+        let failure = dynamics.ws.failure.take();
+        let mut state = LoopState::new(&self.model, 1.0);
+        if r.is_ok() {
+            state.sample(&self.model, &dynamics.ws, t, (t * 1e9).round() as u64, x);
+        }
+        self.ws = Some(dynamics.ws);
+        r.map_err(|e| stopped_rhs(t, e.0, failure))?;
+        Ok(state.sample)
+    }
+
     /// \[N\] static wheel loads per wheelset (file order), `[left, right]`.
     pub fn static_loads(&self) -> &[[f64; 2]] {
         &self.static_loads

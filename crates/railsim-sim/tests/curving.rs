@@ -6,7 +6,10 @@
 mod common;
 
 use railsim_sim::RunOptions;
-use railsim_sim::curving::{CurveCase, CurvingRun, SteadyCurving, steady_curving};
+use railsim_sim::curving::{
+    CurveCase, CurvingRun, CurvingSolution, QuasiStatic, SteadyCurving, quasi_static_curving,
+    steady_curving,
+};
 
 fn polach_scene() -> railsim_sim::Scene {
     common::manchester_polach("track = \"tracks/straight.toml\"\nspeed_kmh = 80\nduration_s = 1")
@@ -67,19 +70,26 @@ fn print(r: &SteadyCurving) {
 /// `polach`. Values when written, left curve: leading wheelsets 6.28 / 6.25 mm outward, angle
 /// of attack 7.7 / 6.9 mrad toward the outside, outer Y/Q 0.42 / 0.32; trailing wheelsets
 /// 0.7 / 0.9 mm inward; ΣY over the vehicle −43.94 kN against −M a = −43.95 kN.
-#[test]
-fn a_bogie_vehicle_curves_with_its_leading_wheelsets_in_flange_contact() {
-    let left = case(true);
-    print(&left);
-    let g = 9.81;
-    let mass: f64 = left
-        .summary
+/// \[kg\] the vehicle's mass from the run's static axle loads.
+fn vehicle_mass(r: &SteadyCurving) -> f64 {
+    let CurvingSolution::Run(summary) = &r.solution else {
+        panic!("not a run");
+    };
+    summary
         .assessment
         .axles
         .iter()
         .map(|a| a.axle_load)
         .sum::<f64>()
-        / g;
+        / 9.81
+}
+
+#[test]
+fn a_bogie_vehicle_curves_with_its_leading_wheelsets_in_flange_contact() {
+    let left = case(true);
+    print(&left);
+    let g = 9.81;
+    let mass = vehicle_mass(&left);
     // toward the outside: -y in a left curve
     let sum_y: f64 = left.wheelsets.iter().map(|w| w.sum_y).sum();
     let expect = -mass * left.uncompensated;
@@ -168,4 +178,105 @@ fn bad_curving_cases_are_reported() {
             == 0.0
     );
     assert!(scene.track.irregularities().is_none());
+}
+
+/// The quasi-static solution of the R = 300 m case against the time integration's means (the
+/// same equations, the same contact): every wheelset's displacement and angle of attack, every
+/// wheel's Y, Q, Y/Q and wear number, the carbody's reading; and ΣY = M·a again.
+#[test]
+fn the_quasi_static_solution_is_the_steady_state_of_the_time_integration() {
+    let run = case(true);
+    let c = run.case;
+    let qs = quasi_static_curving(
+        &polach_scene(),
+        &c,
+        &CurvingRun::default(),
+        &QuasiStatic::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    print(&qs);
+    let CurvingSolution::QuasiStatic {
+        iterations,
+        residual,
+        wall,
+    } = qs.solution
+    else {
+        panic!("not quasi-static")
+    };
+    println!("quasi-static: {iterations} iterations, residual {residual:.3}, {wall:.2} s");
+    assert!(residual <= 1.0 && iterations > 0);
+    assert_eq!(qs.samples, 1);
+    for (n, (a, b)) in run.wheelsets.iter().zip(&qs.wheelsets).enumerate() {
+        println!(
+            "ws{n}: dy {:.4} mm, daoa {:.4} mrad, dΣY {:.1} N",
+            (a.lateral - b.lateral) * 1e3,
+            (a.angle_of_attack - b.angle_of_attack) * 1e3,
+            a.sum_y - b.sum_y
+        );
+        assert!(
+            (a.lateral - b.lateral).abs() < 0.02e-3,
+            "ws{n}: {a:?}\n{b:?}"
+        );
+        assert!((a.angle_of_attack - b.angle_of_attack).abs() < 0.05e-3);
+        assert!((a.sum_y - b.sum_y).abs() < 200.0);
+        assert_eq!(b.lateral_swing, 0.0);
+        for k in 0..2 {
+            let (p, q) = (&a.wheels[k], &b.wheels[k]);
+            assert!((p.y - q.y).abs() < 200.0, "ws{n} wheel {k}: {p:?} {q:?}");
+            assert!((p.q - q.q).abs() < 200.0, "ws{n} wheel {k}: {p:?} {q:?}");
+            assert!((p.y_over_q - q.y_over_q).abs() < 0.005);
+            assert!((p.wear - q.wear).abs() < 0.02 * p.wear.max(10.0));
+        }
+    }
+    let (a, b) = (run.carbody_lateral.unwrap(), qs.carbody_lateral.unwrap());
+    assert!((a - b).abs() < 0.005, "{a} vs {b}");
+    let sum_y: f64 = qs.wheelsets.iter().map(|w| w.sum_y).sum();
+    let expect = -vehicle_mass(&run) * qs.uncompensated;
+    assert!(
+        (sum_y / expect - 1.0).abs() < 0.01,
+        "ΣY {sum_y} against {expect}"
+    );
+}
+
+/// A curve with cant excess (R = 300 m at 40 km/h, −0.24 m/s²) that Newton from the centred
+/// start does not reach: the continuation in curvature and cant finds the run's steady state;
+/// a case without one (R = 300 m at 120 km/h, 3.0 m/s², where the time integration keeps
+/// swinging by 0.64 mm) is an error that points to the time integration.
+#[test]
+fn the_quasi_static_solution_continues_in_curvature_and_reports_curves_without_a_steady_state() {
+    let c = CurveCase {
+        radius: 300.0,
+        cant: 0.1,
+        left: true,
+        speed: 40.0 / 3.6,
+    };
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let (scene, run) = (polach_scene(), CurvingRun::default());
+    let ti = steady_curving(&scene, &c, &run, &opts, &mut |_, _| {}).unwrap();
+    let qs = quasi_static_curving(&scene, &c, &run, &QuasiStatic::default()).unwrap();
+    print(&ti);
+    print(&qs);
+    for (a, b) in ti.wheelsets.iter().zip(&qs.wheelsets) {
+        assert!(a.lateral_swing < 0.1e-3);
+        assert!((a.lateral - b.lateral).abs() < 0.02e-3, "{a:?}\n{b:?}");
+        assert!((a.angle_of_attack - b.angle_of_attack).abs() < 0.05e-3);
+        for k in 0..2 {
+            assert!((a.wheels[k].y - b.wheels[k].y).abs() < 200.0);
+            assert!((a.wheels[k].q - b.wheels[k].q).abs() < 200.0);
+        }
+    }
+    let fast = CurveCase {
+        speed: 120.0 / 3.6,
+        ..c
+    };
+    let e = quasi_static_curving(&scene, &fast, &run, &QuasiStatic::default())
+        .expect_err("no steady state")
+        .to_string();
+    assert!(
+        e.contains("R = 300 m at 120.0 km/h") && e.contains("time integration"),
+        "{e}"
+    );
 }
