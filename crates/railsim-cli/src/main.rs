@@ -70,7 +70,8 @@ enum Command {
     Modes(modes::ModesArgs),
     /// Steady-state curving: run the vehicle into curves of given radius and cant at given
     /// speeds and tabulate the means per wheelset and wheel once it runs steadily (lateral
-    /// displacement, angle of attack, Y, Q, Y/Q, ΣY, wear number).
+    /// displacement, angle of attack, Y, Q, Y/Q, ΣY, wear number), or solve for the steady
+    /// state directly (--method quasi-static).
     Curving(curving::CurvingArgs),
 }
 
