@@ -45,9 +45,9 @@ pub struct ModesArgs {
     /// leading coordinates).
     #[arg(long)]
     pub csv: Option<PathBuf>,
-    /// Draw a root locus to this PNG: the damping ratio against speed of the --count least
-    /// damped oscillatory modes at the lowest speed, each followed to the nearest eigenvalue at
-    /// the next speed (give several speeds).
+    /// Draw a root locus to this PNG: the damping ratio against speed of the --count
+    /// oscillatory modes whose damping gets lowest over the speeds, each followed from one
+    /// speed to the next by the nearest eigenvalue (give several speeds).
     #[arg(long)]
     pub png: Option<PathBuf>,
 }

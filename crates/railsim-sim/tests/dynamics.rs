@@ -8,7 +8,7 @@ use railsim_sim::stability::bisect_growth;
 use railsim_sim::{RunOptions, Sample, Simulation};
 
 mod common;
-use common::{centred_contact, cone_effective_conicity, root, run, scene};
+use common::{centred_contact, cone_effective_conicity, root, run, scene, wickens_reference};
 
 /// Times of the up-crossings of the lateral displacement of wheelset 0 about `mean`.
 fn up_crossings(samples: &[Sample], mean: f64) -> Vec<f64> {
@@ -156,8 +156,7 @@ fn free_s1002_wheelset_matches_klingel_at_its_equivalent_conicity() {
 #[test]
 fn wheelset_on_springs_loses_stability_at_wickens_critical_speed() {
     // vehicle-reference.md §2.2 with f = 1e8 N; b and r0 of the formula measured on the contact.
-    let (m, i, lambda, f) = (1813.0, 1120.0, 0.15, 1e8);
-    let (ky, kpsi) = (2.0 * 3.884e6, 2.0 * 31.391e6 * 1.0f64.powi(2));
+    let f = 1e8;
     // The scene of every run; the study replaces its speed and length (1.4 s per run).
     let base = scene(&format!(
         r#"
@@ -176,35 +175,9 @@ fn wheelset_on_springs_loses_stability_at_wickens_critical_speed() {
         rate_hz = 2000
         "#
     ));
-    // The formula's inputs from the actual contact: rolling radius and half contact distance of
-    // the centred wheelset.
-    let probe = scene(
-        r#"
-        vehicle = "vehicles/wheelset_springs.toml"
-        track = "tracks/straight.toml"
-        speed_kmh = 100
-        duration_s = 0.01
-        "#,
-    );
-    let (r0, b) = centred_contact(&Simulation::new(&probe).unwrap(), 0.5 * m * 9.81, 28.0);
-    let wickens = |m: f64, ky: f64| {
-        let mb = m * b * b + i;
-        let num = 4.0 * f * f * b * r0 * (kpsi + b * b * ky);
-        let den = 4.0 * f * f * lambda * mb - b * r0 * (m * kpsi - i * ky).powi(2) / mb;
-        (num / den).sqrt()
-    };
-    let vc_plain = wickens(m, ky);
-    // The formula's two degrees of freedom (y, ψ) assume the contact point moves with the axle.
-    // A wheelset that keeps both wheels on the rails rolls by φ = λe y / b as it shifts, and the
-    // contact point moves by y_c = (1 + c) y, c = r0 λe / b, with λe / (1 + c) = λ for a cone. In
-    // y_c the equations are exactly the formula's with m → m/(1+c)² + Ix λ²/b² and
-    // k_y → k_y/(1+c)² (docs/validation.md §6). λe from the rigid geometry.
-    let lambda_e = cone_effective_conicity(lambda);
-    let c = r0 * lambda_e / b;
-    let vc = wickens(
-        m / (1.0 + c).powi(2) + i * (lambda / b).powi(2),
-        ky / (1.0 + c).powi(2),
-    );
+    let w = wickens_reference(f);
+    let (vc_plain, vc, lambda_e) = (w.plain, w.with_roll, w.lambda_e);
+    let (r0, b) = (w.r0, w.b);
     // `railsim critical-speed --method bisect`: constant-speed runs from a 0.02 mm offset,
     // bisected on the sign of the growth rate from ±3 % to a 0.5 % bracket.
     let mut rates = Vec::new();

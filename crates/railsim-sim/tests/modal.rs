@@ -7,7 +7,7 @@ use railsim_sim::stability::{growth_at, half_cycles};
 use railsim_sim::{RunOptions, Scene, Simulation};
 
 mod common;
-use common::{centred_contact, cone_effective_conicity, manchester_polach, scene};
+use common::{centred_contact, manchester_polach, scene, wickens_reference};
 
 /// The oscillatory mode whose largest component is `coord`, least damped first.
 fn mode_of<'a>(modes: &'a [Mode], coord: &str) -> &'a Mode {
@@ -83,27 +83,8 @@ fn the_wickens_wheelset_loses_its_damping_where_the_simulation_starts_to_grow() 
     // vehicle-reference.md §2.2: the formula with the wheelset's roll on the rails folded in
     // (tests/dynamics.rs) gives the reference speed; the time simulation's growth-rate bisection
     // found +2.07 % (docs/validation.md §6).
-    let (m, i, lambda, f) = (1813.0, 1120.0, 0.15, 1e8);
-    let (ky, kpsi) = (2.0 * 3.884e6, 2.0 * 31.391e6);
     let base = wickens_scene();
-    let probe = scene(
-        r#"
-        vehicle = "vehicles/wheelset_springs.toml"
-        track = "tracks/straight.toml"
-        speed_kmh = 100
-        duration_s = 0.01
-        "#,
-    );
-    let (r0, b) = centred_contact(&Simulation::new(&probe).unwrap(), 0.5 * m * 9.81, 28.0);
-    let c = r0 * cone_effective_conicity(lambda) / b;
-    let (m_e, ky_e) = (
-        m / (1.0 + c).powi(2) + i * (lambda / b).powi(2),
-        ky / (1.0 + c).powi(2),
-    );
-    let mb = m_e * b * b + i;
-    let vc_formula = (4.0 * f * f * b * r0 * (kpsi + b * b * ky_e)
-        / (4.0 * f * f * lambda * mb - b * r0 * (m_e * kpsi - i * ky_e).powi(2) / mb))
-        .sqrt();
+    let vc_formula = wickens_reference(1e8).with_roll;
     let opts = ModalOptions::default();
     let res = linear_critical_speed(&base, &opts, (250.0, 350.0), 4, 1e-3, &mut |_| {}).unwrap();
     let vc = res.critical_speed;

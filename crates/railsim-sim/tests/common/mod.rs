@@ -101,3 +101,57 @@ pub fn cone_effective_conicity(lambda: f64) -> f64 {
     .unwrap();
     (d[1].delta_r - d[0].delta_r) / (2.0 * (ys[1] - ys[0]))
 }
+
+/// The Wickens reference of `vehicles/wheelset_springs.toml` (vehicle-reference.md §2.2) with
+/// linear creep coefficient `f` \[N\], from the actual contact's r0 and b.
+pub struct Wickens {
+    /// \[m/s\] the formula as printed.
+    pub plain: f64,
+    /// \[m/s\] with the wheelset's roll on the rails folded in (below).
+    pub with_roll: f64,
+    /// \[m\] rolling radius and half contact distance of the centred wheelset.
+    pub r0: f64,
+    /// \[m\]
+    pub b: f64,
+    /// \[-\] the cone's effective conicity on UIC60 1:40.
+    pub lambda_e: f64,
+}
+
+/// [`Wickens`] for the scene's wheelset: m = 1813 kg, I = 1120 kg m², λ = 0.15, k_y = 2 ×
+/// 3.884 MN/m, k_ψ = 2 × 31.391 MN/m × (1 m)².
+pub fn wickens_reference(f: f64) -> Wickens {
+    let (m, i, lambda) = (1813.0, 1120.0, 0.15);
+    let (ky, kpsi) = (2.0 * 3.884e6, 2.0 * 31.391e6);
+    let probe = scene(
+        r#"
+        vehicle = "vehicles/wheelset_springs.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 100
+        duration_s = 0.01
+        "#,
+    );
+    let (r0, b) = centred_contact(&Simulation::new(&probe).unwrap(), 0.5 * m * 9.81, 28.0);
+    let wickens = |m: f64, ky: f64| {
+        let mb = m * b * b + i;
+        let num = 4.0 * f * f * b * r0 * (kpsi + b * b * ky);
+        let den = 4.0 * f * f * lambda * mb - b * r0 * (m * kpsi - i * ky).powi(2) / mb;
+        (num / den).sqrt()
+    };
+    // The formula's two degrees of freedom (y, ψ) assume the contact point moves with the axle.
+    // A wheelset that keeps both wheels on the rails rolls by φ = λe y / b as it shifts, and the
+    // contact point moves by y_c = (1 + c) y, c = r0 λe / b, with λe / (1 + c) = λ for a cone. In
+    // y_c the equations are exactly the formula's with m → m/(1+c)² + Ix λ²/b² and
+    // k_y → k_y/(1+c)² (docs/validation.md §6). λe from the rigid geometry.
+    let lambda_e = cone_effective_conicity(lambda);
+    let c = r0 * lambda_e / b;
+    Wickens {
+        plain: wickens(m, ky),
+        with_roll: wickens(
+            m / (1.0 + c).powi(2) + i * (lambda / b).powi(2),
+            ky / (1.0 + c).powi(2),
+        ),
+        r0,
+        b,
+        lambda_e,
+    }
+}
