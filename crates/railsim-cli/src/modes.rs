@@ -50,6 +50,19 @@ pub struct ModesArgs {
     /// speed to the next by the nearest eigenvalue (give several speeds).
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// Animate mode number K of the first speed's list (counted from 1) to an MCAP log (--out):
+    /// the equilibrium plus the mode's shape oscillating at its frequency.
+    #[arg(long, value_name = "K")]
+    pub animate: Option<usize>,
+    /// The animation's log.
+    #[arg(long, default_value = "out/mode.mcap")]
+    pub out: PathBuf,
+    /// The animation's largest displacement (mm; mrad for a rotation).
+    #[arg(long, default_value_t = 5.0)]
+    pub amplitude_mm: f64,
+    /// The animation's length in periods of the mode.
+    #[arg(long, default_value_t = 3.0)]
+    pub periods: f64,
 }
 
 fn options(step_um: f64) -> Result<ModalOptions> {
@@ -113,6 +126,39 @@ pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
     if let Some(p) = &a.csv {
         std::fs::write(p, csv).with_context(|| format!("writing {}", p.display()))?;
         outln!("modes written to {}", p.display());
+    }
+    if let Some(k) = a.animate {
+        let first = &analyses[0];
+        let listed: Vec<&Mode> = first
+            .modes
+            .iter()
+            .filter(|m| a.all || m.is_oscillatory())
+            .take(a.count)
+            .collect();
+        let Some(mode) = k.checked_sub(1).and_then(|i| listed.get(i)) else {
+            bail!(
+                "--animate: expected a mode number from 1 to {} (the list at {} km/h), found {k}",
+                listed.len(),
+                a.speed_kmh[0]
+            );
+        };
+        let stats = railsim_sim::modal::animate_mode(
+            &scene,
+            first,
+            mode,
+            a.amplitude_mm * 1e-3,
+            a.periods,
+            &a.out,
+        )
+        .context("railsim modes")?;
+        outln!(
+            "mode {k} ({:.3} Hz, {}) animated at {} km/h: {} ({} messages)",
+            mode.frequency,
+            shape_text(mode),
+            a.speed_kmh[0],
+            stats.path.display(),
+            stats.messages
+        );
     }
     if let Some(png) = &a.png {
         let lines = root_locus(&mut analyses, a.count);

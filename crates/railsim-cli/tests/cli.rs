@@ -289,6 +289,46 @@ fn modes_and_the_linear_critical_speed_of_the_wickens_wheelset() {
     assert!(text.lines().count() > 8, "{text}");
     assert!(out.contains("root locus drawn to"), "{out}");
     assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    // the hunting mode's animation, and a mode number beyond the list
+    let anim = dir.join("mode.mcap");
+    let (code, out, err) = railsim(&[
+        "modes",
+        scene,
+        "--speed-kmh",
+        "1100",
+        "--count",
+        "2",
+        "--animate",
+        "1",
+        "--out",
+        anim.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("mode 1 (") && out.contains("animated at 1100 km/h"),
+        "{out}"
+    );
+    let (code, out, _) = railsim(&["replay", anim.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("/bodies/ws") && out.contains("mode 30."),
+        "{out}"
+    );
+    let (code, _, err) = railsim(&[
+        "modes",
+        scene,
+        "--speed-kmh",
+        "1100",
+        "--count",
+        "2",
+        "--animate",
+        "3",
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--animate: expected a mode number from 1 to 2"),
+        "{err}"
+    );
     let scan = dir.join("scan.csv");
     let (code, out, err) = railsim(&[
         "critical-speed",

@@ -34,6 +34,7 @@ use crate::dynamics::Dynamics;
 use crate::error::SimError;
 use crate::run::Simulation;
 use crate::scene::{RunLength, Scene, SpeedProfile, extent};
+use railsim_log::LogStats;
 
 /// \[Hz\] modes slower than this are not counted as oscillatory (a real eigenvalue pair may
 /// split into a slow complex pair through round-off).
@@ -73,6 +74,9 @@ pub struct Mode {
     /// The position coordinates the mode moves most: (state name, magnitude relative to the
     /// largest), at most five, largest first, down to a tenth of the largest.
     pub shape: Vec<(String, f64)>,
+    /// The eigenvector over the whole state, `(re, im)` per component, scaled so that its
+    /// largest position component (angles with a lever of 1 m) is `1 + 0i`.
+    pub vector: Vec<[f64; 2]>,
 }
 
 impl Mode {
@@ -94,6 +98,8 @@ pub struct ModalAnalysis {
     /// The largest acceleration (or rate of an internal state) at the equilibrium, with its
     /// state's name: how far the linearisation point is from an equilibrium \[m/s², rad/s²\].
     pub residual: (String, f64),
+    /// The state linearised about.
+    pub equilibrium: Vec<f64>,
 }
 
 impl ModalAnalysis {
@@ -214,6 +220,7 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
         modes,
         states: n,
         residual,
+        equilibrium: x0,
     })
 }
 
@@ -274,12 +281,30 @@ fn mode(p: &Eigenpair, names: &[String]) -> Mode {
         .filter(|q| big > 0.0 && q.1 >= 0.1 * big)
         .map(|&(i, v)| (names[i].clone(), v / big))
         .collect();
+    // scaled to a largest position component of 1 + 0i
+    let vector = match parts.first() {
+        Some(&(i, m)) if m > 0.0 => {
+            let c = p.vector[i];
+            let m2 = m * m;
+            p.vector
+                .iter()
+                .map(|v| {
+                    [
+                        (v[0] * c[0] + v[1] * c[1]) / m2,
+                        (v[1] * c[0] - v[0] * c[1]) / m2,
+                    ]
+                })
+                .collect()
+        }
+        _ => p.vector.clone(),
+    };
     Mode {
         re: p.re,
         im: p.im.abs(),
         frequency: p.frequency(),
         damping_ratio: p.damping_ratio(),
         shape,
+        vector,
     }
 }
 
@@ -390,4 +415,74 @@ pub fn linear_critical_speed(
         mode,
         scan,
     })
+}
+
+/// Write to `path` an MCAP log of `mode` (of `analysis`, made of `scene` by [`modes_at`]) as
+/// an animation: the states `x* + A Re(v e^{iωt})` over `periods` periods at 50 frames per
+/// period, `x*` the equilibrium, `v` the mode's eigenvector scaled so that its largest position
+/// component is `amplitude` (m, or rad with a lever of 1 m), ω its damped frequency (the growth
+/// or decay left out, so that the shape repeats). The vehicle stays where it is on the track
+/// (every frame's right-hand side at t = 0); the scene's log topics. Only oscillatory modes.
+pub fn animate_mode(
+    scene: &Scene,
+    analysis: &ModalAnalysis,
+    mode: &Mode,
+    amplitude: f64,
+    periods: f64,
+    path: &std::path::Path,
+) -> Result<LogStats, SimError> {
+    let bad = |message: String| SimError::Study {
+        message: format!("mode animation of scene '{}': {message}", scene.name),
+    };
+    if !mode.is_oscillatory() {
+        return Err(bad(format!(
+            "the mode is not oscillatory ({:.4} Hz, below {MIN_FREQUENCY} Hz)",
+            mode.frequency
+        )));
+    }
+    if !(amplitude.is_finite() && amplitude > 0.0 && amplitude <= 0.05) {
+        return Err(bad(format!(
+            "the amplitude must lie in (0, 50] mm, found {} mm",
+            amplitude * 1e3
+        )));
+    }
+    if !(periods.is_finite() && periods > 0.0 && periods <= 100.0) {
+        return Err(bad(format!(
+            "the number of periods must lie in (0, 100], found {periods}"
+        )));
+    }
+    let mut study = modal_scene(scene, analysis.speed)?;
+    study.name = format!(
+        "{}: mode {:.3} Hz (damping ratio {:.4}) at {:.1} km/h, {} mm",
+        scene.name,
+        mode.frequency,
+        mode.damping_ratio,
+        analysis.speed * 3.6,
+        amplitude * 1e3
+    );
+    let mut sim = Simulation::new(&study)?;
+    let n = analysis.equilibrium.len();
+    if mode.vector.len() != n || sim.model().dim() != n {
+        return Err(bad(format!(
+            "the mode has {} components, the model {} states",
+            mode.vector.len(),
+            sim.model().dim()
+        )));
+    }
+    let w = mode.im;
+    let frames_per_period = 50.0;
+    let count = (periods * frames_per_period).ceil() as usize;
+    let dt = 1.0 / (mode.frequency * frames_per_period);
+    let mut frames = (0..=count).map(|k| {
+        let t = k as f64 * dt;
+        let (c, s) = ((w * t).cos(), (w * t).sin());
+        let x = analysis
+            .equilibrium
+            .iter()
+            .zip(&mode.vector)
+            .map(|(x0, v)| x0 + amplitude * (v[0] * c - v[1] * s))
+            .collect();
+        (t, x)
+    });
+    sim.record_states(&study, path, 0.0, &mut frames)
 }

@@ -307,6 +307,43 @@ impl Simulation {
         Ok(state.sample)
     }
 
+    /// Write to `path` a log of the states `frames` (log time, state), each recorded as a run
+    /// records a sample (the scene's topics), with the right-hand side evaluated at time `t_rhs`
+    /// for all of them (the vehicle stays where it is on the track); for states found otherwise
+    /// than by a run (a mode's animation, `crate::modal::animate_mode`). The log carries no
+    /// scene sources: it cannot be re-run.
+    pub fn record_states(
+        &mut self,
+        scene: &Scene,
+        path: &Path,
+        t_rhs: f64,
+        frames: &mut dyn Iterator<Item = (f64, Vec<f64>)>,
+    ) -> Result<LogStats, SimError> {
+        let mut rec = Recorder::create(path, scene, &self.model, &BTreeMap::new())?;
+        let mut dynamics = Dynamics {
+            model: &self.model,
+            ws: self.ws.take().expect("workspace present"),
+        };
+        let mut state = LoopState::new(&self.model, scene.log.rate_hz);
+        let mut t_end = 0.0;
+        let result: Result<(), SimError> = (|| {
+            for (t, x) in frames {
+                let mut dx = vec![0.0; x.len()];
+                dynamics.ws.record = true;
+                let r = dynamics.rhs(t_rhs, &x, &mut dx);
+                dynamics.ws.record = false;
+                r.map_err(|e| stopped_rhs(t, e.0, dynamics.ws.failure.take()))?;
+                state.sample(&self.model, &dynamics.ws, t, (t * 1e9).round() as u64, &x);
+                rec.write(&self.model, &dynamics.ws, &state.sample)?;
+                t_end = t;
+            }
+            Ok(())
+        })();
+        self.ws = Some(dynamics.ws);
+        let stats = rec.finish(state.digest, t_end)?;
+        result.map(|()| stats)
+    }
+
     /// \[N\] static wheel loads per wheelset (file order), `[left, right]`.
     pub fn static_loads(&self) -> &[[f64; 2]] {
         &self.static_loads

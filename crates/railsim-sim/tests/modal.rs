@@ -252,3 +252,41 @@ fn bad_modal_settings_are_reported() {
     let e = err(linear_critical_speed(&s, &opts, (200.0, 100.0), 2, 1e-3, &mut |_| {}).map(|_| ()));
     assert!(e.contains("0 < lo < hi"), "{e}");
 }
+
+/// A mode's animation (`animate_mode`): the logged lateral position of the Wickens wheelset
+/// swings about the equilibrium by the asked amplitude with the mode's period, 50 frames per
+/// period; a real mode or a bad amplitude is an error.
+#[test]
+fn a_modes_animation_logs_its_shape_at_its_frequency() {
+    let mut s = wickens_scene();
+    s.log.topics = vec![railsim_sim::Topic::Bodies];
+    let a = modes_at(&s, 305.0, &ModalOptions::default()).unwrap();
+    let m = mode_of(&a.modes, "ws.y").clone();
+    let dir = std::env::temp_dir().join(format!("railsim-modal-{}", std::process::id()));
+    let log = dir.join("mode.mcap");
+    let stats = railsim_sim::modal::animate_mode(&s, &a, &m, 2e-3, 3.0, &log)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let reader = railsim_log::LogReader::open(&stats.path).unwrap();
+    let msgs: Vec<(u64, railsim_log::BodyState)> = reader
+        .read_topic(&railsim_log::topics::body("ws"), None)
+        .unwrap();
+    assert_eq!(msgs.len(), 151, "3 periods of 50 frames and the last");
+    let (t, y): (Vec<f64>, Vec<f64>) = msgs.iter().map(|(_, b)| (b.t_s, b.position[1])).unzip();
+    let y_max = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    // ws.y leads the mode: its swing is the amplitude (the centred equilibrium at y = 0)
+    assert!((y_max / 2e-3 - 1.0).abs() < 1e-3, "{y_max}");
+    let c = half_cycles(&t, &y, 0.0, 1e-6);
+    let period = 2.0 * (c[c.len() - 1].t - c[0].t) / (c.len() - 1) as f64;
+    eprintln!(
+        "animation: {} half waves, period {period:.5} s against 1/f = {:.5} s",
+        c.len(),
+        1.0 / m.frequency
+    );
+    assert!((period * m.frequency - 1.0).abs() < 0.01);
+    let real = a.modes.iter().find(|m| !m.is_oscillatory()).unwrap();
+    let e = railsim_sim::modal::animate_mode(&s, &a, real, 2e-3, 3.0, &log).unwrap_err();
+    assert!(e.to_string().contains("not oscillatory"), "{e}");
+    let e = railsim_sim::modal::animate_mode(&s, &a, &m, 0.2, 3.0, &log).unwrap_err();
+    assert!(e.to_string().contains("amplitude must lie in"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
