@@ -84,6 +84,9 @@ pub struct TreeNode {
     pub rho_max: f64,
     /// index of the first child (the second follows it); 0 for a leaf
     pub child: u32,
+    /// the chord's bounding box: smallest and largest y, smallest and largest z (the curve's
+    /// own frame)
+    pub bbox: [f64; 4],
 }
 
 /// A bounding hierarchy of an [`ArcCurve`] over an arc-length range: binary, split at the
@@ -172,6 +175,7 @@ impl ArcTree {
             m4: m4 * 1.01,
             rho_max: rho_max + 0.5 * kmax * ds * ds,
             child: 0,
+            bbox: chord_box(a, b),
         };
         let leaf = (thick <= LEAF_THICK && s_range[1] - s_range[0] <= LEAF_LEN) || i1 - i0 <= 4;
         if !leaf {
@@ -362,11 +366,8 @@ fn overlap(a: &TreeNode, b: &TreeNode, w: &WheelChord, r: &Rules) -> Option<Over
     // boxes around the two capsules, further apart than the depth: no pair of points of the
     // two arcs is closer than that (|P - Q| = -gap for a penetrating pair)
     let m = t + depth;
-    if a.p0[0].min(a.p1[0]) > q0[0].max(q1[0]) + m
-        || a.p0[0].max(a.p1[0]) < q0[0].min(q1[0]) - m
-        || a.p0[1].min(a.p1[1]) > q0[1].max(q1[1]) + m
-        || a.p0[1].max(a.p1[1]) < q0[1].min(q1[1]) - m
-    {
+    let (ba, bw) = (&a.bbox, &w.bbox);
+    if ba[0] > bw[1] + m || ba[1] < bw[0] - m || ba[2] > bw[3] + m || ba[3] < bw[2] - m {
         return None;
     }
     // The wheel arc more than the radii above the rail chord's line (the same rule seen from
@@ -375,7 +376,7 @@ fn overlap(a: &TreeNode, b: &TreeNode, w: &WheelChord, r: &Rules) -> Option<Over
         (q0[0] - a.p0[0]) * a.normal[0] + (q0[1] - a.p0[1]) * a.normal[1],
         (q1[0] - a.p0[0]) * a.normal[0] + (q1[1] - a.p0[1]) * a.normal[1],
     );
-    if a.cos_min >= r.cos_side && w0.min(w1) > t {
+    if a.cos_min >= r.cos_side && w0 > t && w1 > t {
         return None;
     }
     // Offsets toward the wheel's material (the left normal of the field-ward chord) and
@@ -385,7 +386,8 @@ fn overlap(a: &TreeNode, b: &TreeNode, w: &WheelChord, r: &Rules) -> Option<Over
     let v0 = [a.p0[0] - q0[0], a.p0[1] - q0[1]];
     let v1 = [a.p1[0] - q0[0], a.p1[1] - q0[1]];
     let (o0, o1) = (d[0] * v0[1] - d[1] * v0[0], d[0] * v1[1] - d[1] * v1[0]);
-    let (o_max, o_min) = (o0.max(o1), o0.min(o1));
+    // (plain comparisons: the operands are finite, and `f64::max` costs its NaN handling)
+    let (o_min, o_max) = if o0 <= o1 { (o0, o1) } else { (o1, o0) };
     // o_max / len + t < 0 (the side rule seen from the wheel), and o_min / len - t > depth
     // (deeper than the depth of interest)
     if (r.wheel_angles && b.cos_min >= r.cos_side && o_max < -t * len) || o_min > (t + depth) * len
@@ -395,7 +397,7 @@ fn overlap(a: &TreeNode, b: &TreeNode, w: &WheelChord, r: &Rules) -> Option<Over
     if r.wheel_angles && b.cos_min >= COS_STRAIGHT {
         let (e0, e1) = (v0[0] * d[0] + v0[1] * d[1], v1[0] * d[0] + v1[1] * d[1]);
         let shift = r.tan_shift * (o_max + t * len).min((depth + t) * len) + t * len;
-        if e0.max(e1) < -shift || e0.min(e1) > len2 + shift {
+        if (e0 < -shift && e1 < -shift) || (e0 > len2 + shift && e1 > len2 + shift) {
             return None;
         }
     }
@@ -464,12 +466,22 @@ fn margin_kappa_scale(pair: &WheelRailPair, ctx: &PoseCtx) -> f64 {
         .max(ctx.kappa_scale)
 }
 
+/// The bounding box of the segment `p`–`q`: smallest and largest first, then second component.
+#[inline]
+fn chord_box(p: [f64; 2], q: [f64; 2]) -> [f64; 4] {
+    let (y0, y1) = if p[0] <= q[0] { (p[0], q[0]) } else { (q[0], p[0]) };
+    let (z0, z1) = if p[1] <= q[1] { (p[1], q[1]) } else { (q[1], p[1]) };
+    [y0, y1, z0, z1]
+}
+
 /// A wheel node's chord mapped to the side frame for one pose.
 #[derive(Clone, Copy, Debug, Default)]
 struct WheelChord {
     /// chord end points on the locus
     q0: [f64; 2],
     q1: [f64; 2],
+    /// their bounding box ([`chord_box`])
+    bbox: [f64; 4],
     /// \[m\] capsule radius
     thick: f64,
     /// \[m\] chord length (floored at 1e-15)
@@ -481,7 +493,13 @@ impl WheelChord {
         let len = ((q1[0] - q0[0]).powi(2) + (q1[1] - q0[1]).powi(2))
             .sqrt()
             .max(1e-15);
-        WheelChord { q0, q1, thick, len }
+        WheelChord {
+            q0,
+            q1,
+            bbox: chord_box(q0, q1),
+            thick,
+            len,
+        }
     }
 }
 
