@@ -469,8 +469,16 @@ fn margin_kappa_scale(pair: &WheelRailPair, ctx: &PoseCtx) -> f64 {
 /// The bounding box of the segment `p`–`q`: smallest and largest first, then second component.
 #[inline]
 fn chord_box(p: [f64; 2], q: [f64; 2]) -> [f64; 4] {
-    let (y0, y1) = if p[0] <= q[0] { (p[0], q[0]) } else { (q[0], p[0]) };
-    let (z0, z1) = if p[1] <= q[1] { (p[1], q[1]) } else { (q[1], p[1]) };
+    let (y0, y1) = if p[0] <= q[0] {
+        (p[0], q[0])
+    } else {
+        (q[0], p[0])
+    };
+    let (z0, z1) = if p[1] <= q[1] {
+        (p[1], q[1])
+    } else {
+        (q[1], p[1])
+    };
     [y0, y1, z0, z1]
 }
 

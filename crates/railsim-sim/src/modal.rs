@@ -6,12 +6,13 @@
 //! as in a run) are linearised about its centred equilibrium at speed V: the static equilibrium
 //! with every wheelset settled on its rails, spinning at pure rolling ([`Simulation::new`] with
 //! no disturbance), on the scene's track file with its alignment replaced by a tangent and its
-//! irregularities removed. The Jacobian is a central difference of the right-hand side
-//! ([`railsim_ode::linear::jacobian`]) with steps of 1 µm (1 µrad) on positions and internal
-//! states and 10 µm/s (10 µrad/s) on rates, far above the contact search's tolerances (the
-//! travelling's rail-anchored pairs make the forces smooth at that scale,
-//! `docs/models/contact.md` §3) and small enough that the creep forces stay linear. The motion
-//! about the equilibrium is `Σ c_k v_k e^{λ_k t}`; a mode is stable when `Re λ < 0`.
+//! irregularities removed, and each wheelset's spin then set to its rolling equilibrium. The
+//! Jacobian is a central difference of the right-hand side ([`railsim_ode::linear::jacobian`])
+//! with steps of 1 µm (1 µrad) on positions and internal states and 10 µm/s (10 µrad/s) on
+//! rates, far above the contact search's tolerances and small enough that the creep forces stay
+//! linear. The Hertz rungs' forces are smooth at that scale; STRIPES' strips make its forces
+//! piecewise smooth, and its linearisation depends on the step (docs/validation.md §11). The
+//! motion about the equilibrium is `Σ c_k v_k e^{λ_k t}`; a mode is stable when `Re λ < 0`.
 //!
 //! A mode is described by its damped frequency `|Im λ|/2π`, its damping ratio `−Re λ/|λ|` and
 //! the coordinates it moves most (eigenvector components of the positions, angles counted with
@@ -29,12 +30,13 @@
 use railsim_ode::OdeSystem;
 use railsim_ode::linear::{Eigenpair, eigenpairs, jacobian};
 
+use railsim_log::LogStats;
+
 use crate::curving::smooth_track;
 use crate::dynamics::Dynamics;
 use crate::error::SimError;
 use crate::run::Simulation;
 use crate::scene::{RunLength, Scene, SpeedProfile, extent};
-use railsim_log::LogStats;
 
 /// \[Hz\] modes slower than this are not counted as oscillatory (a real eigenvalue pair may
 /// split into a slow complex pair through round-off).
@@ -57,6 +59,7 @@ impl Default for ModalOptions {
         }
     }
 }
+
 /// \[m\] track ahead of and behind the vehicle.
 const MARGIN: f64 = 10.0;
 
@@ -162,7 +165,7 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
     let study = modal_scene(scene, speed)?;
     let sim = Simulation::new(&study)?;
     let model = sim.model();
-    let x0 = sim.initial_state().to_vec();
+    let mut x0 = sim.initial_state().to_vec();
     let n = x0.len();
     let mut sys = Dynamics::new(model);
     let fail = |what: String| SimError::Study {
@@ -172,7 +175,6 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
             speed * 3.6
         ),
     };
-    let mut x0 = x0;
     let spins: Vec<usize> = model
         .members
         .iter()
