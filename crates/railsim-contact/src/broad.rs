@@ -85,7 +85,7 @@ pub struct TreeNode {
     /// index of the first child (the second follows it); 0 for a leaf
     pub child: u32,
     /// the chord's bounding box: smallest and largest y, smallest and largest z (the curve's
-    /// own frame)
+    /// own frame; the box test uses the rail's, the wheel's chords are boxed once mapped)
     pub bbox: [f64; 4],
 }
 

@@ -27,6 +27,7 @@ use railsim_ode::linear::jacobian;
 
 use crate::dynamics::Dynamics;
 use crate::error::SimError;
+use crate::modal::{ModalOptions, difference_steps};
 use crate::run::{RunOptions, RunSummary, Sample, Simulation};
 use crate::scene::{RunLength, Scene, SpeedProfile, extent, required_curve_radius};
 
@@ -414,14 +415,15 @@ impl Default for QuasiStatic {
 /// along the curve at the case's constant speed, has no acceleration relative to its
 /// track-following frames, `f(t*, x) = 0` with the right-hand side of a run evaluated where the
 /// whole vehicle is in the curve (the rearmost wheelset half the settling distance into it).
-/// Newton's method on the whole state (the Jacobian by central differences as in
-/// [`crate::modal`], faer's LU) with a backtracking line search on the largest scaled residual,
-/// from the run's initial state (centred, on the tangent). Each row's residual is scaled to a
-/// force (member accelerations times mass or inertia, rail accelerations times the rail mass)
-/// or taken as a rate, against the limits of `qs`. Same quantities as [`steady_curving`] from
-/// one sample at the solution (`lateral_swing` 0). Errors when Newton does not converge
-/// (a curve without a steady state, or forces not smooth enough at the steps' scale): the time
-/// integration then tells what happens.
+/// Newton's method on the whole state (the Jacobian by central differences with the modal
+/// analysis' steps, [`crate::modal::difference_steps`], faer's LU) with a backtracking line
+/// search on the squared norm of the scaled residual, from the run's initial state (centred, on
+/// the tangent); when that fails, curvature and cant are raised in quarters, each solved from the
+/// last solution (continuation). Each row's residual is scaled to a force (member accelerations
+/// times mass or inertia, rail accelerations times the rail mass) or taken as a rate, against
+/// the limits of `qs`. Same quantities as [`steady_curving`] from one sample at the solution
+/// (`lateral_swing` 0). Errors when Newton does not converge (a curve without a steady state, or
+/// forces not smooth enough at the steps' scale): the time integration then tells what happens.
 pub fn quasi_static_curving(
     scene: &Scene,
     case: &CurveCase,
@@ -429,64 +431,9 @@ pub fn quasi_static_curving(
     qs: &QuasiStatic,
 ) -> Result<SteadyCurving, SimError> {
     let started = std::time::Instant::now();
-    // the case must be valid as it is
-    curving_scene(scene, case, run)?;
-    let direct = solve_quasi_static(scene, case, run, qs, None);
-    let Err(first) = direct else {
-        return direct.map(|(r, _)| with_wall(r, started));
-    };
-    // Continuation: curvature and cant raised in quarters, each solved from the last solution.
-    let mut x: Option<Vec<f64>> = None;
-    let mut total = 0;
-    for k in 1..=4 {
-        let f = k as f64 / 4.0;
-        let part = CurveCase {
-            radius: case.radius / f,
-            cant: case.cant * f,
-            ..*case
-        };
-        match solve_quasi_static(scene, &part, run, qs, x.as_deref()) {
-            Ok((r, xk)) => {
-                if let CurvingSolution::QuasiStatic { iterations, .. } = r.solution {
-                    total += iterations;
-                }
-                if k == 4 {
-                    let mut r = with_wall(r, started);
-                    if let CurvingSolution::QuasiStatic { iterations, .. } = &mut r.solution {
-                        *iterations = total;
-                    }
-                    return Ok(r);
-                }
-                x = Some(xk);
-            }
-            Err(_) => return Err(first),
-        }
-    }
-    Err(first)
-}
-
-fn with_wall(mut r: SteadyCurving, started: std::time::Instant) -> SteadyCurving {
-    if let CurvingSolution::QuasiStatic { wall, .. } = &mut r.solution {
-        *wall = started.elapsed().as_secs_f64();
-    }
-    r
-}
-
-/// Newton on one case from `start` (default: the run's initial state); the result and the
-/// solution's state.
-fn solve_quasi_static(
-    scene: &Scene,
-    case: &CurveCase,
-    run: &CurvingRun,
-    qs: &QuasiStatic,
-    start: Option<&[f64]>,
-) -> Result<(SteadyCurving, Vec<f64>), SimError> {
     let (study, curve_start) = curving_scene(scene, case, run)?;
     let at = curve_start + 0.5 * run.settle;
-    let t = at / case.speed;
     let mut sim = Simulation::new(&study)?;
-    let model = sim.model();
-    let n = model.dim();
     let fail = |message: String| SimError::Study {
         message: format!(
             "quasi-static curving of scene '{}', R = {} m at {:.1} km/h: {message}",
@@ -495,6 +442,65 @@ fn solve_quasi_static(
             case.speed * 3.6
         ),
     };
+    let (x, iterations, residual) = match newton_steady(&sim, at / case.speed, None, qs) {
+        Ok(solved) => solved,
+        Err(first) => {
+            // Continuation: curvature and cant raised in quarters, each solved from the last
+            // solution; the last quarter is the case itself. A failure reports the direct one.
+            let mut x: Option<Vec<f64>> = None;
+            let mut total = 0;
+            for k in 1..=3 {
+                let f = k as f64 / 4.0;
+                let part = CurveCase {
+                    radius: case.radius / f,
+                    cant: case.cant * f,
+                    ..*case
+                };
+                let solved = curving_scene(scene, &part, run)
+                    .and_then(|(s, c)| Ok((Simulation::new(&s)?, c)))
+                    .ok()
+                    .and_then(|(psim, c)| {
+                        let t = (c + 0.5 * run.settle) / case.speed;
+                        newton_steady(&psim, t, x.as_deref(), qs).ok()
+                    });
+                let Some((xk, it, _)) = solved else {
+                    return Err(fail(first));
+                };
+                total += it;
+                x = Some(xk);
+            }
+            let (xk, it, r) =
+                newton_steady(&sim, at / case.speed, x.as_deref(), qs).map_err(|_| fail(first))?;
+            (xk, total + it, r)
+        }
+    };
+    let sample = sim.sample_at(at / case.speed, &x)?;
+    let mut means = Means::default();
+    means.add(&sample);
+    Ok(means.result(
+        &study,
+        case,
+        at,
+        !sample.carbody.is_empty(),
+        CurvingSolution::QuasiStatic {
+            iterations,
+            residual,
+            wall: started.elapsed().as_secs_f64(),
+        },
+    ))
+}
+
+/// Newton's method for `f(t, x) = 0` of `sim`'s model from `start` (default: its initial
+/// state), [`quasi_static_curving`]: the solution, the iterations taken and the largest scaled
+/// residual left; the reason when it fails.
+fn newton_steady(
+    sim: &Simulation,
+    t: f64,
+    start: Option<&[f64]>,
+    qs: &QuasiStatic,
+) -> Result<(Vec<f64>, usize, f64), String> {
+    let model = sim.model();
+    let n = model.dim();
     // Row scales: a residual times its scale, over its limit, must be at most 1.
     let q0 = {
         let loads = sim.static_loads();
@@ -535,45 +541,33 @@ fn solve_quasi_static(
     // the line search's merit: the scaled residual's squared norm, along which the Newton step
     // descends whatever the scales (d/dλ |W f|² = −2 |W f|² at λ = 0), unlike the largest
     let merit = |f: &[f64]| -> f64 { f.iter().zip(&scale).map(|(v, s)| (v * s).powi(2)).sum() };
-    let steps: Vec<f64> = {
-        let x0 = sim.initial_state();
-        let rates = model.n_pos..model.n_pos + model.n_rate;
-        (0..n)
-            .map(|i| {
-                if rates.contains(&i) {
-                    1e-5f64.max(1e-7 * x0[i].abs())
-                } else {
-                    1e-6
-                }
-            })
-            .collect()
-    };
+    let steps = difference_steps(model, sim.initial_state(), &ModalOptions::default());
     let mut x = start.unwrap_or(sim.initial_state()).to_vec();
     let mut sys = Dynamics::new(model);
     let mut f = vec![0.0; n];
-    sys.rhs(t, &x, &mut f).map_err(|e| fail(e.0))?;
+    sys.rhs(t, &x, &mut f).map_err(|e| e.0)?;
     let (mut r, mut worst) = measure(&f);
     let mut iterations = 0;
     let mut xt = vec![0.0; n];
     while r > 1.0 {
         if iterations == qs.max_iterations {
-            return Err(fail(format!(
+            return Err(format!(
                 "Newton did not converge in {iterations} iterations (largest scaled residual {r:.3} at '{}'); the time integration (the default method) shows whether the vehicle settles",
                 model.state_names[worst]
-            )));
+            ));
         }
         iterations += 1;
-        let jac = jacobian(&mut sys, t, &x, &steps).map_err(|e| fail(e.0))?;
+        let jac = jacobian(&mut sys, t, &x, &steps).map_err(|e| e.0)?;
         let mut b = faer::Mat::<f64>::zeros(n, 1);
         for i in 0..n {
             b[(i, 0)] = -f[i];
         }
         let dx = jac.partial_piv_lu().solve(&b);
         if (0..n).any(|i| !dx[(i, 0)].is_finite()) {
-            return Err(fail(
+            return Err(
                 "the Jacobian is singular (a degree of freedom without stiffness or damping)"
                     .to_owned(),
-            ));
+            );
         }
         // Backtracking (Armijo) on the merit: step lengths 1, 1/2, ... 1/1024.
         let m0 = merit(&f);
@@ -587,29 +581,14 @@ fn solve_quasi_static(
             }
             lambda *= 0.5;
             if lambda < 1.0 / 1024.0 {
-                return Err(fail(format!(
+                return Err(format!(
                     "Newton's line search failed after {iterations} iterations (largest scaled residual {r:.3} at '{}'): no steady state near, or contact forces not smooth enough for Newton (STRIPES' strips, FASTSIM's cells; `polach` is smooth); the time integration (the default method) shows whether the vehicle settles",
                     model.state_names[worst]
-                )));
+                ));
             }
         }
         (r, worst) = measure(&f);
         std::mem::swap(&mut x, &mut xt);
     }
-    let residual = r;
-    let sample = sim.sample_at(t, &x)?;
-    let mut means = Means::default();
-    means.add(&sample);
-    let result = means.result(
-        &study,
-        case,
-        at,
-        !sample.carbody.is_empty(),
-        CurvingSolution::QuasiStatic {
-            iterations,
-            residual,
-            wall: 0.0,
-        },
-    );
-    Ok((result, x))
+    Ok((x, iterations, r))
 }

@@ -35,6 +35,7 @@ use railsim_log::LogStats;
 use crate::curving::smooth_track;
 use crate::dynamics::Dynamics;
 use crate::error::SimError;
+use crate::model::SimModel;
 use crate::run::Simulation;
 use crate::scene::{RunLength, Scene, SpeedProfile, extent};
 
@@ -193,23 +194,7 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
         .map_or((String::new(), 0.0), |(i, v)| {
             (model.state_names[i].clone(), v)
         });
-    let rate_states = model.n_pos..model.n_pos + model.n_rate;
-    let rail_rates = |i: usize| {
-        model
-            .wheels
-            .iter()
-            .filter_map(|w| w.rail)
-            .any(|r| i == r + 2 || i == r + 3)
-    };
-    let steps: Vec<f64> = (0..n)
-        .map(|i| {
-            if rate_states.contains(&i) || rail_rates(i) {
-                opts.rate_step.max(1e-7 * x0[i].abs())
-            } else {
-                opts.position_step
-            }
-        })
-        .collect();
+    let steps = difference_steps(model, &x0, opts);
     let jac = jacobian(&mut sys, 0.0, &x0, &steps).map_err(|e| fail(e.0))?;
     let pairs = eigenpairs(&jac).map_err(fail)?;
     let modes = pairs
@@ -226,6 +211,29 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
     })
 }
 
+/// The difference step of every state of `model` at `x` for a Jacobian: `opts.rate_step` (at
+/// least 1e-7 of the value, e.g. of a spin) on rates, member and rail, and `opts.position_step`
+/// on positions, internal states and rail displacements.
+pub(crate) fn difference_steps(model: &SimModel, x: &[f64], opts: &ModalOptions) -> Vec<f64> {
+    let mut steps = vec![opts.position_step; x.len()];
+    let rates = (model.n_pos..model.n_pos + model.n_rate).chain(
+        model
+            .wheels
+            .iter()
+            .filter_map(|w| w.rail)
+            .flat_map(|r| [r + 2, r + 3]),
+    );
+    for i in rates {
+        steps[i] = rate_step(opts.rate_step, x[i]);
+    }
+    steps
+}
+
+/// The difference step of a rate of value `v`: `step`, or 1e-7 of a large value.
+fn rate_step(step: f64, v: f64) -> f64 {
+    step.max(1e-7 * v.abs())
+}
+
 /// Set the wheelsets' spin rates (states `spins`) to their rolling equilibrium, where the
 /// creep forces' torque about each axle vanishes: [`Simulation::new`] spins each wheelset at
 /// `V / r` with `r` its mean rolling radius, but a wide conformal patch with spin also carries
@@ -238,18 +246,19 @@ fn settle_spins(
     sys: &mut Dynamics,
     x: &mut [f64],
     spins: &[usize],
-    rate_step: f64,
+    step: f64,
 ) -> Result<Vec<f64>, railsim_ode::RhsError> {
     let n = x.len();
     let (mut f, mut fp, mut fm) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut newton = vec![0.0; spins.len()];
     sys.rhs(0.0, x, &mut f)?;
     for _ in 0..20 {
         if spins.iter().all(|&i| f[i].abs() < 1e-6) {
             break;
         }
-        let mut step = vec![0.0; spins.len()];
+        newton.fill(0.0);
         for (k, &i) in spins.iter().enumerate() {
-            let (xi, h) = (x[i], rate_step.max(1e-7 * x[i].abs()));
+            let (xi, h) = (x[i], rate_step(step, x[i]));
             x[i] = xi + h;
             sys.rhs(0.0, x, &mut fp)?;
             x[i] = xi - h;
@@ -257,11 +266,11 @@ fn settle_spins(
             x[i] = xi;
             let d = (fp[i] - fm[i]) / (2.0 * h);
             if d.is_finite() && d != 0.0 {
-                step[k] = -f[i] / d;
+                newton[k] = -f[i] / d;
             }
         }
         for (k, &i) in spins.iter().enumerate() {
-            x[i] += step[k];
+            x[i] += newton[k];
         }
         sys.rhs(0.0, x, &mut f)?;
     }

@@ -12,7 +12,7 @@ use railsim_contact::{
 use railsim_elastic::Material;
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
 use railsim_track::{RailProfile, RailSupport, TrackModel};
-use railsim_vehicle::model::{Endpoint, ForceLaw, Member, WheelProfile};
+use railsim_vehicle::model::{Endpoint, ForceLaw, Member, WheelProfile, Wheelset};
 use railsim_vehicle::{DofKind, VehicleModel};
 
 use crate::assess::ComfortPoint;
@@ -217,41 +217,14 @@ impl SimModel {
                     w.nominal_radius,
                     w.back_to_back,
                 );
-                if let Some((_, contact)) = built.iter().find(|(q, _)| *q == key) {
-                    wheels.push(WheelModel {
-                        member: MemberIx(nb + i),
-                        wheelset_number: number[i],
-                        side,
-                        contact: contact.clone(),
-                        rail: None,
-                    });
-                    continue;
-                }
-                let wheel = wheel_profile(&w.profiles[k], w.running_circle_from_back)?;
-                let rail = rail_profile(&scene.track.rail_profiles()[k])?;
-                let inclination = scene.track.rail_inclination();
-                let pair = WheelRailPair::new(&PairSpec {
-                    wheel,
-                    rail,
-                    r0: w.nominal_radius,
-                    flange_back_distance: w.back_to_back,
-                    flange_back_y: -w.running_circle_from_back,
-                    gauge: scene.track.gauge(),
-                    gauge_depth: 0.014,
-                    inclination,
-                    material,
-                    mu: scene.friction,
-                    curve_ds: 5e-5,
-                    smoothing: 0.0,
-                })
-                .map_err(|e| SimError::Model {
-                    message: format!("wheelset '{}', {} wheel: {e}", w.name, side.name()),
-                })?;
-                let contact =
-                    WheelRailContact::new(pair, options).map_err(|e| SimError::Model {
-                        message: format!("wheelset '{}': {e}", w.name),
-                    })?;
-                built.push((key, contact.clone()));
+                let contact = match built.iter().find(|(q, _)| *q == key) {
+                    Some((_, contact)) => contact.clone(),
+                    None => {
+                        let contact = build_contact(scene, w, k, side, material, options)?;
+                        built.push((key, contact.clone()));
+                        contact
+                    }
+                };
                 wheels.push(WheelModel {
                     member: MemberIx(nb + i),
                     wheelset_number: number[i],
@@ -450,6 +423,41 @@ impl SimModel {
             yaw: self.coord(m, 5, x),
         }
     }
+}
+
+/// The contact pair of wheel `k` (0 left, 1 right) of wheelset `w`: its wheel profile on the
+/// track's rail profile, evaluated with the scene's contact options.
+fn build_contact(
+    scene: &Scene,
+    w: &Wheelset,
+    k: usize,
+    side: Side,
+    material: Material,
+    options: ContactOptions,
+) -> Result<WheelRailContact, SimError> {
+    let wheel = wheel_profile(&w.profiles[k], w.running_circle_from_back)?;
+    let rail = rail_profile(&scene.track.rail_profiles()[k])?;
+    let inclination = scene.track.rail_inclination();
+    let pair = WheelRailPair::new(&PairSpec {
+        wheel,
+        rail,
+        r0: w.nominal_radius,
+        flange_back_distance: w.back_to_back,
+        flange_back_y: -w.running_circle_from_back,
+        gauge: scene.track.gauge(),
+        gauge_depth: 0.014,
+        inclination,
+        material,
+        mu: scene.friction,
+        curve_ds: 5e-5,
+        smoothing: 0.0,
+    })
+    .map_err(|e| SimError::Model {
+        message: format!("wheelset '{}', {} wheel: {e}", w.name, side.name()),
+    })?;
+    WheelRailContact::new(pair, options).map_err(|e| SimError::Model {
+        message: format!("wheelset '{}': {e}", w.name),
+    })
 }
 
 fn wheel_profile(p: &WheelProfile, running_circle_from_back: f64) -> Result<Profile, SimError> {

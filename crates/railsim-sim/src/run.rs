@@ -293,18 +293,12 @@ impl Simulation {
             model: &self.model,
             ws: self.ws.take().expect("workspace present"),
         };
-        let mut dx = vec![0.0; x.len()];
-        dynamics.ws.record = true;
-        let r = dynamics.rhs(t, x, &mut dx);
-        dynamics.ws.record = false;
-        let failure = dynamics.ws.failure.take();
         let mut state = LoopState::new(&self.model, 1.0);
-        if r.is_ok() {
-            state.sample(&self.model, &dynamics.ws, t, (t * 1e9).round() as u64, x);
-        }
+        let mut dx = vec![0.0; x.len()];
+        let t_ns = (t * 1e9).round() as u64;
+        let r = record_sample(&mut dynamics, &mut state, t, t, t_ns, x, &mut dx);
         self.ws = Some(dynamics.ws);
-        r.map_err(|e| stopped_rhs(t, e.0, failure))?;
-        Ok(state.sample)
+        r.map(|()| state.sample)
     }
 
     /// Write to `path` a log of the states `frames` (log time, state), each recorded as a run
@@ -326,14 +320,11 @@ impl Simulation {
         };
         let mut state = LoopState::new(&self.model, scene.log.rate_hz);
         let mut t_end = 0.0;
+        let mut dx = vec![0.0; self.model.dim()];
         let result: Result<(), SimError> = (|| {
             for (t, x) in frames {
-                let mut dx = vec![0.0; x.len()];
-                dynamics.ws.record = true;
-                let r = dynamics.rhs(t_rhs, &x, &mut dx);
-                dynamics.ws.record = false;
-                r.map_err(|e| stopped_rhs(t, e.0, dynamics.ws.failure.take()))?;
-                state.sample(&self.model, &dynamics.ws, t, (t * 1e9).round() as u64, &x);
+                let t_ns = (t * 1e9).round() as u64;
+                record_sample(&mut dynamics, &mut state, t_rhs, t, t_ns, &x, &mut dx)?;
                 rec.write(&self.model, &dynamics.ws, &state.sample)?;
                 t_end = t;
             }
@@ -418,11 +409,7 @@ impl Simulation {
                     } else {
                         self.integ.dense(ts.min(t_int), &mut xs)?;
                     }
-                    dynamics.ws.record = true;
-                    let r = dynamics.rhs(ts, &xs, &mut dxs);
-                    dynamics.ws.record = false;
-                    r.map_err(|e| stopped_rhs(ts, e.0, dynamics.ws.failure.take()))?;
-                    state.sample(&self.model, &dynamics.ws, ts, t_ns, &xs);
+                    record_sample(&mut dynamics, &mut state, ts, ts, t_ns, &xs, &mut dxs)?;
                     let sample = &state.sample;
                     check_limits(&self.model, sample)?;
                     on_sample(sample);
@@ -490,6 +477,26 @@ impl Simulation {
             log,
         })
     }
+}
+
+/// A recording right-hand side of `x` at time `t_rhs` (the patch records and accelerometers
+/// filled), folded into `state`'s sample at log time `t` (`t_ns`); a failing right-hand side
+/// stops with the time `t`.
+fn record_sample(
+    dynamics: &mut Dynamics,
+    state: &mut LoopState,
+    t_rhs: f64,
+    t: f64,
+    t_ns: u64,
+    x: &[f64],
+    dx: &mut [f64],
+) -> Result<(), SimError> {
+    dynamics.ws.record = true;
+    let r = dynamics.rhs(t_rhs, x, dx);
+    dynamics.ws.record = false;
+    r.map_err(|e| stopped_rhs(t, e.0, dynamics.ws.failure.take()))?;
+    state.sample(dynamics.model, &dynamics.ws, t, t_ns, x);
+    Ok(())
 }
 
 /// The scene's integrator with the defaults of contact-coupled runs: a small first step and a

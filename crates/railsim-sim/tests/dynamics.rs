@@ -8,7 +8,9 @@ use railsim_sim::stability::bisect_growth;
 use railsim_sim::{RunOptions, Sample, Simulation};
 
 mod common;
-use common::{centred_contact, cone_effective_conicity, root, run, scene, wickens_reference};
+use common::{
+    centred_contact, cone_effective_conicity, root, run, scene, wickens_reference, wickens_scene,
+};
 
 /// Times of the up-crossings of the lateral displacement of wheelset 0 about `mean`.
 fn up_crossings(samples: &[Sample], mean: f64) -> Vec<f64> {
@@ -155,26 +157,11 @@ fn free_s1002_wheelset_matches_klingel_at_its_equivalent_conicity() {
 
 #[test]
 fn wheelset_on_springs_loses_stability_at_wickens_critical_speed() {
-    // vehicle-reference.md §2.2 with f = 1e8 N; b and r0 of the formula measured on the contact.
+    // vehicle-reference.md §2.2 with f = 1e8 N (the scene's creep coefficient); b and r0 of the
+    // formula measured on the contact.
     let f = 1e8;
     // The scene of every run; the study replaces its speed and length (1.4 s per run).
-    let base = scene(&format!(
-        r#"
-        vehicle = "vehicles/wheelset_springs.toml"
-        track = "tracks/straight.toml"
-        speed_kmh = 1000
-        duration_s = 1.4
-        [contact]
-        model = "linear"
-        creep_coefficient_n = {f}
-        [integrator]
-        method = "dopri5"
-        rtol = 1e-7
-        atol = 1e-10
-        [log]
-        rate_hz = 2000
-        "#
-    ));
+    let base = wickens_scene();
     let w = wickens_reference(f);
     let (vc_plain, vc, lambda_e) = (w.plain, w.with_roll, w.lambda_e);
     let (r0, b) = (w.r0, w.b);

@@ -4,10 +4,10 @@
 
 use railsim_sim::modal::{ModalOptions, Mode, linear_critical_speed, modes_at};
 use railsim_sim::stability::{growth_at, half_cycles};
-use railsim_sim::{RunOptions, Scene, Simulation};
+use railsim_sim::{RunOptions, Simulation};
 
 mod common;
-use common::{centred_contact, manchester_polach, scene, wickens_reference};
+use common::{centred_contact, manchester_polach, scene, wickens_reference, wickens_scene};
 
 /// The oscillatory mode whose largest component is `coord`, least damped first.
 fn mode_of<'a>(modes: &'a [Mode], coord: &str) -> &'a Mode {
@@ -55,27 +55,6 @@ fn the_free_conical_wheelsets_kinematic_mode_has_klingels_frequency() {
         // a kinematic oscillation is nearly undamped at low speed
         assert!(m.damping_ratio.abs() < 0.05, "{}", m.damping_ratio);
     }
-}
-
-/// The Wickens scene of `tests/dynamics.rs` (linear creep f = 1e8 N, no spin).
-fn wickens_scene() -> Scene {
-    scene(
-        r#"
-        vehicle = "vehicles/wheelset_springs.toml"
-        track = "tracks/straight.toml"
-        speed_kmh = 1000
-        duration_s = 1.4
-        [contact]
-        model = "linear"
-        creep_coefficient_n = 1e8
-        [integrator]
-        method = "dopri5"
-        rtol = 1e-7
-        atol = 1e-10
-        [log]
-        rate_hz = 2000
-        "#,
-    )
 }
 
 #[test]

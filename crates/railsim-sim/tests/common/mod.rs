@@ -155,3 +155,25 @@ pub fn wickens_reference(f: f64) -> Wickens {
         lambda_e,
     }
 }
+
+/// The Wickens wheelset's study scene (`vehicles/wheelset_springs.toml`, linear creep f = 1e8 N
+/// without spin, DOPRI5 at rtol 1e-7, 2000 Hz samples); studies replace its speed and length.
+pub fn wickens_scene() -> Scene {
+    scene(
+        r#"
+        vehicle = "vehicles/wheelset_springs.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 1000
+        duration_s = 1.4
+        [contact]
+        model = "linear"
+        creep_coefficient_n = 1e8
+        [integrator]
+        method = "dopri5"
+        rtol = 1e-7
+        atol = 1e-10
+        [log]
+        rate_hz = 2000
+        "#,
+    )
+}
