@@ -416,7 +416,7 @@ impl Default for QuasiStatic {
 /// track-following frames, `f(t*, x) = 0` with the right-hand side of a run evaluated where the
 /// whole vehicle is in the curve (the rearmost wheelset half the settling distance into it).
 /// Newton's method on the whole state (the Jacobian by central differences with the modal
-/// analysis' steps, [`crate::modal::difference_steps`], faer's LU) with a backtracking line
+/// analysis' steps, `modal::difference_steps`, faer's LU) with a backtracking line
 /// search on the squared norm of the scaled residual, from the run's initial state (centred, on
 /// the tangent); when that fails, curvature and cant are raised in quarters, each solved from the
 /// last solution (continuation). Each row's residual is scaled to a force (member accelerations
