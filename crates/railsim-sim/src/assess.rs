@@ -1,5 +1,7 @@
-//! Track loading and running stability after EN 14363 (UIC 518): the track-shift force per
-//! axle and its sliding r.m.s. instability criterion, from a run's samples.
+//! Running safety, track loading and running stability after EN 14363 (UIC 518), from a run's
+//! samples: the track-shift force per axle and its sliding r.m.s. instability criterion, the
+//! derailment quotient, the vertical wheel force and the quasi-static wheel forces in curves per
+//! wheel, and the simplified stability criterion on the bogie frames' lateral accelerations.
 //!
 //! The processing (EN 14363 / UIC 518, as tabulated at gensys.se/course/UIC518_tests.html,
 //! `docs/validation.md` §9):
@@ -13,14 +15,36 @@
 //! - **running stability**: ΣY band-pass filtered around the instability frequency f0
 //!   (f0 ± 2 Hz) and its **sliding r.m.s. over 100 m**, one value every 10 m, against half of
 //!   the ΣY limit. f0 is given by the caller (a study knows its hunting frequency) or taken as
-//!   the dominant frequency of the axles' ΣY between 1 and 15 Hz.
+//!   the dominant frequency of the axles' ΣY between 1 and 15 Hz;
+//! - **derailment quotient** per wheel: Y (on the rail toward its field side, the direction that
+//!   makes a flange climb) and Q low-pass filtered at 20 Hz, Y/Q of the filtered forces, its
+//!   2 m sliding mean `(Y/Q)2m` every 0.5 m, and the 99.85 % percentile (the climbing tail;
+//!   the 0.15 % tail, Y toward the track centre, cannot lift a flange) against 0.8, or 1.2
+//!   where the wheelset runs in a circular curve of radius below 250 m (the windows are split
+//!   into these two zones; transitions belong to the first, whose limit is the lower);
+//! - **vertical wheel force** Q: low-pass 20 Hz, the 99.85 % percentile against
+//!   `Q_lim = 90 kN + Q0`, capped by the speed: 200 kN up to 160 km/h, 190 kN to 200 km/h,
+//!   180 kN to 250 km/h, 170 kN to 300 km/h, 160 kN above (the run's top speed);
+//! - **quasi-static wheel forces** Y_qst and Q_qst: per circular curve of the track, the median
+//!   (50 % percentile) of the 20 Hz low-passed Y and Q of each wheel over the samples at which
+//!   its wheelset runs in the curve, against 60 kN and 145 kN (assessed on the outer wheel);
+//! - **simplified stability method**: the lateral acceleration of each bogie frame above each
+//!   of its wheelsets (what an accelerometer fixed there measures), band-pass filtered f0 ± 2 Hz,
+//!   its largest magnitude against `12 − m_b/5` m/s² and its sliding r.m.s. over 100 m (every
+//!   10 m) against half of that, `m_b` the bogie's mass in t (frame and wheelsets).
 //!
-//! The window lengths and steps, the limits and α are the values commonly quoted from
-//! EN 14363:2016 and UIC 518 (`../shared` vehicle reference §6, marked there as recalled):
-//! check them against the standard before a formal assessment. The signal processing is
+//! The processing table (filters, windows, percentiles) is the one published at
+//! gensys.se/course/UIC518_tests.html; the limit of (Y/Q)2m, 0.8, is stated in public summaries
+//! of UIC 518 (railwaynews.net). The other limits, the 1.2 for small radii, the speed caps of
+//! Q_lim, the bogie-frame limit and α are the values commonly quoted from EN 14363:2016 and
+//! UIC 518 (`../shared` vehicle reference §6, marked there as recalled): every limit can be set
+//! in the scene (`[assessment]`, [`Limits`]); check them against the edition of the standard
+//! that applies before a formal assessment. The signal processing is
 //! [`crate::signal`]. The samples are the run's instantaneous values at the log rate; no
 //! anti-aliasing filter precedes them, so a log rate well above 40 Hz is needed for the 20 Hz
 //! low-pass to mean what it says.
+
+use railsim_contact::Side;
 
 use crate::signal::{
     Filter, WindowValue, dominant_frequency, sliding_mean, sliding_rms, weighted_window_rms,
@@ -45,6 +69,22 @@ pub const INSTABILITY_SEARCH_BAND: (f64, f64) = (1.0, 15.0);
 const PRUDHOMME_CONSTANT: f64 = 10e3;
 /// Lower and upper percentile of the standard's statistic.
 const PERCENTILES: (f64, f64) = (0.0015, 0.9985);
+/// The percentile of the quasi-static quantities (the median).
+const QUASI_STATIC_PERCENTILE: f64 = 0.5;
+/// \[N\] the constant term of the vertical wheel force's limit `90 kN + Q0`.
+const Q_LIMIT_CONSTANT: f64 = 90e3;
+/// The speed caps of the vertical wheel force's limit: (\[m/s\] up to this speed, \[N\] cap).
+const Q_LIMIT_CAPS: [(f64, f64); 5] = [
+    (160.0 / 3.6, 200e3),
+    (200.0 / 3.6, 190e3),
+    (250.0 / 3.6, 180e3),
+    (300.0 / 3.6, 170e3),
+    (f64::INFINITY, 160e3),
+];
+/// \[m/s²\] the constant of the bogie-frame acceleration limit `12 − m_b/5` (m_b in t) ...
+const BOGIE_LIMIT_CONSTANT: f64 = 12.0;
+/// \[m/s² per kg\] ... and its slope, 1/5 per tonne.
+const BOGIE_LIMIT_SLOPE: f64 = 0.2e-3;
 
 /// \[Hz\] the band over which Sperling's weighted spectrum is integrated.
 pub const SPERLING_BAND: (f64, f64) = (0.5, 30.0);
@@ -66,6 +106,63 @@ pub struct Series {
     pub sum_y: Vec<Vec<f64>>,
     /// Accelerations felt at points of the carbody, for the ride index.
     pub comfort: Vec<ComfortSeries>,
+    /// The wheels' forces on the rails, for the running-safety and track-loading quantities.
+    pub wheels: Vec<WheelSeries>,
+    /// \[m\] per wheelset (numbered from the front): its track position at each sample.
+    pub wheelset_position: Vec<Vec<f64>>,
+    /// The circular curves of the track, where the quasi-static quantities are taken.
+    pub curves: Vec<CurveSection>,
+    /// The bogie frames' lateral accelerations, for the simplified stability method.
+    pub bogies: Vec<BogieSeries>,
+}
+
+/// One wheel's forces on its rail at each sample.
+#[derive(Debug, Clone)]
+pub struct WheelSeries {
+    /// Its wheelset's number from the front.
+    pub wheelset: u32,
+    /// Its side.
+    pub side: Side,
+    /// \[N\] static wheel load Q0.
+    pub static_load: f64,
+    /// \[N\] lateral force on the rail, positive toward the rail's field side (outward).
+    pub y: Vec<f64>,
+    /// \[N\] vertical force on the rail, positive downward.
+    pub q: Vec<f64>,
+}
+
+/// A circular curve of the track.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurveSection {
+    /// \[m\] track positions of its start and end.
+    pub s: [f64; 2],
+    /// \[m\] radius, positive for a curve to the left.
+    pub radius: f64,
+    /// \[m\] cant, the left rail's height above the right rail's.
+    pub cant: f64,
+}
+
+impl CurveSection {
+    /// The side of the outer rail.
+    pub fn outer(&self) -> Side {
+        if self.radius > 0.0 {
+            Side::Right
+        } else {
+            Side::Left
+        }
+    }
+}
+
+/// A bogie frame's lateral accelerations.
+#[derive(Debug, Clone, Default)]
+pub struct BogieSeries {
+    /// The frame's name.
+    pub name: String,
+    /// \[kg\] the bogie's mass m_b: the frame and its wheelsets.
+    pub mass: f64,
+    /// Per measuring point (above each of its wheelsets): its name and \[m/s²\] the lateral
+    /// specific force in the frame's axes at each sample.
+    pub points: Vec<(String, Vec<f64>)>,
 }
 
 /// What an accelerometer fixed to the carbody at one point measures: the specific force
@@ -120,6 +217,8 @@ pub struct AssessOptions {
     /// The carbody's measuring points; empty: its centre and above each bogie, at the height of
     /// its centre of gravity.
     pub comfort_points: Vec<ComfortPoint>,
+    /// The limits of the running-safety and track-loading quantities.
+    pub limits: Limits,
 }
 
 impl Default for AssessOptions {
@@ -128,7 +227,53 @@ impl Default for AssessOptions {
             alpha: 1.0,
             instability_frequency: None,
             comfort_points: Vec::new(),
+            limits: Limits::default(),
         }
+    }
+}
+
+/// Limits of the running-safety and track-loading quantities (defaults: module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// \[-\] (Y/Q)2m on tangent track, transitions and curves of radius at least
+    /// `small_radius`.
+    pub y_over_q: f64,
+    /// \[-\] (Y/Q)2m in circular curves of radius below `small_radius`.
+    pub y_over_q_small_radius: f64,
+    /// \[m\] the radius below which `y_over_q_small_radius` applies.
+    pub small_radius: f64,
+    /// \[N\] the vertical wheel force; `None`: 90 kN + Q0 with the speed caps.
+    pub q: Option<f64>,
+    /// \[N\] the quasi-static guiding force Y_qst.
+    pub y_qst: f64,
+    /// \[N\] the quasi-static vertical wheel force Q_qst.
+    pub q_qst: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            y_over_q: 0.8,
+            y_over_q_small_radius: 1.2,
+            small_radius: 250.0,
+            q: None,
+            y_qst: 60e3,
+            q_qst: 145e3,
+        }
+    }
+}
+
+impl Limits {
+    /// \[N\] the limit of the vertical wheel force of a wheel with static load `q0` \[N\]
+    /// at top speed `v` \[m/s\].
+    pub fn q_limit(&self, q0: f64, v: f64) -> f64 {
+        self.q.unwrap_or_else(|| {
+            let cap = Q_LIMIT_CAPS
+                .iter()
+                .find(|(top, _)| v <= *top)
+                .map_or(Q_LIMIT_CAPS[4].1, |c| c.1);
+            (Q_LIMIT_CONSTANT + q0).min(cap)
+        })
     }
 }
 
@@ -169,11 +314,103 @@ impl AxleAssessment {
     }
 }
 
+/// The derailment quotient of one wheel over the windows of one zone of the track.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct YqZone {
+    /// Whether the zone is the circular curves of small radius (else the rest of the track).
+    pub small_radius: bool,
+    /// \[-\] its limit.
+    pub limit: f64,
+    /// Number of 2 m windows in the zone.
+    pub windows: usize,
+    /// The largest (Y/Q)2m.
+    pub largest: Extreme,
+    /// \[-\] the standard's statistic: the 99.85 % percentile of (Y/Q)2m.
+    pub percentile: f64,
+}
+
+/// One wheel's quasi-static forces in one circular curve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct QuasiStatic {
+    /// Index of the curve in [`Series::curves`].
+    pub curve: usize,
+    /// \[m\] its radius (positive to the left).
+    pub radius: f64,
+    /// Whether the wheel is the outer one.
+    pub outer: bool,
+    /// Samples in the curve.
+    pub samples: usize,
+    /// \[N\] Y_qst: the median of the low-passed Y.
+    pub y_qst: f64,
+    /// \[N\] Q_qst: the median of the low-passed Q.
+    pub q_qst: f64,
+}
+
+/// One wheel's running-safety and track-loading quantities.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelAssessment {
+    /// Its wheelset's number from the front.
+    pub wheelset: u32,
+    /// Its side.
+    pub side: Side,
+    /// \[N\] static wheel load Q0.
+    pub static_load: f64,
+    /// (Y/Q)2m per zone that has windows (the rest of the track first).
+    pub y_over_q: Vec<YqZone>,
+    /// \[N\] the 99.85 % percentile of the low-passed Q; `None` without samples.
+    pub q_percentile: Option<f64>,
+    /// \[N\] the largest low-passed Q.
+    pub q_max: Option<f64>,
+    /// \[N\] the limit of Q.
+    pub q_limit: f64,
+    /// Per circular curve it ran in.
+    pub quasi_static: Vec<QuasiStatic>,
+}
+
+/// One bogie frame's simplified stability criterion at one measuring point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BogiePointAssessment {
+    /// The point's name.
+    pub name: String,
+    /// \[m/s²\] the band-passed acceleration of largest magnitude.
+    pub peak: Option<Extreme>,
+    /// \[m/s²\] the largest sliding r.m.s. (100 m) of the band-passed acceleration.
+    pub rms: Option<Extreme>,
+}
+
+/// One bogie frame's simplified stability criterion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BogieAssessment {
+    /// The frame's name.
+    pub name: String,
+    /// \[kg\] the bogie's mass m_b.
+    pub mass: f64,
+    /// \[m/s²\] the limit of the peak, `12 − m_b/5` (m_b in t); that of the r.m.s. is half.
+    pub peak_limit: f64,
+    /// Per measuring point.
+    pub points: Vec<BogiePointAssessment>,
+}
+
+impl BogieAssessment {
+    /// \[m/s²\] the limit of the sliding r.m.s.: half of the peak's.
+    pub fn rms_limit(&self) -> f64 {
+        0.5 * self.peak_limit
+    }
+}
+
 /// The assessment of a run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Assessment {
     /// Per wheelset, from the front.
     pub axles: Vec<AxleAssessment>,
+    /// Per wheel (wheelsets from the front, left before right).
+    pub wheels: Vec<WheelAssessment>,
+    /// Per bogie frame.
+    pub bogies: Vec<BogieAssessment>,
+    /// The limits used.
+    pub limits: Limits,
+    /// \[m/s\] the run's top speed (for the speed caps of Q's limit).
+    pub top_speed: f64,
     /// \[Hz\] the instability frequency used, with whether it was found in the signal (`true`)
     /// or given; `None`: none could be found (no r.m.s. criterion).
     pub instability_frequency: Option<(f64, bool)>,
@@ -245,6 +482,50 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
             }
         })
         .collect();
+    let top_speed = top_speed(series);
+    let wheels = series
+        .wheels
+        .iter()
+        .map(|w| assess_wheel(series, w, lowpass.as_ref(), &opts.limits, top_speed))
+        .collect();
+    let bogies = series
+        .bogies
+        .iter()
+        .map(|b| BogieAssessment {
+            name: b.name.clone(),
+            mass: b.mass,
+            peak_limit: BOGIE_LIMIT_CONSTANT - BOGIE_LIMIT_SLOPE * b.mass,
+            points: b
+                .points
+                .iter()
+                .map(|(name, a)| {
+                    let band_passed = bandpass.as_ref().map(|f| {
+                        let mut y = a.clone();
+                        f.apply(&mut y);
+                        y
+                    });
+                    let peak = band_passed.as_ref().and_then(|y| {
+                        let (i, v) = y
+                            .iter()
+                            .enumerate()
+                            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
+                        Some(Extreme {
+                            value: *v,
+                            at: d[i],
+                        })
+                    });
+                    let rms = band_passed.as_ref().and_then(|y| {
+                        largest(&sliding_rms(d, y, STABILITY_WINDOW, STABILITY_STEP), |v| v)
+                    });
+                    BogiePointAssessment {
+                        name: name.clone(),
+                        peak,
+                        rms,
+                    }
+                })
+                .collect(),
+        })
+        .collect();
     let carbody_band = Filter::bandpass4(CARBODY_BAND.0, CARBODY_BAND.1, fs).ok();
     let max_and_rms = |x: &[f64]| {
         let f = carbody_band.as_ref()?;
@@ -271,11 +552,137 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         .collect();
     Assessment {
         axles,
+        wheels,
+        bogies,
+        limits: opts.limits,
+        top_speed,
         instability_frequency: f0,
         band: bandpass.is_some().then_some(band).flatten(),
         lowpass: lowpass.is_some(),
         alpha: opts.alpha,
         comfort,
+    }
+}
+
+/// \[m/s\] the largest speed between two samples of `series`.
+fn top_speed(series: &Series) -> f64 {
+    series
+        .distance
+        .windows(2)
+        .map(|w| (w[1] - w[0]) * series.rate_hz)
+        .fold(0.0, f64::max)
+}
+
+/// The running-safety and track-loading quantities of wheel `w` (module docs).
+fn assess_wheel(
+    series: &Series,
+    w: &WheelSeries,
+    lowpass: Option<&Filter>,
+    limits: &Limits,
+    top_speed: f64,
+) -> WheelAssessment {
+    let low = |x: &[f64]| {
+        let mut y = x.to_vec();
+        if let Some(f) = lowpass {
+            f.apply(&mut y);
+        }
+        y
+    };
+    let (y, q) = (low(&w.y), low(&w.q));
+    let d = &series.distance;
+    let position = series
+        .wheelset_position
+        .get(w.wheelset as usize)
+        .map_or(&[][..], Vec::as_slice);
+    // the circular curve the wheelset runs in at each sample
+    let curve_of: Vec<Option<usize>> = (0..q.len())
+        .map(|i| {
+            let s = *position.get(i)?;
+            series
+                .curves
+                .iter()
+                .position(|c| c.s[0] <= s && s <= c.s[1])
+        })
+        .collect();
+    let small = |i: usize| {
+        curve_of
+            .get(i)
+            .copied()
+            .flatten()
+            .is_some_and(|c| series.curves[c].radius.abs() < limits.small_radius)
+    };
+    // Y/Q of the filtered forces (an unloaded wheel, Q <= 0, has none: 0)
+    let yq: Vec<f64> = y
+        .iter()
+        .zip(&q)
+        .map(|(&y, &q)| if q > 0.0 { y / q } else { 0.0 })
+        .collect();
+    let means = sliding_mean(d, &yq, SUM_Y_WINDOW, SUM_Y_STEP);
+    let mut y_over_q = Vec::new();
+    for zone in [false, true] {
+        // a window belongs to the zone of the sample at its end
+        let mut values: Vec<WindowValue> = Vec::new();
+        let mut i = 0;
+        for m in &means {
+            while i + 1 < d.len() && d[i + 1] <= m.end {
+                i += 1;
+            }
+            if small(i) == zone {
+                values.push(*m);
+            }
+        }
+        let Some(largest) = largest(&values, |v| v) else {
+            continue;
+        };
+        let mut v: Vec<f64> = values.iter().map(|w| w.value).collect();
+        v.sort_by(f64::total_cmp);
+        y_over_q.push(YqZone {
+            small_radius: zone,
+            limit: if zone {
+                limits.y_over_q_small_radius
+            } else {
+                limits.y_over_q
+            },
+            windows: values.len(),
+            largest,
+            percentile: percentile(&v, PERCENTILES.1),
+        });
+    }
+    let q_percentile = (!q.is_empty()).then(|| {
+        let mut v = q.clone();
+        v.sort_by(f64::total_cmp);
+        percentile(&v, PERCENTILES.1)
+    });
+    let q_max = q.iter().copied().reduce(f64::max);
+    let mut quasi_static = Vec::new();
+    for (k, c) in series.curves.iter().enumerate() {
+        let inside: Vec<usize> = (0..q.len()).filter(|&i| curve_of[i] == Some(k)).collect();
+        if inside.is_empty() {
+            continue;
+        }
+        let median = |x: &[f64]| {
+            let mut v: Vec<f64> = inside.iter().map(|&i| x[i]).collect();
+            v.sort_by(f64::total_cmp);
+            percentile(&v, QUASI_STATIC_PERCENTILE)
+        };
+        quasi_static.push(QuasiStatic {
+            curve: k,
+            radius: c.radius,
+            outer: c.outer() == w.side,
+            samples: inside.len(),
+            y_qst: median(&y),
+            q_qst: median(&q),
+        });
+    }
+    WheelAssessment {
+        wheelset: w.wheelset,
+        side: w.side,
+        static_load: w.static_load,
+        y_over_q,
+        q_percentile,
+        q_max,
+        q_limit: limits.q_limit(w.static_load, top_speed),
+        quasi_static,
     }
 }
 
@@ -452,6 +859,7 @@ mod tests {
                 (0..n).map(|i| sig(i, 0.5)).collect(),
             ],
             comfort: Vec::new(),
+            ..Default::default()
         }
     }
 
@@ -627,5 +1035,192 @@ mod tests {
         assert_eq!(percentile(&v, 1.0), 10.0);
         assert!((percentile(&v, 0.25) - 2.5).abs() < 1e-12);
         assert!((percentile(&v, 0.9985) - 9.985).abs() < 1e-12);
+    }
+
+    /// Two wheels of one wheelset at 50 m/s and 200 Hz over 8 s: the left with Y/Q
+    /// `yq_tangent` on tangent track and `yq_curve` from 20 m after `curve_from` m on, where a circular
+    /// curve of `radius` starts (to the end of the run); Q 60 kN, the right wheel's forces
+    /// mirrored. Both forces carry a vibration at 50 Hz, 100 kN on Y and 20 kN on Q, which the
+    /// 20 Hz low-pass cuts to about 1 % (4th-order Butterworth, 50 Hz = fs/4).
+    fn wheel_series(yq_tangent: f64, yq_curve: f64, curve_from: f64, radius: f64) -> Series {
+        let (fs, v, seconds) = (200.0, 50.0, 8.0);
+        let n = (seconds * fs) as usize;
+        let distance: Vec<f64> = (0..n).map(|i| v * i as f64 / fs).collect();
+        let q0 = 60e3;
+        // (faded in over the first second: a sudden start would ring the filters)
+        let vib = |i: usize| {
+            let t = i as f64 / fs;
+            let fade = 0.5 - 0.5 * (std::f64::consts::PI * t.min(1.0)).cos();
+            fade * (2.0 * std::f64::consts::PI * 50.0 * t).sin()
+        };
+        // the quotient turns from one value to the other over the curve's first 20 m (a
+        // raised cosine: a step would make the filter overshoot)
+        let yq = |d: f64| {
+            let u = ((d - curve_from) / 20.0).clamp(0.0, 1.0);
+            yq_tangent + (yq_curve - yq_tangent) * (0.5 - 0.5 * (std::f64::consts::PI * u).cos())
+        };
+        let y: Vec<f64> = distance
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| yq(d) * q0 + 100e3 * vib(i))
+            .collect();
+        let q: Vec<f64> = (0..n).map(|i| q0 + 20e3 * vib(i)).collect();
+        let wheel = |side, y: Vec<f64>| WheelSeries {
+            wheelset: 0,
+            side,
+            static_load: 55e3,
+            y,
+            q: q.clone(),
+        };
+        Series {
+            rate_hz: fs,
+            sum_y: vec![vec![0.0; n]],
+            wheels: vec![
+                wheel(Side::Left, y.clone()),
+                wheel(Side::Right, y.iter().map(|v| -v).collect()),
+            ],
+            // the wheelset 3 m ahead of the reference point
+            wheelset_position: vec![distance.iter().map(|d| d + 3.0).collect()],
+            curves: vec![CurveSection {
+                s: [curve_from + 3.0, 1e9],
+                radius,
+                cant: 0.0,
+            }],
+            distance,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn the_derailment_quotient_is_split_by_the_radius_of_the_curve() {
+        // R = 200 m: the windows that end from 200 m on are the small-radius zone
+        let s = wheel_series(0.3, 0.9, 200.0, 200.0);
+        let a = assess(&s, &[110e3], &AssessOptions::default());
+        let left = &a.wheels[0];
+        assert_eq!(left.y_over_q.len(), 2);
+        let (tangent, small) = (&left.y_over_q[0], &left.y_over_q[1]);
+        assert!(!tangent.small_radius && small.small_radius);
+        assert_eq!((tangent.limit, small.limit), (0.8, 1.2));
+        // windows end every 0.5 m from 2 m on: 2..199.5 m on tangent track, 200..399.5 m in
+        // the curve (the wheelset's own position decides: 3 m ahead of the reference point)
+        assert_eq!((tangent.windows, small.windows), (396, 400));
+        // the vibration is filtered out: the statistic is the quotient (unfiltered, the
+        // samples' Y/Q would swing by ±1.7 about it)
+        for (z, yq) in [(tangent, 0.3), (small, 0.9)] {
+            assert!((z.percentile - yq).abs() < 0.005, "{z:?} against {yq}");
+            assert!(z.percentile <= z.largest.value + 1e-12);
+        }
+        // the right wheel's Y is toward the track centre: its quotient is negative, and the
+        // climbing tail is the one reported (in the curve: the windows that straddle its start)
+        let right = &a.wheels[1];
+        assert!((right.y_over_q[0].percentile + 0.3).abs() < 0.005);
+        assert!(right.y_over_q[1].percentile > -0.9 + 0.05);
+        // R = 300 m is not a small radius: one zone
+        let s = wheel_series(0.3, 0.9, 200.0, 300.0);
+        let a = assess(&s, &[110e3], &AssessOptions::default());
+        assert_eq!(a.wheels[0].y_over_q.len(), 1);
+        assert_eq!(a.wheels[0].y_over_q[0].windows, 796);
+        assert!((a.wheels[0].y_over_q[0].percentile - 0.9).abs() < 0.005);
+    }
+
+    #[test]
+    fn quasi_static_forces_are_the_medians_in_the_curve() {
+        // a curve to the left from 250 m: the right wheel is the outer one
+        let s = wheel_series(0.1, 0.5, 250.0, 500.0);
+        let a = assess(&s, &[110e3], &AssessOptions::default());
+        for (w, outer, y) in [
+            (&a.wheels[0], false, 0.5 * 60e3),
+            (&a.wheels[1], true, -0.5 * 60e3),
+        ] {
+            assert_eq!(w.quasi_static.len(), 1);
+            let q = w.quasi_static[0];
+            assert_eq!((q.curve, q.radius, q.outer), (0, 500.0, outer));
+            // samples with the wheelset at 253 m or beyond: d >= 250 m, from sample 1000 on
+            assert_eq!(q.samples, 600);
+            // the filtered vibration (about 1 kN on Y, 0.2 kN on Q) hardly moves the median
+            // (unfiltered, the step into the curve would move it by a level of the 100 kN
+            // vibration's samples)
+            assert!((q.y_qst - y).abs() < 1.5e3, "{q:?}");
+            assert!((q.q_qst - 60e3).abs() < 0.3e3, "{q:?}");
+        }
+        // a curve to the right: the left wheel is the outer one
+        let s = wheel_series(0.1, 0.5, 250.0, -500.0);
+        let a = assess(&s, &[110e3], &AssessOptions::default());
+        assert!(a.wheels[0].quasi_static[0].outer && !a.wheels[1].quasi_static[0].outer);
+        // no curve under the wheelset: no quasi-static values
+        let s = wheel_series(0.1, 0.5, 1e6, 500.0);
+        let a = assess(&s, &[110e3], &AssessOptions::default());
+        assert!(a.wheels[0].quasi_static.is_empty());
+    }
+
+    #[test]
+    fn the_vertical_force_limit_is_90_kn_above_the_static_load_capped_by_the_speed() {
+        let l = Limits::default();
+        // Manchester vehicle 1: Q0 = 54.5 kN
+        assert!((l.q_limit(54.5e3, 40.0 / 3.6) - 144.5e3).abs() < 1e-6);
+        // a heavy axle: the cap of its speed band
+        for (kmh, cap) in [
+            (100.0, 200e3),
+            (160.0, 200e3),
+            (180.0, 190e3),
+            (250.0, 180e3),
+            (280.0, 170e3),
+            (320.0, 160e3),
+        ] {
+            assert_eq!(l.q_limit(112.5e3, kmh / 3.6), cap, "{kmh} km/h");
+        }
+        let given = Limits {
+            q: Some(150e3),
+            ..l
+        };
+        assert_eq!(given.q_limit(54.5e3, 10.0), 150e3);
+        // the run's top speed sets the cap: 50 m/s = 180 km/h
+        let s = wheel_series(0.1, 0.5, 250.0, 500.0);
+        let a = assess(&s, &[110e3], &AssessOptions::default());
+        assert!((a.top_speed - 50.0).abs() < 1e-9);
+        assert!((a.wheels[0].q_limit - 145e3).abs() < 1e-6);
+        // Q's 50 Hz vibration of 20 kN is filtered out (unfiltered, the percentile would be
+        // 80 kN)
+        let p = a.wheels[0].q_percentile.unwrap();
+        assert!((p - 60e3).abs() < 0.5e3, "{p}");
+    }
+
+    #[test]
+    fn the_bogie_criterion_band_passes_the_frame_acceleration_around_f0() {
+        // 3 m/s² at 6 Hz plus 5 m/s² at 20 Hz (out of the band 4-8 Hz) over 12 s at 50 m/s
+        let mut s = series(0.0, 0.0, 5.0, 12.0);
+        let n = s.distance.len();
+        let a = |i: usize| {
+            let t = i as f64 / 200.0;
+            let w = 2.0 * std::f64::consts::PI;
+            3.0 * (w * 6.0 * t).sin() + 5.0 * (w * 20.0 * t).sin()
+        };
+        s.bogies = vec![BogieSeries {
+            name: "frame".into(),
+            mass: 6240.0,
+            points: vec![("frame above ws1".into(), (0..n).map(a).collect())],
+        }];
+        let opts = AssessOptions {
+            instability_frequency: Some(6.0),
+            ..Default::default()
+        };
+        let r = assess(&s, &[100e3, 100e3], &opts);
+        let b = &r.bogies[0];
+        assert!((b.peak_limit - (12.0 - 6.24 / 5.0)).abs() < 1e-12);
+        assert!((b.rms_limit() - 0.5 * b.peak_limit).abs() < 1e-12);
+        let p = &b.points[0];
+        // the 6 Hz tone passes with the band-pass' gain there (0.93), the 20 Hz one is cut to
+        // a few percent
+        let f = Filter::bandpass4(4.0, 8.0, 200.0).unwrap();
+        let (g6, g20) = (f.gain(6.0, 200.0), f.gain(20.0, 200.0));
+        assert!(g6 > 0.9 && g20 < 0.03, "{g6} {g20}");
+        let rms = p.rms.unwrap().value;
+        let expect = ((3.0 * g6).powi(2) + (5.0 * g20).powi(2)).sqrt() / 2f64.sqrt();
+        assert!((rms / expect - 1.0).abs() < 0.01, "{rms} against {expect}");
+        let peak = p.peak.unwrap().value.abs();
+        assert!(
+            peak > 0.98 * 3.0 * g6 && peak < 3.0 * g6 + 5.0 * g20 + 0.05,
+            "{peak}"
+        );
     }
 }

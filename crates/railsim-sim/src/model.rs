@@ -160,6 +160,22 @@ pub struct SimModel {
     /// least 0.5 m from it along x (the bogies), at the height of its centre of gravity; `None`
     /// for a vehicle without rigid bodies.
     pub comfort: Option<(usize, Vec<ComfortPoint>)>,
+    /// The bogie frames of the simplified stability method (`crate::assess`): the rigid bodies
+    /// other than the carbody at least 0.5 m from it along x, each with the wheelsets nearest
+    /// to it along x.
+    pub bogies: Vec<BogieModel>,
+}
+
+/// A bogie frame and where its lateral acceleration is measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BogieModel {
+    /// The frame's member index.
+    pub member: usize,
+    /// \[kg\] the bogie's mass: the frame and its wheelsets.
+    pub mass: f64,
+    /// Above each of its wheelsets: the point's name and \[m\] its offset from the frame's
+    /// centre of gravity (frame axes).
+    pub points: Vec<(String, [f64; 3])>,
 }
 
 impl SimModel {
@@ -332,8 +348,52 @@ impl SimModel {
             n_rail,
             state_names,
             comfort: None,
+            bogies: Vec::new(),
         }
-        .with_comfort_points(&scene.assessment.comfort_points))
+        .with_comfort_points(&scene.assessment.comfort_points)
+        .with_bogies())
+    }
+
+    /// `self` with [`SimModel::bogies`] found: needs [`SimModel::comfort`]'s carbody.
+    fn with_bogies(mut self) -> SimModel {
+        let Some((cb, _)) = &self.comfort else {
+            return self;
+        };
+        let cb_x = self.members[*cb].p0[0];
+        let frames: Vec<usize> = (0..self.members.len())
+            .filter(|&i| {
+                let m = &self.members[i];
+                i != *cb && m.kind == MemberKind::Body && (m.p0[0] - cb_x).abs() >= 0.5
+            })
+            .collect();
+        let mut bogies: Vec<BogieModel> = frames
+            .iter()
+            .map(|&i| BogieModel {
+                member: i,
+                mass: self.members[i].mass,
+                points: Vec::new(),
+            })
+            .collect();
+        for m in &self.members {
+            if !matches!(m.kind, MemberKind::Wheelset { .. }) {
+                continue;
+            }
+            let nearest = bogies.iter_mut().min_by(|a, b| {
+                let dx = |g: &BogieModel| (self.members[g.member].p0[0] - m.p0[0]).abs();
+                dx(a).total_cmp(&dx(b))
+            });
+            if let Some(g) = nearest {
+                let frame = &self.members[g.member];
+                g.mass += m.mass;
+                g.points.push((
+                    format!("{} above {}", frame.name, m.name),
+                    [m.p0[0] - frame.p0[0], 0.0, 0.0],
+                ));
+            }
+        }
+        bogies.retain(|g| !g.points.is_empty());
+        self.bogies = bogies;
+        self
     }
 
     /// `self` with [`SimModel::comfort`] resolved from the scene's points (`given`).

@@ -12,9 +12,12 @@ use railsim_log::messages::{
 };
 use railsim_log::{Channel, LogHeader, LogStats, LogWriter, WriterOptions, step_time_ns};
 use railsim_ode::{Integrator, Method, OdeSystem, Stats, StepOutcome, StopReason};
+use railsim_track::SegmentKind;
 
-use crate::assess::{Assessment, ComfortSeries, Series, assess};
-use crate::dynamics::{CostSplit, Dynamics, Workspace, rail_frame};
+use crate::assess::{
+    Assessment, BogieSeries, ComfortSeries, CurveSection, Series, WheelSeries, assess,
+};
+use crate::dynamics::{CostSplit, Dynamics, MemberKin, Workspace, rail_frame};
 use crate::error::SimError;
 use crate::math::{add, cross, mul, mul_t, quaternion, rotation_rpy};
 use crate::model::{MemberKind, SimModel};
@@ -81,19 +84,18 @@ pub struct RunSummary {
     /// \[m\] per wheelset (numbered from the front): largest |lateral displacement|.
     pub max_lateral: Vec<f64>,
     /// \[-\] largest Y/Q of any wheel at a sample, with its wheelset and side (`None`
-    /// without samples).
+    /// without samples). EN 14363's (Y/Q)2m per wheel is in [`RunSummary::assessment`].
     pub max_y_over_q: Option<(f64, u32, Side)>,
-    /// \[-\] largest 2 m sliding mean of Y/Q of any wheel (EN 14363), with wheelset and side;
-    /// `None` when the run covered less than one window (`Y_OVER_Q_WINDOW`).
-    pub max_y_over_q_2m: Option<(f64, u32, Side)>,
     /// \[N\] largest Q of any wheel, with its wheelset and side.
     pub max_q: (f64, u32, Side),
     /// \[m\] on an elastic rail support: the largest lateral and vertical displacement (absolute
     /// values) of any rail at a sample, each with the wheelset and side of its wheel.
     pub max_rail: Option<[(f64, u32, Side); 2]>,
-    /// The EN 14363 track-shift force per axle ((ΣY)2m and the sliding r.m.s. stability
-    /// criterion against their limits) and the carbody's ride quantities (Sperling's Wz,
-    /// band-passed accelerations) per comfort point (`crate::assess`).
+    /// The EN 14363 quantities against their limits: the track-shift force per axle ((ΣY)2m
+    /// and the sliding r.m.s. stability criterion), per wheel (Y/Q)2m, Q and the quasi-static
+    /// Y_qst and Q_qst in curves, the bogie frames' simplified stability criterion, and the
+    /// carbody's ride quantities (Sperling's Wz, band-passed accelerations, N_MV) per comfort
+    /// point (`crate::assess`).
     pub assessment: Assessment,
     /// Integrator statistics.
     pub stats: Stats,
@@ -293,7 +295,7 @@ impl Simulation {
             model: &self.model,
             ws: self.ws.take().expect("workspace present"),
         };
-        let mut state = LoopState::new(&self.model, 1.0);
+        let mut state = LoopState::new(&self.model, 1.0, &self.static_loads);
         let mut dx = vec![0.0; x.len()];
         let t_ns = (t * 1e9).round() as u64;
         let r = record_sample(&mut dynamics, &mut state, t, t, t_ns, x, &mut dx);
@@ -318,7 +320,7 @@ impl Simulation {
             model: &self.model,
             ws: self.ws.take().expect("workspace present"),
         };
-        let mut state = LoopState::new(&self.model, scene.log.rate_hz);
+        let mut state = LoopState::new(&self.model, scene.log.rate_hz, &self.static_loads);
         let mut t_end = 0.0;
         let mut dx = vec![0.0; self.model.dim()];
         let result: Result<(), SimError> = (|| {
@@ -387,7 +389,7 @@ impl Simulation {
         let n = self.model.dim();
         let mut xs = vec![0.0; n];
         let mut dxs = vec![0.0; n];
-        let mut state = LoopState::new(&self.model, scene.log.rate_hz);
+        let mut state = LoopState::new(&self.model, scene.log.rate_hz, &self.static_loads);
         let wall = Instant::now();
         let mut logging = 0.0;
         let mut next = 0usize;
@@ -464,7 +466,6 @@ impl Simulation {
             wall: wall.elapsed().as_secs_f64(),
             max_lateral: state.max_lateral,
             max_y_over_q: state.max_yq,
-            max_y_over_q_2m: state.max_yq_2m,
             max_q: state.max_q,
             max_rail: state.max_rail,
             assessment,
@@ -780,20 +781,14 @@ fn settle_on_rails(
     Err("the rails' static deflection did not settle within 20 iterations".into())
 }
 
-/// \[m\] length of the sliding mean of Y/Q (EN 14363's running-safety evaluation of the
-/// derailment quotient uses a 2 m sliding mean).
-pub const Y_OVER_Q_WINDOW: f64 = 2.0;
-
 /// Maxima and digest carried through the loop.
 struct LoopState {
     max_lateral: Vec<f64>,
     max_yq: Option<(f64, u32, Side)>,
-    max_yq_2m: Option<(f64, u32, Side)>,
     max_q: (f64, u32, Side),
     max_rail: Option<[(f64, u32, Side); 2]>,
-    /// Per wheel (2 × wheelset number + side): (distance, Y/Q) samples of the last 2 m and their sum.
-    window: Vec<(std::collections::VecDeque<(f64, f64)>, f64)>,
-    /// Distance and track-shift force per wheelset at every sample, for the assessment.
+    /// What the assessment is made from, a few values per sample: distance, track-shift force
+    /// per wheelset, wheel forces, wheelset positions, carbody and bogie-frame accelerations.
     series: Series,
     digest: u64,
     /// The current sample, updated in place.
@@ -801,21 +796,62 @@ struct LoopState {
 }
 
 impl LoopState {
-    fn new(model: &SimModel, rate_hz: f64) -> LoopState {
+    /// The state of a run of `model` sampled at `rate_hz`, with the static wheel loads
+    /// `static_loads` (per wheelset in the model's order, \[left, right\]).
+    fn new(model: &SimModel, rate_hz: f64, static_loads: &[[f64; 2]]) -> LoopState {
+        let n_ws = model.wheels.len() / 2;
+        let wheels = model
+            .wheels
+            .iter()
+            .enumerate()
+            .map(|(i, w)| WheelSeries {
+                wheelset: w.wheelset_number,
+                side: w.side,
+                static_load: static_loads.get(i / 2).map_or(0.0, |q| q[i % 2]),
+                y: Vec::new(),
+                q: Vec::new(),
+            })
+            .collect();
+        let curves = model
+            .track
+            .segments()
+            .iter()
+            .filter(|g| g.kind == SegmentKind::Curve && g.curvature_start != 0.0)
+            .map(|g| CurveSection {
+                s: [g.s_start, g.s_start + g.length],
+                radius: 1.0 / g.curvature_start,
+                cant: g.cant_start,
+            })
+            .collect();
+        let bogies = model
+            .bogies
+            .iter()
+            .map(|b| BogieSeries {
+                name: model.members[b.member].name.clone(),
+                mass: b.mass,
+                points: b
+                    .points
+                    .iter()
+                    .map(|(name, _)| (name.clone(), Vec::new()))
+                    .collect(),
+            })
+            .collect();
         let mut state = LoopState {
-            max_lateral: vec![0.0; model.wheels.len() / 2],
+            max_lateral: vec![0.0; n_ws],
             max_yq: None,
-            max_yq_2m: None,
             max_q: (0.0, 0, Side::Left),
             max_rail: model
                 .rail_support
                 .map(|_| [(0.0, 0, Side::Left), (0.0, 0, Side::Left)]),
-            window: vec![(std::collections::VecDeque::new(), 0.0); model.wheels.len()],
             series: Series {
                 rate_hz,
                 distance: Vec::new(),
-                sum_y: vec![Vec::new(); model.wheels.len() / 2],
+                sum_y: vec![Vec::new(); n_ws],
                 comfort: Vec::new(),
+                wheels,
+                wheelset_position: vec![Vec::new(); n_ws],
+                curves,
+                bogies,
             },
             digest: 0xcbf2_9ce4_8422_2325,
             sample: Sample {
@@ -856,8 +892,8 @@ impl LoopState {
     }
 
     /// Update the sample in place from the state `x` and the recording evaluation `ws` at `t`
-    /// (nothing allocated once the Y/Q windows have grown, but for the growth of the series the
-    /// assessment is made from: a few values per sample), fold it into the maxima and digest.
+    /// (nothing allocated but for the growth of the series the assessment is made from: a few
+    /// values per sample), fold it into the maxima and digest.
     fn sample(&mut self, model: &SimModel, ws: &Workspace, t: f64, t_ns: u64, x: &[f64]) {
         for &xi in x {
             fnv1a(&mut self.digest, xi);
@@ -870,10 +906,6 @@ impl LoopState {
         self.series.distance.push(dist);
         if let Some((cb, points)) = &model.comfort {
             let k = &ws.kin[*cb];
-            // specific force at the centre of gravity (its acceleration minus gravity; for free
-            // coordinates the forces other than gravity over the mass) plus the rigid-body terms
-            // of the point's offset, in the carbody's axes
-            let f_cog = add(k.accel, [0.0, 0.0, model.gravity]);
             for ((c, d), out) in self
                 .series
                 .comfort
@@ -881,16 +913,17 @@ impl LoopState {
                 .zip(points)
                 .zip(&mut smp.carbody)
             {
-                let arm = mul(&k.orient, d.offset);
-                let f = add(
-                    f_cog,
-                    add(cross(k.alpha, arm), cross(k.omega, cross(k.omega, arm))),
-                );
-                let f_body = mul_t(&k.orient, f);
+                let f_body = specific_force(k, d.offset, model.gravity);
                 c.longitudinal.push(f_body[0]);
                 c.lateral.push(f_body[1]);
                 c.vertical.push(f_body[2]);
                 *out = f_body;
+            }
+        }
+        for (b, series) in model.bogies.iter().zip(&mut self.series.bogies) {
+            let k = &ws.kin[b.member];
+            for ((_, offset), (_, values)) in b.points.iter().zip(&mut series.points) {
+                values.push(specific_force(k, *offset, model.gravity)[1]);
             }
         }
         for (i, pair) in model.wheels.chunks(2).enumerate() {
@@ -927,6 +960,13 @@ impl LoopState {
             };
             // the track-shift force: the two wheels' lateral forces on the rails, toward +y
             self.series.sum_y[number as usize].push(yl - yr);
+            for (k, (y, q)) in [(yl, ql), (yr, qr)].into_iter().enumerate() {
+                let w = &mut self.series.wheels[2 * i + k];
+                w.y.push(y);
+                w.q.push(q);
+            }
+            self.series.wheelset_position[number as usize]
+                .push(ws.track_position + model.members[m].p0[0] + model.coord(m, 0, x));
             let y = model.wheelset_pose(m, x).y;
             smp.lateral[number as usize] = y;
             let ml = &mut self.max_lateral[number as usize];
@@ -940,25 +980,6 @@ impl LoopState {
             {
                 if self.max_yq.is_none_or(|m| yqv > m.0) {
                     self.max_yq = Some((yqv, number, side));
-                }
-                let (buf, sum) = &mut self.window[2 * number as usize + k];
-                buf.push_back((dist, yqv));
-                *sum += yqv;
-                while buf
-                    .front()
-                    .is_some_and(|&(d0, _)| d0 < dist - Y_OVER_Q_WINDOW)
-                {
-                    *sum -= buf.pop_front().map_or(0.0, |(_, v)| v);
-                }
-                // Only full windows count: once the run has covered one window, the samples
-                // kept span it whatever the sample spacing. (Asking the oldest kept sample to
-                // lie 0.95 of a window back, as before, never held when the spacing left a gap
-                // over 5 % of the window before it: at 69.4 m/s and 200 Hz, 0.347 m, the 2 m
-                // mean was never taken.)
-                let full = dist >= Y_OVER_Q_WINDOW * (1.0 - 1e-9);
-                let mean = *sum / buf.len() as f64;
-                if full && self.max_yq_2m.is_none_or(|m| mean > m.0) {
-                    self.max_yq_2m = Some((mean, number, side));
                 }
                 if q > self.max_q.0 {
                     self.max_q = (q, number, side);
@@ -975,6 +996,20 @@ impl LoopState {
             smp.wheelsets[number as usize] = msg;
         }
     }
+}
+
+/// \[m/s²\] what an accelerometer fixed to a member at `offset` (member axes, from its centre
+/// of gravity) measures, in the member's axes: the specific force at the centre of gravity (its
+/// acceleration minus gravity; for free coordinates the forces other than gravity over the
+/// mass) plus the rigid-body terms of the offset, α × r + ω × (ω × r).
+fn specific_force(k: &MemberKin, offset: [f64; 3], gravity: f64) -> [f64; 3] {
+    let f_cog = add(k.accel, [0.0, 0.0, gravity]);
+    let arm = mul(&k.orient, offset);
+    let f = add(
+        f_cog,
+        add(cross(k.alpha, arm), cross(k.omega, cross(k.omega, arm))),
+    );
+    mul_t(&k.orient, f)
 }
 
 /// A patch's creepages as the log writes them.

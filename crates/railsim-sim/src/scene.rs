@@ -708,7 +708,8 @@ impl Compiler<'_> {
         })
     }
 
-    /// `[assessment]`: α in (0, 1], an instability frequency whose band the log rate carries.
+    /// `[assessment]`: α in (0, 1], an instability frequency whose band the log rate carries,
+    /// positive limits.
     fn assessment(
         &mut self,
         a: Option<&Spanned<AssessmentSpec>>,
@@ -758,6 +759,37 @@ impl Compiler<'_> {
                 None => ok = false,
             }
         }
+        let limits = [
+            (&a.y_over_q_limit, "y_over_q_limit", "", 1.0, 10.0),
+            (
+                &a.y_over_q_limit_small_radius,
+                "y_over_q_limit_small_radius",
+                "",
+                1.0,
+                10.0,
+            ),
+            (&a.small_radius_m, "small_radius_m", "m", 1.0, 1e5),
+            (&a.q_limit_kn, "q_limit_kn", "kN", 1e3, 1e4),
+            (&a.y_qst_limit_kn, "y_qst_limit_kn", "kN", 1e3, 1e4),
+            (&a.q_qst_limit_kn, "q_qst_limit_kn", "kN", 1e3, 1e4),
+        ];
+        let mut values = [None; 6];
+        for (value, (v, key, unit, scale, hi)) in values.iter_mut().zip(limits) {
+            if let Some(v) = v {
+                match self.range(v, key, unit, (0.0, hi), true) {
+                    Some(x) => *value = Some(scale * x),
+                    None => ok = false,
+                }
+            }
+        }
+        let l = &mut out.limits;
+        let [yq, yq_small, small, q, y_qst, q_qst] = values;
+        l.y_over_q = yq.unwrap_or(l.y_over_q);
+        l.y_over_q_small_radius = yq_small.unwrap_or(l.y_over_q_small_radius);
+        l.small_radius = small.unwrap_or(l.small_radius);
+        l.q = q.or(l.q);
+        l.y_qst = y_qst.unwrap_or(l.y_qst);
+        l.q_qst = q_qst.unwrap_or(l.q_qst);
         if let Some(points) = &a.comfort_points {
             if vehicle.is_some_and(|v| v.bodies().is_empty()) {
                 self.err(

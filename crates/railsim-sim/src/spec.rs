@@ -186,6 +186,24 @@ pub struct AssessmentSpec {
     /// The carbody's measuring points; default: its centre and above each bogie.
     #[serde(default)]
     pub comfort_points: Option<Spanned<Vec<Spanned<ComfortPointSpec>>>>,
+    /// \[-\] limit of (Y/Q)2m on tangent track and large radii; default 0.8.
+    #[serde(default)]
+    pub y_over_q_limit: Option<Spanned<f64>>,
+    /// \[-\] limit of (Y/Q)2m in circular curves of small radius; default 1.2.
+    #[serde(default)]
+    pub y_over_q_limit_small_radius: Option<Spanned<f64>>,
+    /// \[m\] the radius below which a curve's (Y/Q)2m limit is the small-radius one; default 250.
+    #[serde(default)]
+    pub small_radius_m: Option<Spanned<f64>>,
+    /// \[kN\] limit of the vertical wheel force Q; default 90 kN + Q0 capped by the speed.
+    #[serde(default)]
+    pub q_limit_kn: Option<Spanned<f64>>,
+    /// \[kN\] limit of the quasi-static guiding force Y_qst; default 60.
+    #[serde(default)]
+    pub y_qst_limit_kn: Option<Spanned<f64>>,
+    /// \[kN\] limit of the quasi-static vertical wheel force Q_qst; default 145.
+    #[serde(default)]
+    pub q_qst_limit_kn: Option<Spanned<f64>>,
 }
 
 /// One `[[assessment.comfort_points]]` entry: a measuring point on the carbody.
@@ -242,7 +260,17 @@ pub const LOG_KEYS: &[&str] = &["path", "rate_hz", "topics"];
 /// Keys of `[initial]`.
 pub const INITIAL_KEYS: &[&str] = &["lateral_offset_mm", "yaw_mrad"];
 /// Keys of `[assessment]`.
-pub const ASSESSMENT_KEYS: &[&str] = &["alpha", "instability_frequency_hz", "comfort_points"];
+pub const ASSESSMENT_KEYS: &[&str] = &[
+    "alpha",
+    "instability_frequency_hz",
+    "comfort_points",
+    "y_over_q_limit",
+    "y_over_q_limit_small_radius",
+    "small_radius_m",
+    "q_limit_kn",
+    "y_qst_limit_kn",
+    "q_qst_limit_kn",
+];
 
 const SUBTABLES: [(&str, &[&str]); 6] = [
     ("speed_profile", SPEED_PROFILE_KEYS),

@@ -591,6 +591,31 @@ fn assessment_settings_are_read_and_checked() {
 }
 
 #[test]
+fn assessment_limits_are_read_in_file_units_and_checked() {
+    let s = compile(&format!(
+        "{GOOD}[assessment]\ny_over_q_limit = 0.9\ny_over_q_limit_small_radius = 1.1\n\
+         small_radius_m = 300\nq_limit_kn = 180\ny_qst_limit_kn = 50\nq_qst_limit_kn = 140\n"
+    ))
+    .unwrap_or_else(|e| panic!("{e}"));
+    let l = s.assessment.limits;
+    assert_eq!(
+        (l.y_over_q, l.y_over_q_small_radius, l.small_radius),
+        (0.9, 1.1, 300.0)
+    );
+    assert_eq!((l.q, l.y_qst, l.q_qst), (Some(180e3), 50e3, 140e3));
+    // the defaults
+    let d = compile(GOOD).unwrap().assessment.limits;
+    assert_eq!((d.y_over_q, d.y_over_q_small_radius), (0.8, 1.2));
+    assert_eq!((d.q, d.y_qst, d.q_qst), (None, 60e3, 145e3));
+    let p = problems(&format!(
+        "{GOOD}[assessment]\ny_qst_limit_kn = -5\ny_over_q_limit = 0\nq_limit_kn = nan\n"
+    ));
+    expect(&p, 6, &["y_qst_limit_kn must lie in (0e0, 1e4] kN", "found -5"]);
+    expect(&p, 7, &["y_over_q_limit must lie in (0e0, 1e1]", "found 0"]);
+    expect(&p, 8, &["q_limit_kn must lie in", "found NaN"]);
+}
+
+#[test]
 fn comfort_points_are_read_and_checked() {
     let s = compile(&format!(
         "{GOOD}[assessment]\ncomfort_points = [{{ name = \"floor front\", x_m = 1.2, z_m = -0.8 }}, {{ name = \"floor centre\", z_m = -0.8 }}]\n"
