@@ -21,8 +21,19 @@ pub fn run_all_with(contact: &WheelRailContact) -> Vec<(usize, Vec<ContactRow>)>
     let mut rows = Vec::new();
     let mut out = Vec::new();
     for (i, (_, case)) in cases.iter().enumerate() {
-        solve_case(contact, case, &mut ws, &mut rows)
+        let solved = solve_case(contact, case, &mut ws, &mut rows)
             .unwrap_or_else(|e| panic!("case {} ({:?} y={}): {e}", i + 1, case.side, case.y_ws_mm));
+        // every case carries its load: the comparisons below assume it
+        if let Some(fz) = case.fz_target_n {
+            assert!(
+                solved.load_residual_n.abs() <= railsim_contact::LOAD_RESIDUAL_NOTICE * fz,
+                "case {} ({:?} y={}): the load is missed by {} N",
+                i + 1,
+                case.side,
+                case.y_ws_mm,
+                solved.load_residual_n
+            );
+        }
         out.push((i, rows.clone()));
     }
     out

@@ -74,7 +74,7 @@ fn evaluations_allocate_nothing_after_warm_up() {
         // Warm-up: every case once (the workspace grows to the largest), with load control.
         let mut poses = Vec::new();
         for (_, case) in &cases {
-            let z = solve_case(&contact, case, &mut ws, &mut rows).unwrap();
+            let z = solve_case(&contact, case, &mut ws, &mut rows).unwrap().z_mm;
             let (mut pose, vel) = case.to_railsim();
             pose.z = -z * 1e-3;
             poses.push((case.side, pose, vel));

@@ -10,8 +10,9 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use railsim_contact::contact_format::{ContactRow, parse_cases_csv, solve_case};
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, PairSpec, PatchResult, Side,
-    Tangential, WheelRailContact, WheelRailPair, WheelsetPose, WheelsetVelocity,
+    ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, LOAD_RESIDUAL_NOTICE,
+    PairSpec, PatchResult, Side, Tangential, WheelRailContact, WheelRailPair, WheelsetPose,
+    WheelsetVelocity,
 };
 use railsim_elastic::Material;
 use railsim_profile::conicity::{
@@ -429,11 +430,30 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
     };
     pose.z = summary.z;
     print_patches(&contact, side, &pose, &summary, &ws.patches)?;
+    if summary.load_iterations > 0 {
+        let fz = summary.force_track[2] - summary.load_residual;
+        if summary.load_residual.abs() > LOAD_RESIDUAL_NOTICE * fz {
+            outln!("warning: {}", load_missed_text(fz, summary.load_residual));
+        }
+    }
     if let Some(out) = &a.out {
         write_single(out, side, &pose, &ws.patches)?;
         outln!("wrote {}", out.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Why a prescribed load was not carried, for a warning.
+fn load_missed_text(fz: f64, residual: f64) -> String {
+    format!(
+        "no height carries the load of {:.1} N: the vertical force jumps across it, and the \
+         closest height gives {:.1} N ({:+.2} %); a zone appears or vanishes there, or a Hertz \
+         patch in deep conformal flange contact changes its curvatures abruptly \
+         (docs/models/contact.md §8)",
+        fz,
+        fz + residual,
+        100.0 * residual / fz
+    )
 }
 
 fn print_patches(
@@ -628,15 +648,27 @@ fn run_batch(
     let mut s = BATCH_COLUMNS.join(",");
     s.push('\n');
     let mut rows: Vec<ContactRow> = Vec::new();
-    let mut n_rows = 0;
+    let (mut n_rows, mut missed) = (0, 0);
     for (label, case) in &list {
-        let z = solve_case(contact, case, ws, &mut rows).with_context(|| {
+        let solved = solve_case(contact, case, ws, &mut rows).with_context(|| {
             format!(
                 "{name}: case {label} ({} wheel, y_ws = {} mm)",
                 case.side.name(),
                 case.y_ws_mm
             )
         })?;
+        let z = solved.z_mm;
+        if let Some(fz) = case.fz_target_n
+            && solved.load_residual_n.abs() > LOAD_RESIDUAL_NOTICE * fz
+        {
+            missed += 1;
+            eprintln!(
+                "warning: {name}: case {label} ({} wheel, y_ws = {} mm): {}",
+                case.side.name(),
+                case.y_ws_mm,
+                load_missed_text(fz, solved.load_residual_n)
+            );
+        }
         for (i, r) in rows.iter().enumerate() {
             write!(
                 s,
@@ -665,10 +697,15 @@ fn run_batch(
     }
     std::fs::write(out, s).with_context(|| format!("writing {}", out.display()))?;
     outln!(
-        "{} cases, {} patch rows written to {}",
+        "{} cases, {} patch rows written to {}{}",
         list.len(),
         n_rows,
-        out.display()
+        out.display(),
+        if missed > 0 {
+            format!("; {missed} case(s) do not carry their load (warnings above)")
+        } else {
+            String::new()
+        }
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -57,7 +57,7 @@ fn errors(
     let mut e = [0.0f64; 6];
     let mut poses = Vec::new();
     for (i, (_, case)) in cases.iter().enumerate() {
-        let z = solve_case(contact, case, &mut ws, &mut rows).unwrap();
+        let z = solve_case(contact, case, &mut ws, &mut rows).unwrap().z_mm;
         let (mut pose, vel) = case.to_railsim();
         pose.z = -z * 1e-3;
         poses.push((pose, vel));

@@ -28,7 +28,7 @@ fn main() {
     let mut rows = Vec::new();
     let mut poses = Vec::new();
     for (_, case) in &cases {
-        let z = solve_case(&c, case, &mut ws, &mut rows).unwrap();
+        let z = solve_case(&c, case, &mut ws, &mut rows).unwrap().z_mm;
         let (mut p, v) = case.to_railsim();
         p.z = -z * 1e-3;
         poses.push((case.side, p, v));

@@ -254,15 +254,24 @@ pub fn parse_cases_csv(
     Ok(out)
 }
 
+/// What [`solve_case`] found besides the patches.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolvedCase {
+    /// \[mm\] the vertical wheelset position (CONTACT's z, down).
+    pub z_mm: f64,
+    /// \[N\] the vertical force minus the prescribed load (0 without one;
+    /// `WheelSummary::load_residual`).
+    pub load_residual_n: f64,
+}
+
 /// Solve one case: with the load prescribed, the wheelset height is iterated; otherwise the
-/// position is used as given. Returns the patches in CONTACT's conventions and the vertical
-/// wheelset position found \[mm, CONTACT's z down\].
+/// position is used as given. Fills `rows` with the patches in CONTACT's conventions.
 pub fn solve_case(
     contact: &crate::model::WheelRailContact,
     case: &ContactCase,
     ws: &mut crate::model::ContactWorkspace,
     rows: &mut Vec<ContactRow>,
-) -> Result<f64, crate::error::ContactError> {
+) -> Result<SolvedCase, crate::error::ContactError> {
     let (pose, vel) = case.to_railsim();
     let summary = match case.fz_target_n {
         Some(fz) => contact.evaluate_with_load(case.side, &pose, &vel, fz, 1e-6, ws)?,
@@ -270,7 +279,10 @@ pub fn solve_case(
     };
     rows.clear();
     rows.extend(ws.patches.iter().map(|p| to_contact(case.side, p)));
-    Ok(-summary.z * 1e3)
+    Ok(SolvedCase {
+        z_mm: -summary.z * 1e3,
+        load_residual_n: summary.load_residual,
+    })
 }
 
 /// The wheel/rail pair of CONTACT's Manchester benchmark inputs (`mbench_a22_*.inp`): the given

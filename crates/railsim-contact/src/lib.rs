@@ -33,8 +33,8 @@ pub mod wells;
 pub use error::ContactError;
 pub use geometry::{IsoPair, TravelOptions, TravelStats};
 pub use model::{
-    ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, PatchForces, PatchResult,
-    WheelRailContact, WheelSummary,
+    ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, LOAD_RESIDUAL_NOTICE,
+    PatchForces, PatchResult, WheelRailContact, WheelSummary,
 };
 pub use pair::{PairSpec, WheelRailPair};
 pub use pose::{Side, WheelsetPose, WheelsetVelocity};

@@ -321,10 +321,18 @@ pub struct WheelSummary {
     pub z: f64,
     /// Number of load iterations (0 when the position was prescribed).
     pub load_iterations: u32,
-    /// \[N\] vertical force minus the prescribed load after the load iteration (non-zero only
-    /// where the force jumps with the height, e.g. a patch appearing at a coarse step)
+    /// \[N\] vertical force minus the prescribed load after the load iteration. Beyond the
+    /// iteration's tolerance only where the force jumps across the load between two heights
+    /// 1e-12 m apart, so that no height carries it: a zone appearing or vanishing at a coarse
+    /// step, or a Hertz patch in deep conformal flange contact whose curvatures change abruptly
+    /// with the height (docs/models/contact.md §8); the closer side is returned. Callers
+    /// should report a residual above [`LOAD_RESIDUAL_NOTICE`] times the load.
     pub load_residual: f64,
 }
+
+/// \[-\] relative load residual (`WheelSummary::load_residual` over the load) above which a
+/// prescribed-load evaluation did not carry its load and should say so.
+pub const LOAD_RESIDUAL_NOTICE: f64 = 1e-4;
 
 /// Reusable buffers for contact evaluations. Create once, pass to every evaluation; nothing is
 /// allocated once the buffers have grown to the largest case.

@@ -249,7 +249,11 @@ fn flange_hunting_exceeds_the_track_shift_limit_where_stable_running_does_not() 
         s.assessment
             .bogies
             .iter()
-            .flat_map(|b| b.points.iter().map(|p| p.rms.unwrap().value / b.rms_limit()))
+            .flat_map(|b| {
+                b.points
+                    .iter()
+                    .map(|p| p.rms.unwrap().value / b.rms_limit())
+            })
             .fold(0.0f64, f64::max)
     };
     println!(

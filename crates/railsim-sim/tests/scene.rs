@@ -610,7 +610,11 @@ fn assessment_limits_are_read_in_file_units_and_checked() {
     let p = problems(&format!(
         "{GOOD}[assessment]\ny_qst_limit_kn = -5\ny_over_q_limit = 0\nq_limit_kn = nan\n"
     ));
-    expect(&p, 6, &["y_qst_limit_kn must lie in (0e0, 1e4] kN", "found -5"]);
+    expect(
+        &p,
+        6,
+        &["y_qst_limit_kn must lie in (0e0, 1e4] kN", "found -5"],
+    );
     expect(&p, 7, &["y_over_q_limit must lie in (0e0, 1e1]", "found 0"]);
     expect(&p, 8, &["q_limit_kn must lie in", "found NaN"]);
 }
