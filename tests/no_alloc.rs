@@ -94,10 +94,35 @@ fn evaluations_allocate_nothing_after_warm_up() {
 fn a_simulation_right_hand_side_allocates_nothing_after_warm_up() {
     // The simulator's Workspace (house style: no allocation per step): Manchester vehicle 1 on
     // irregular track, eight wheels, with the default `stripes` contact (warm-started travelling)
-    // and with `polach` (warm-started point search).
+    // and with `polach` (warm-started point search); on this thread (the wheels one after the
+    // other) and on a thread of a two-thread rayon pool, as `railsim` runs it (the wheels shared
+    // between the threads: both threads count).
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    for model in ["stripes", "polach"] {
+        rhs_allocates_nothing(model, None);
+        rhs_allocates_nothing(model, Some(&pool));
+    }
+}
+
+fn rhs_allocates_nothing(model: &str, pool: Option<&rayon::ThreadPool>) {
     use railsim_ode::OdeSystem;
     use railsim_sim::dynamics::Dynamics;
-    for model in ["stripes", "polach"] {
+    // Counted: this thread's allocations, or with a pool its threads' (not this thread's
+    // hand-over of the loop to the pool, which `railsim` does once per command).
+    let set = |on: bool| match pool {
+        Some(p) => {
+            p.broadcast(|_| ON.with(|c| c.set(on)));
+        }
+        None => ON.with(|c| c.set(on)),
+    };
+    let in_pool = |f: &mut (dyn FnMut() + Send)| match pool {
+        Some(p) => p.install(f),
+        None => f(),
+    };
+    {
         let scene = railsim_sim::Scene::from_toml_str(
             &format!(
                 r#"
@@ -118,21 +143,26 @@ fn a_simulation_right_hand_side_allocates_nothing_after_warm_up() {
         let mut x = sim.initial_state().to_vec();
         let mut d = Dynamics::new(model_);
         let mut dx = vec![0.0; model_.dim()];
-        for k in 0..5 {
-            d.rhs(k as f64 * 1e-4, &x, &mut dx).unwrap();
-        }
+        in_pool(&mut || {
+            for k in 0..5 {
+                d.rhs(k as f64 * 1e-4, &x, &mut dx).unwrap();
+            }
+        });
         COUNT.store(0, Ordering::Relaxed);
-        ON.with(|c| c.set(true));
-        for k in 0..50 {
-            // Small changes of state and time, as between integrator stages.
-            x[0] += 1e-7;
-            d.rhs(5e-4 + k as f64 * 1e-5, &x, &mut dx).unwrap();
-        }
-        ON.with(|c| c.set(false));
+        set(true);
+        in_pool(&mut || {
+            for k in 0..50 {
+                // Small changes of state and time, as between integrator stages.
+                x[0] += 1e-7;
+                d.rhs(5e-4 + k as f64 * 1e-5, &x, &mut dx).unwrap();
+            }
+        });
+        set(false);
         assert_eq!(
             COUNT.load(Ordering::Relaxed),
             0,
-            "{model}: allocations in the right-hand side"
+            "{model} (pool: {}): allocations in the right-hand side",
+            pool.is_some()
         );
         assert!(dx.iter().all(|v| v.is_finite()));
         let warm: u64 = d.ws.warm.iter().map(|w| w.warm_count).sum();

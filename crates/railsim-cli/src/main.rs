@@ -44,6 +44,10 @@ mod run;
 #[derive(Parser)]
 #[command(name = "railsim", version, about)]
 struct Cli {
+    /// Threads for the wheels' contact evaluations of a simulation (0: one per core; 1: none
+    /// besides the main one). The results do not depend on it.
+    #[arg(long, global = true, default_value_t = 0)]
+    threads: usize,
     #[command(subcommand)]
     command: Command,
 }
@@ -236,14 +240,24 @@ struct ConicityArgs {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let result = match cli.command {
-        Command::Run(a) => run::run_scene(&a),
-        Command::Contact(a) => run_contact(&a),
-        Command::Conicity(a) => run_conicity(&a),
-        Command::Replay(a) => replay::run_replay(&a),
-        Command::CriticalSpeed(a) => critical::run_critical(&a),
-        Command::Curving(a) => curving::run_curving(&a),
-        Command::Modes(a) => modes::run_modes(&a),
+    let command = || match &cli.command {
+        Command::Run(a) => run::run_scene(a),
+        Command::Contact(a) => run_contact(a),
+        Command::Conicity(a) => run_conicity(a),
+        Command::Replay(a) => replay::run_replay(a),
+        Command::CriticalSpeed(a) => critical::run_critical(a),
+        Command::Curving(a) => curving::run_curving(a),
+        Command::Modes(a) => modes::run_modes(a),
+    };
+    // The command runs on a thread of a rayon pool, so that a simulation's right-hand side
+    // shares the wheels' contact evaluations with the pool's other threads
+    // (`railsim_sim::dynamics`); with one thread, or if no pool can be made, it runs here.
+    let result = match cli.threads {
+        1 => command(),
+        n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+            Ok(pool) => pool.install(command),
+            Err(_) => command(),
+        },
     };
     match result {
         Ok(code) => code,

@@ -1,6 +1,7 @@
 //! One right-hand-side evaluation of the simulator (frames, suspension, the online contact of
 //! every wheel, equations of motion) for scenes of different size: what a scene does not use is
-//! not evaluated. `cargo bench -p railsim-sim --bench rhs`.
+//! not evaluated; and the Manchester vehicle's on a thread of a two-thread pool (the wheels in
+//! parallel). `cargo bench -p railsim-sim --bench rhs`.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -70,6 +71,22 @@ fn bench(c: &mut Criterion) {
                 black_box(dx[0])
             })
         });
+        if name == "manchester_irregular" {
+            // the same on a thread of a two-thread rayon pool, as `railsim` runs it: the
+            // wheels' contact evaluations shared between the two threads
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(2)
+                .build()
+                .unwrap();
+            g.bench_function("manchester_irregular_two_threads", |b| {
+                pool.install(|| {
+                    b.iter(|| {
+                        d.rhs(black_box(0.0), black_box(&x), &mut dx).unwrap();
+                        black_box(dx[0])
+                    })
+                })
+            });
+        }
     }
     g.finish();
 }

@@ -8,7 +8,8 @@
 //! 4. **force elements**: deflections between attachment points (in body 1's axes), laws,
 //!    forces and moments on both members, internal-state rates;
 //! 5. **contact**: each wheel calls the contact crate online with its pose and velocities
-//!    relative to its rail (irregularities move the rails), forces back to the wheelset;
+//!    relative to its rail (irregularities move the rails), the wheels in parallel (each in its
+//!    own contact workspace), then the forces back to the wheelsets in the wheels' order;
 //! 6. **equations of motion** in each member's frame, with the frame's inertial terms.
 //!
 //! The derivation and its approximations are in `docs/models/dynamics.md`.
@@ -16,10 +17,11 @@
 use std::time::Instant;
 
 use railsim_contact::{
-    ContactWorkspace, PatchResult, Side, WarmStart, WheelsetPose, WheelsetVelocity,
+    ContactError, ContactWorkspace, PatchResult, Side, WarmStart, WheelsetPose, WheelsetVelocity,
 };
 use railsim_ode::{OdeSystem, RhsError};
 use railsim_vehicle::model::{Axis, ForceLaw, series_force, series_state_rate};
+use rayon::prelude::*;
 
 use crate::math::{
     M3, V3, add, cross, mat_mul, mat_t_mul, mul, mul_t, rot_x, rot_y, rot_z, rotation_rpy, scale,
@@ -104,8 +106,16 @@ pub struct Workspace {
     pub track_position: f64,
     /// \[m/s\] speed at the current evaluation.
     pub speed: f64,
-    /// The contact crate's workspace.
+    /// A contact workspace for the evaluations outside the right-hand side (the static
+    /// solution).
     pub contact: ContactWorkspace,
+    /// Per wheel: its own contact workspace (the wheels are evaluated in parallel); its
+    /// `patches` hold the wheel's patches of the last evaluation.
+    pub wheel_contact: Vec<ContactWorkspace>,
+    /// Per wheel: the pose, velocities and rail frame of the current evaluation.
+    wheel_input: Vec<WheelInput>,
+    /// Per wheel: the error of its last evaluation, if it failed.
+    wheel_error: Vec<Option<ContactError>>,
     /// Per wheel: the warm start of its contact search (used when the model asks for it).
     pub warm: Vec<WarmStart>,
     /// Patches of the last evaluation, filled only when `record` is set.
@@ -132,6 +142,11 @@ impl Workspace {
             track_position: model.start,
             speed: 0.0,
             contact: ContactWorkspace::new(),
+            wheel_contact: (0..model.wheels.len())
+                .map(|_| ContactWorkspace::new())
+                .collect(),
+            wheel_input: vec![WheelInput::default(); model.wheels.len()],
+            wheel_error: vec![None; model.wheels.len()],
             warm: vec![WarmStart::new(); model.wheels.len()],
             patches: Vec::with_capacity(4 * model.wheels.len()),
             wheel_force: vec![[0.0; 3]; model.wheels.len()],
@@ -142,6 +157,16 @@ impl Workspace {
             failure: None,
         }
     }
+}
+
+/// One wheel's contact evaluation input: its wheelset's pose and velocities relative to the
+/// rail, the rail's frame, and the axle centre relative to the wheelset's track frame.
+#[derive(Debug, Clone, Copy, Default)]
+struct WheelInput {
+    pose: WheelsetPose,
+    vel: WheelsetVelocity,
+    rail: RailFrame,
+    r: V3,
 }
 
 /// Where one rail is, moved by the track irregularities and an elastic support's displacement:
@@ -438,7 +463,9 @@ impl Dynamics<'_> {
         }
     }
 
-    /// Stage 5: contact of every wheel.
+    /// Stage 5: contact of every wheel: the inputs in order, the evaluations in parallel (rayon;
+    /// each wheel in its own workspace, with its own warm start, so the result does not depend
+    /// on the threads), the forces on the wheelsets in the wheels' order.
     fn contact(&mut self, t: f64, x: &[f64]) -> Result<(), RhsError> {
         let m = self.model;
         // Set by `kinematics` for this evaluation.
@@ -451,7 +478,7 @@ impl Dynamics<'_> {
                 MemberKind::Wheelset { radius, .. } => radius,
                 MemberKind::Body => unreachable!("wheels belong to wheelsets"),
             };
-            let k = self.ws.kin[mi];
+            let k = &self.ws.kin[mi];
             // Frame components: axle centre, its absolute velocity and the carrier's angular
             // velocity (the spin separately).
             let omega_l = mul_t(&k.frame, k.omega_frame);
@@ -484,43 +511,79 @@ impl Dynamics<'_> {
                 &mut pose,
                 &mut vel,
             );
-            let timer = self.ws.timing.then(Instant::now);
+            self.ws.wheel_input[wi] = WheelInput { pose, vel, rail, r };
+        }
+        let timer = self.ws.timing.then(Instant::now);
+        let inputs = &self.ws.wheel_input;
+        let evaluate = |(wi, ((cws, warm), error)): (
+            usize,
+            (
+                (&mut ContactWorkspace, &mut WarmStart),
+                &mut Option<ContactError>,
+            ),
+        )| {
+            let (wheel, inp) = (&m.wheels[wi], &inputs[wi]);
             let res = if m.warm_start {
-                wheel.contact.evaluate_warm(
-                    wheel.side,
-                    &pose,
-                    &vel,
-                    &mut self.ws.warm[wi],
-                    &mut self.ws.contact,
-                )
-            } else {
                 wheel
                     .contact
-                    .evaluate(wheel.side, &pose, &vel, &mut self.ws.contact)
+                    .evaluate_warm(wheel.side, &inp.pose, &inp.vel, warm, cws)
+            } else {
+                wheel.contact.evaluate(wheel.side, &inp.pose, &inp.vel, cws)
             };
-            if let Some(t0) = timer {
-                self.ws.cost.contact += t0.elapsed().as_secs_f64();
-            }
-            if let Err(e) = res {
-                let body = format!("wheelset '{}', {} wheel", mm.name, wheel.side.name());
+            *error = res.err();
+        };
+        // In parallel only on a thread of a rayon pool (the CLI runs its commands in one): the
+        // calling thread then takes a share and the others steal the rest. From any other
+        // thread a parallel loop would hand the whole evaluation to the pool and wait, which
+        // costs more than it saves (docs/performance.md).
+        if rayon::current_thread_index().is_some() {
+            self.ws
+                .wheel_contact
+                .par_iter_mut()
+                .zip(self.ws.warm.par_iter_mut())
+                .zip(self.ws.wheel_error.par_iter_mut())
+                .enumerate()
+                .for_each(evaluate);
+        } else {
+            self.ws
+                .wheel_contact
+                .iter_mut()
+                .zip(self.ws.warm.iter_mut())
+                .zip(self.ws.wheel_error.iter_mut())
+                .enumerate()
+                .for_each(evaluate);
+        }
+        if let Some(t0) = timer {
+            self.ws.cost.contact += t0.elapsed().as_secs_f64();
+        }
+        for (wi, wheel) in m.wheels.iter().enumerate() {
+            let mi = wheel.member.0;
+            if let Some(e) = self.ws.wheel_error[wi].take() {
+                let body = format!(
+                    "wheelset '{}', {} wheel",
+                    m.members[mi].name,
+                    wheel.side.name()
+                );
                 let quantity = format!("contact: {e}");
                 let message = format!("t = {t:.6} s: {body}: {quantity}");
                 self.ws.failure = Some((body, quantity));
                 return Err(RhsError(message));
             }
+            let WheelInput { rail, r, .. } = self.ws.wheel_input[wi];
+            let frame = self.ws.kin[mi].frame;
             let o = rail.origin;
             let back = |p: [f64; 3]| rail.to_track(p);
             let mut total = [0.0; 3];
             let mut force_g = [0.0; 3];
             let mut moment_g = [0.0; 3];
-            for p in &self.ws.contact.patches {
+            for p in &self.ws.wheel_contact[wi].patches {
                 let pt = add(back(p.point_track), [0.0, o[0], o[1]]);
                 let f = back(p.force_track);
                 let mo = back(p.moment_track);
                 let arm = [pt[0], pt[1] - r[1], pt[2] - r[2]];
                 total = add(total, f);
-                force_g = add(force_g, mul(&k.frame, f));
-                moment_g = add(moment_g, mul(&k.frame, add(cross(arm, f), mo)));
+                force_g = add(force_g, mul(&frame, f));
+                moment_g = add(moment_g, mul(&frame, add(cross(arm, f), mo)));
                 if self.ws.record {
                     self.ws.patches.push(PatchRecord {
                         wheel: wi,

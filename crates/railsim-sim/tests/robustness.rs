@@ -232,3 +232,29 @@ fn a_contact_limit_reached_by_the_solution_stops_the_run_naming_the_wheel() {
     }
     assert!(yaw_stops > 0, "no start reached the yaw limit");
 }
+
+/// The wheels' contact evaluations run in parallel on a thread of a rayon pool (as `railsim`
+/// runs its commands) and one after the other elsewhere: the runs are identical, bit for bit,
+/// with `stripes` on irregular track, where every wheel's contact differs.
+#[test]
+fn the_wheels_in_parallel_give_the_same_run_bit_for_bit() {
+    let scene = common::scene(
+        r#"
+        vehicle = "vehicles/manchester_vehicle1.toml"
+        track = "tracks/straight_irregular.toml"
+        speed_kmh = 198
+        duration_s = 0.5
+        [log]
+        rate_hz = 200
+        "#,
+    );
+    let (_, _, alone) = common::run(&scene);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let (_, _, shared) = pool.install(|| common::run(&scene));
+    assert_eq!(alone.digest, shared.digest);
+    assert_eq!(alone.stats.rhs_evals, shared.stats.rhs_evals);
+    assert!(alone.samples > 100, "{}", alone.samples);
+}
