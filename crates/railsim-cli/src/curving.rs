@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
+use rayon::prelude::*;
 
 use railsim_sim::curving::{
     CurveCase, CurvingRun, CurvingSolution, QuasiStatic, SteadyCurving, quasi_static_curving,
@@ -132,7 +133,7 @@ pub fn run_curving(a: &CurvingArgs) -> Result<ExitCode> {
         a.average_m,
         a.settle_m
     );
-    let mut results = Vec::new();
+    let mut cases = Vec::new();
     for (i, &radius) in a.radius_m.iter().enumerate() {
         let cant = a.cant_mm[if a.cant_mm.len() == 1 { 0 } else { i }] * 1e-3;
         for &kmh in &a.speed_kmh {
@@ -142,36 +143,70 @@ pub fn run_curving(a: &CurvingArgs) -> Result<ExitCode> {
                 left: a.direction == Direction::Left,
                 speed: kmh / 3.6,
             };
-            let mut progress = crate::run::throttled(a.quiet, |t, t_end, w| {
-                eprint!("\rR {radius} m, {kmh} km/h: t = {t:7.3} / {t_end:.3} s   real {w:7.1} s ");
-            });
-            let r = match a.method {
-                CurvingMethodName::Time => {
-                    let r = steady_curving(&scene, &case, &run, &opts, &mut progress);
-                    if !a.quiet {
-                        eprintln!();
-                    }
-                    r
-                }
-                CurvingMethodName::QuasiStatic => {
-                    quasi_static_curving(&scene, &case, &run, &QuasiStatic::default())
-                }
-            }
-            .context("railsim curving")?;
-            if let CurvingSolution::QuasiStatic {
-                iterations,
-                residual,
-                wall,
-            } = r.solution
-            {
-                outln!(
-                    "R {radius} m, {kmh} km/h: quasi-static solution, {iterations} Newton iterations, largest scaled residual {residual:.3}, {wall:.2} s"
-                );
-            }
-            print_case(&r)?;
-            results.push(r);
+            cases.push((radius, kmh, case));
         }
     }
+    let solve = |case: &CurveCase, progress: &mut dyn FnMut(f64, f64)| match a.method {
+        CurvingMethodName::Time => steady_curving(&scene, case, &run, &opts, progress),
+        CurvingMethodName::QuasiStatic => {
+            quasi_static_curving(&scene, case, &run, &QuasiStatic::default())
+        }
+    };
+    // Several cases share the pool's threads case by case (each case's own right-hand sides then
+    // mostly stay on its thread); the progress is a line per finished case. One case, or one
+    // thread, runs with the progress line of its time integration.
+    let results: Vec<Result<SteadyCurving, _>> = if cases.len() > 1
+        && rayon::current_num_threads() > 1
+    {
+        cases
+            .par_iter()
+            .map(|(radius, kmh, case)| {
+                let t0 = std::time::Instant::now();
+                let r = solve(case, &mut |_, _| {});
+                if !a.quiet {
+                    eprintln!(
+                        "R {radius} m, {kmh} km/h: {} in {:.1} s",
+                        if r.is_ok() { "solved" } else { "failed" },
+                        t0.elapsed().as_secs_f64()
+                    );
+                }
+                r
+            })
+            .collect()
+    } else {
+        cases
+            .iter()
+            .map(|(radius, kmh, case)| {
+                let mut progress = crate::run::throttled(a.quiet, |t, t_end, w| {
+                    eprint!(
+                        "\rR {radius} m, {kmh} km/h: t = {t:7.3} / {t_end:.3} s   real {w:7.1} s "
+                    );
+                });
+                let r = solve(case, &mut progress);
+                if !a.quiet && a.method == CurvingMethodName::Time {
+                    eprintln!();
+                }
+                r
+            })
+            .collect()
+    };
+    let mut done = Vec::new();
+    for ((radius, kmh, _), r) in cases.iter().zip(results) {
+        let r = r.context("railsim curving")?;
+        if let CurvingSolution::QuasiStatic {
+            iterations,
+            residual,
+            wall,
+        } = r.solution
+        {
+            outln!(
+                "R {radius} m, {kmh} km/h: quasi-static solution, {iterations} Newton iterations, largest scaled residual {residual:.3}, {wall:.2} s"
+            );
+        }
+        print_case(&r)?;
+        done.push(r);
+    }
+    let results = done;
     if let Some(p) = &a.csv {
         std::fs::write(p, csv(&results)?).with_context(|| format!("writing {}", p.display()))?;
         outln!("cases written to {}", p.display());

@@ -501,3 +501,43 @@ fn curving_quasi_static_solves_a_case_and_reports_one_without_a_steady_state() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("time integration"), "{err}");
 }
+
+/// Several curving cases share the threads case by case: the table is the same, in the same
+/// order, as on one thread (quasi-static `polach`, three radii; the wall times of the Newton
+/// solutions are left out of the comparison).
+#[test]
+fn curving_cases_in_parallel_give_the_same_table_in_order() {
+    let scene = common::root().join("scenes/manchester_curving.toml");
+    let table = |threads: &str| {
+        let (code, out, err) = railsim(&[
+            "--threads",
+            threads,
+            "curving",
+            scene.to_str().unwrap(),
+            "--method",
+            "quasi-static",
+            "--model",
+            "polach",
+            "--radius-m",
+            "1200,600,900",
+            "--cant-mm",
+            "100",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        out.lines()
+            .map(|l| {
+                l.split(", largest scaled residual")
+                    .next()
+                    .unwrap()
+                    .to_owned()
+            })
+            .collect::<Vec<_>>()
+    };
+    let (one, two) = (table("1"), table("2"));
+    assert_eq!(one, two);
+    let order: Vec<&String> = one.iter().filter(|l| l.starts_with("R = ")).collect();
+    assert_eq!(order.len(), 3, "{one:?}");
+    for (l, r) in order.iter().zip(["R = 1200 m", "R = 600 m", "R = 900 m"]) {
+        assert!(l.starts_with(r), "{l}");
+    }
+}
