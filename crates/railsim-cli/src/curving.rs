@@ -155,26 +155,25 @@ pub fn run_curving(a: &CurvingArgs) -> Result<ExitCode> {
     // Several cases share the pool's threads case by case (each case's own right-hand sides then
     // mostly stay on its thread); the progress is a line per finished case. One case, or one
     // thread, runs with the progress line of its time integration.
-    let results: Vec<Result<SteadyCurving, _>> = if cases.len() > 1
-        && rayon::current_num_threads() > 1
-    {
-        cases
-            .par_iter()
-            .map(|(radius, kmh, case)| {
-                let t0 = std::time::Instant::now();
-                let r = solve(case, &mut |_, _| {});
-                if !a.quiet {
-                    eprintln!(
-                        "R {radius} m, {kmh} km/h: {} in {:.1} s",
-                        if r.is_ok() { "solved" } else { "failed" },
-                        t0.elapsed().as_secs_f64()
-                    );
-                }
-                r
-            })
-            .collect()
-    } else {
-        cases
+    let results: Vec<Result<SteadyCurving, _>> =
+        if cases.len() > 1 && rayon::current_num_threads() > 1 {
+            cases
+                .par_iter()
+                .map(|(radius, kmh, case)| {
+                    let t0 = std::time::Instant::now();
+                    let r = solve(case, &mut |_, _| {});
+                    if !a.quiet {
+                        eprintln!(
+                            "R {radius} m, {kmh} km/h: {} in {:.1} s",
+                            if r.is_ok() { "solved" } else { "failed" },
+                            t0.elapsed().as_secs_f64()
+                        );
+                    }
+                    r
+                })
+                .collect()
+        } else {
+            cases
             .iter()
             .map(|(radius, kmh, case)| {
                 let mut progress = crate::run::throttled(a.quiet, |t, t_end, w| {
@@ -189,7 +188,7 @@ pub fn run_curving(a: &CurvingArgs) -> Result<ExitCode> {
                 r
             })
             .collect()
-    };
+        };
     let mut done = Vec::new();
     for ((radius, kmh, _), r) in cases.iter().zip(results) {
         let r = r.context("railsim curving")?;

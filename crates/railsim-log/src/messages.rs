@@ -258,6 +258,35 @@ impl LogMessage for CarbodyMessage {
     }
 }
 
+/// What a lateral accelerometer fixed to a bogie frame above one of its wheelsets measures at
+/// one instant (EN 14363's simplified stability method).
+///
+/// Topic `/bogie_frames/<n>` (points numbered from 0 over all frames, front first, each frame's
+/// wheelsets front first, as in the run summary), schema `railsim.BogieFrameMessage`: the
+/// specific force (acceleration minus gravity) in the frame's axes; at rest on level track
+/// (0, 0, +9.81).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BogieFrameMessage {
+    /// \[s\] simulation time
+    pub t_s: f64,
+    /// Name of the point, e.g. `bogie_front above ws1`.
+    pub point: String,
+    /// \[m/s^2\] longitudinal specific force, frame x (forward)
+    pub longitudinal_m_s2: f64,
+    /// \[m/s^2\] lateral specific force, frame y (to the left)
+    pub lateral_m_s2: f64,
+    /// \[m/s^2\] vertical specific force, frame z (up)
+    pub vertical_m_s2: f64,
+}
+
+impl LogMessage for BogieFrameMessage {
+    const SCHEMA_NAME: &'static str = "railsim.BogieFrameMessage";
+    fn schema_json() -> Vec<u8> {
+        generated_schema::<Self>()
+    }
+}
+
 /// A time as Foxglove writes it: whole seconds and nanoseconds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct FoxgloveTime {
@@ -367,5 +396,10 @@ pub mod topics {
     /// `/carbody/<n>`.
     pub fn carbody(point: usize) -> String {
         format!("/carbody/{point}")
+    }
+
+    /// `/bogie_frames/<n>`.
+    pub fn bogie_frame(point: usize) -> String {
+        format!("/bogie_frames/{point}")
     }
 }

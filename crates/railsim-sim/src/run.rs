@@ -7,8 +7,8 @@ use std::time::Instant;
 
 use railsim_contact::{Side, WheelsetPose, WheelsetVelocity};
 use railsim_log::messages::{
-    BodyState, CarbodyMessage, Creepages as LogCreepages, FrameTransform, PatchMessage, Quaternion,
-    Side as LogSide, WheelsetMessage, topics, wear_number,
+    BodyState, BogieFrameMessage, CarbodyMessage, Creepages as LogCreepages, FrameTransform,
+    PatchMessage, Quaternion, Side as LogSide, WheelsetMessage, topics, wear_number,
 };
 use railsim_log::{Channel, LogHeader, LogStats, LogWriter, WriterOptions, step_time_ns};
 use railsim_ode::{Integrator, Method, OdeSystem, Stats, StepOutcome, StopReason};
@@ -72,6 +72,9 @@ pub struct Sample {
     /// order): the specific force an accelerometer fixed there measures, longitudinal, lateral
     /// and vertical in the carbody's axes (at rest on level track: 0, 0 and +g).
     pub carbody: Vec<[f64; 3]>,
+    /// \[m/s²\] per measuring point of the bogie frames (`RunSummary::assessment`'s `bogies`,
+    /// the same order): the specific force in the frame's axes.
+    pub bogie_frames: Vec<[f64; 3]>,
 }
 
 /// What a finished run reports.
@@ -876,6 +879,7 @@ impl LoopState {
                     .collect(),
                 lateral: vec![0.0; model.wheels.len() / 2],
                 carbody: Vec::new(),
+                bogie_frames: vec![[0.0; 3]; model.bogies.iter().map(|b| b.points.len()).sum()],
             },
         };
         if let Some((_, points)) = &model.comfort {
@@ -920,10 +924,15 @@ impl LoopState {
                 *out = f_body;
             }
         }
+        let mut out = smp.bogie_frames.iter_mut();
         for (b, series) in model.bogies.iter().zip(&mut self.series.bogies) {
             let k = &ws.kin[b.member];
             for ((_, offset), (_, values)) in b.points.iter().zip(&mut series.points) {
-                values.push(specific_force(k, *offset, model.gravity)[1]);
+                let f = specific_force(k, *offset, model.gravity);
+                values.push(f[1]);
+                if let Some(o) = out.next() {
+                    *o = f;
+                }
             }
         }
         for (i, pair) in model.wheels.chunks(2).enumerate() {
@@ -1035,6 +1044,8 @@ struct Recorder {
     wheelsets: Vec<Channel<WheelsetMessage>>,
     /// Per comfort point of the carbody, with its name.
     carbody: Vec<(Channel<CarbodyMessage>, String)>,
+    /// Per measuring point of the bogie frames, with its name.
+    bogie_frames: Vec<(Channel<BogieFrameMessage>, String)>,
     tf: Option<Channel<FrameTransform>>,
     /// Patches written per wheel at the current sample.
     patch_count: Vec<u32>,
@@ -1098,6 +1109,15 @@ impl Recorder {
                 ));
             }
         }
+        let mut bogie_frames = Vec::new();
+        if want(Topic::BogieFrames) {
+            for (n, (name, _)) in model.bogies.iter().flat_map(|b| &b.points).enumerate() {
+                bogie_frames.push((
+                    writer.channel::<BogieFrameMessage>(&topics::bogie_frame(n))?,
+                    name.clone(),
+                ));
+            }
+        }
         let tf = want(Topic::Tf)
             .then(|| writer.channel::<FrameTransform>(topics::TF))
             .transpose()?;
@@ -1107,6 +1127,7 @@ impl Recorder {
             contact,
             wheelsets,
             carbody,
+            bogie_frames,
             tf,
             patch_count: vec![0; model.wheels.len()],
         })
@@ -1175,6 +1196,16 @@ impl Recorder {
         }
         for ((channel, name), a) in self.carbody.iter().zip(&s.carbody) {
             let msg = CarbodyMessage {
+                t_s: s.t,
+                point: name.clone(),
+                longitudinal_m_s2: a[0],
+                lateral_m_s2: a[1],
+                vertical_m_s2: a[2],
+            };
+            self.writer.write(channel, t_ns, &msg)?;
+        }
+        for ((channel, name), a) in self.bogie_frames.iter().zip(&s.bogie_frames) {
+            let msg = BogieFrameMessage {
                 t_s: s.t,
                 point: name.clone(),
                 longitudinal_m_s2: a[0],

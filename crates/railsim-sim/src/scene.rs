@@ -74,12 +74,16 @@ pub enum Topic {
     Tf,
     /// Per carbody comfort point, the accelerometer's reading: `/carbody/<n>`.
     Carbody,
+    /// Per bogie frame and wheelset above which it is measured, the accelerometer's reading:
+    /// `/bogie_frames/<n>`.
+    BogieFrames,
 }
 
 impl Topic {
     /// All topics, in file-name order.
-    pub const ALL: [Topic; 5] = [
+    pub const ALL: [Topic; 6] = [
         Topic::Bodies,
+        Topic::BogieFrames,
         Topic::Carbody,
         Topic::Contact,
         Topic::Wheelsets,
@@ -93,6 +97,7 @@ impl Topic {
             Topic::Wheelsets => "wheelsets",
             Topic::Tf => "tf",
             Topic::Carbody => "carbody",
+            Topic::BogieFrames => "bogie_frames",
         }
     }
 }

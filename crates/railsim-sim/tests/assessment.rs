@@ -288,7 +288,7 @@ fn hunting_period(samples: &[railsim_sim::Sample]) -> f64 {
 }
 
 #[test]
-fn the_carbody_accelerometers_are_logged_as_sampled() {
+fn the_carbody_and_bogie_frame_accelerometers_are_logged_as_sampled() {
     let dir = std::env::temp_dir().join(format!("railsim-carbody-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let log = dir.join("carbody.mcap");
@@ -328,6 +328,29 @@ fn the_carbody_accelerometers_are_logged_as_sampled() {
         assert!(last.longitudinal_m_s2.abs() < 1e-3, "{last:?}");
         assert!(last.lateral_m_s2.abs() < 1e-3, "{last:?}");
         assert!((last.vertical_m_s2 - 9.81).abs() < 0.01, "{last:?}");
+    }
+    // the bogie frames' accelerometers, one above each wheelset, likewise
+    let names = [
+        "bogie_front above ws1",
+        "bogie_front above ws2",
+        "bogie_rear above ws3",
+        "bogie_rear above ws4",
+    ];
+    for (n, name) in names.iter().enumerate() {
+        let msgs: Vec<(u64, railsim_log::BogieFrameMessage)> = reader
+            .read_topic(&railsim_log::topics::bogie_frame(n), None)
+            .unwrap();
+        assert_eq!(msgs.len(), samples.len());
+        for ((_, m), smp) in msgs.iter().zip(&samples) {
+            assert_eq!(m.point, *name);
+            assert_eq!(
+                [m.longitudinal_m_s2, m.lateral_m_s2, m.vertical_m_s2],
+                smp.bogie_frames[n]
+            );
+        }
+        let (_, last) = &msgs[msgs.len() - 1];
+        assert!(last.lateral_m_s2.abs() < 1e-2, "{last:?}");
+        assert!((last.vertical_m_s2 - 9.81).abs() < 0.05, "{last:?}");
     }
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -4,13 +4,14 @@
 Usage: check_run_log.py LOG.mcap [--rails]
 
 Checks that the log has a summary whose per-channel message counts equal the messages actually
-read, that the five kinds of topics are there (/bodies/*, /carbody/*, /contact/*, /wheelsets/*,
-/tf), that the carbody's accelerometers read on average about +g vertically (9.81 ± 0.2 m/s²), that
+read, that the six kinds of topics are there (/bodies/*, /bogie_frames/*, /carbody/*, /contact/*,
+/wheelsets/*, /tf), that the carbody's and the bogie frames' accelerometers read on average about
++g vertically (9.81 ± 0.2 m/s²), that
 every message decodes as JSON with its own time equal to the log time, that no number is NaN or
 infinite, and that the `scene` and `railsim_result` metadata (with the state digest) are present.
-With --rails (a run on an elastic rail support, logging bodies, contact and wheelsets): /tf is
-not required, and every /wheelsets message must carry `rail_displacement_m`, four finite numbers
-with both rails below their unloaded height. Exits 1 on any mismatch.
+With --rails (a run on an elastic rail support, logging bodies, carbody, contact and wheelsets):
+/tf and /bogie_frames are not required, and every /wheelsets message must carry
+`rail_displacement_m`, four finite numbers with both rails below their unloaded height. Exits 1 on any mismatch.
 """
 
 import json
@@ -38,6 +39,7 @@ def main():
     failures = []
     counts = {}
     vertical = []
+    frames = []
     with open(sys.argv[1], "rb") as f:
         reader = make_reader(f)
         summary = reader.get_summary()
@@ -55,6 +57,8 @@ def main():
                     failures.append(f"{channel.topic}: rail_displacement_m = {d!r}")
             if channel.topic.startswith("/carbody/"):
                 vertical.append(body["vertical_m_s2"])
+            if channel.topic.startswith("/bogie_frames/"):
+                frames.append(body["vertical_m_s2"])
             if schema.name == "foxglove.FrameTransform":
                 st = body["timestamp"]
                 ok = st["sec"] * 1_000_000_000 + st["nsec"] == message.log_time
@@ -68,11 +72,13 @@ def main():
             if counts.get(topic, 0) != n:
                 failures.append(f"{topic}: summary says {n} messages, read {counts.get(topic, 0)}")
         for prefix in ("/bodies/", "/carbody/", "/contact/", "/wheelsets/") + (
-                () if rails else ("/tf",)):
+                () if rails else ("/bogie_frames/", "/tf")):
             if not any(t.startswith(prefix) for t in counts):
                 failures.append(f"no topic {prefix}*")
         if vertical and abs(sum(vertical) / len(vertical) - 9.81) > 0.2:
             failures.append(f"carbody: mean vertical reading {sum(vertical) / len(vertical)} m/s²")
+        if frames and abs(sum(frames) / len(frames) - 9.81) > 0.2:
+            failures.append(f"bogie frames: mean vertical reading {sum(frames) / len(frames)} m/s²")
         f.seek(0)
         names = {m.name: m.metadata for m in make_reader(f).iter_metadata()}
         if "scene" not in names:
