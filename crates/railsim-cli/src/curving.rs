@@ -242,7 +242,7 @@ fn print_case(r: &SteadyCurving) -> Result<()> {
         "R = {} m, cant {} mm, {} km/h: uncompensated {:.3} m/s² (cant deficiency {:.0} mm){cb}",
         c.radius,
         c.cant * 1e3,
-        c.speed * 3.6,
+        kmh(c.speed),
         r.uncompensated,
         r.cant_deficiency * 1e3
     );
@@ -286,7 +286,7 @@ fn csv(results: &[SteadyCurving]) -> Result<String> {
                 "{},{},{},{},{:.6},{:.3},{n},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.3},{:.6},{:.6},{:.6},{:.3},{:.6}",
                 c.radius,
                 c.cant * 1e3,
-                c.speed * 3.6,
+                kmh(c.speed),
                 if c.left { "left" } else { "right" },
                 r.uncompensated,
                 r.cant_deficiency * 1e3,
@@ -306,4 +306,10 @@ fn csv(results: &[SteadyCurving]) -> Result<String> {
         }
     }
     Ok(text)
+}
+
+/// \[km/h\] a speed given in km/h and stored in m/s, back to what was given (120, not
+/// 120.00000000000001).
+fn kmh(v: f64) -> f64 {
+    (v * 3.6 * 1e9).round() / 1e9
 }

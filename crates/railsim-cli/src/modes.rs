@@ -63,6 +63,17 @@ pub struct ModesArgs {
     /// The animation's length in periods of the mode.
     #[arg(long, default_value_t = 3.0)]
     pub periods: f64,
+    /// Linearise about steady curving in a curve of this radius (m) instead of centred running
+    /// on straight track: the quasi-static curving state (`railsim curving --method
+    /// quasi-static`), which needs a Hertz contact model (e.g. --model polach).
+    #[arg(long)]
+    pub radius_m: Option<f64>,
+    /// The curve's cant (mm), with --radius-m.
+    #[arg(long, default_value_t = 0.0)]
+    pub cant_mm: f64,
+    /// The curve's direction, with --radius-m.
+    #[arg(long, value_enum, default_value_t = crate::curving::Direction::Left)]
+    pub direction: crate::curving::Direction,
 }
 
 fn options(step_um: f64) -> Result<ModalOptions> {
@@ -99,16 +110,52 @@ pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
     if let Some(m) = a.model {
         scene.contact.model = m.into();
     }
-    eprintln!(
-        "railsim modes: {} (contact model {}): eigenvalues of the vehicle linearised about its centred running on straight ideal track",
-        scene.name,
-        scene.contact.model.name()
-    );
+    let curve = match a.radius_m {
+        None => None,
+        Some(r) if r.is_finite() && r > 0.0 && a.cant_mm.is_finite() && a.cant_mm >= 0.0 => {
+            if a.animate.is_some() {
+                bail!("--animate: animates a mode on straight track only, not with --radius-m");
+            }
+            Some((r, a.cant_mm * 1e-3))
+        }
+        Some(r) => bail!(
+            "--radius-m {r} with --cant-mm {}: expected a positive radius and a cant of 0 mm or more",
+            a.cant_mm
+        ),
+    };
+    match curve {
+        None => eprintln!(
+            "railsim modes: {} (contact model {}): eigenvalues of the vehicle linearised about its centred running on straight ideal track",
+            scene.name,
+            scene.contact.model.name()
+        ),
+        Some((r, c)) => eprintln!(
+            "railsim modes: {} (contact model {}): eigenvalues of the vehicle linearised about its steady curving in R = {r} m with {} mm cant",
+            scene.name,
+            scene.contact.model.name(),
+            c * 1e3
+        ),
+    }
     let mut csv =
         String::from("speed_kmh,frequency_hz,damping_ratio,re_per_s,im_rad_s,coordinates\n");
     let mut analyses = Vec::new();
     for &kmh in &a.speed_kmh {
-        let r = railsim_sim::modal::modes_at(&scene, kmh / 3.6, &opts).context("railsim modes")?;
+        let r = match curve {
+            None => railsim_sim::modal::modes_at(&scene, kmh / 3.6, &opts),
+            Some((radius, cant)) => railsim_sim::modal::modes_in_curve(
+                &scene,
+                &railsim_sim::curving::CurveCase {
+                    radius,
+                    cant,
+                    left: a.direction == crate::curving::Direction::Left,
+                    speed: kmh / 3.6,
+                },
+                &railsim_sim::curving::CurvingRun::default(),
+                &railsim_sim::curving::QuasiStatic::default(),
+                &opts,
+            ),
+        }
+        .context("railsim modes")?;
         print_modes(&r, a)?;
         for m in &r.modes {
             writeln!(

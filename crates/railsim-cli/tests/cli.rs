@@ -541,3 +541,40 @@ fn curving_cases_in_parallel_give_the_same_table_in_order() {
         assert!(l.starts_with(r), "{l}");
     }
 }
+
+/// `railsim modes --radius-m`: the modes about steady curving, and what it cannot do.
+#[test]
+fn modes_in_a_curve_are_listed_and_bad_curves_rejected() {
+    let (code, out, err) = railsim(&[
+        "modes",
+        "--model",
+        "polach",
+        "--speed-kmh",
+        "80",
+        "--radius-m",
+        "600",
+        "--cant-mm",
+        "100",
+        "--count",
+        "3",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("steady curving in R = 600 m with 100 mm cant"),
+        "{err}"
+    );
+    assert!(out.contains("80.0 km/h: 78 states"), "{out}");
+    for (args, text) in [
+        (vec!["--radius-m=-5"], "expected a positive radius"),
+        (
+            vec!["--radius-m", "600", "--animate", "1"],
+            "straight track only",
+        ),
+    ] {
+        let mut all = vec!["modes", "--model", "polach", "--speed-kmh", "80"];
+        all.extend(args);
+        let (code, _, err) = railsim(&all);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(text), "{err}");
+    }
+}

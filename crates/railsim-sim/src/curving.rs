@@ -431,9 +431,52 @@ pub fn quasi_static_curving(
     qs: &QuasiStatic,
 ) -> Result<SteadyCurving, SimError> {
     let started = std::time::Instant::now();
+    let steady = steady_state(scene, case, run, qs)?;
+    let (study, at) = (&steady.study, steady.at);
+    let (x, iterations, residual) = (steady.x, steady.iterations, steady.residual);
+    let mut sim = steady.sim;
+    let sample = sim.sample_at(at / case.speed, &x)?;
+    let mut means = Means::default();
+    means.add(&sample);
+    Ok(means.result(
+        study,
+        case,
+        at,
+        !sample.carbody.is_empty(),
+        CurvingSolution::QuasiStatic {
+            iterations,
+            residual,
+            wall: started.elapsed().as_secs_f64(),
+        },
+    ))
+}
+
+/// A steady state of a curving case ([`steady_state`]).
+pub(crate) struct SteadyState {
+    /// The case's scene and its simulation.
+    pub study: Scene,
+    pub sim: Simulation,
+    /// \[m\] the vehicle reference's track position at the solution (in the curve).
+    pub at: f64,
+    /// The solution, f(at / V, x) = 0.
+    pub x: Vec<f64>,
+    /// Newton iterations in all (with the continuation's).
+    pub iterations: usize,
+    /// The largest scaled residual left.
+    pub residual: f64,
+}
+
+/// The steady state of `case` ([`quasi_static_curving`]): Newton from the centred start, or
+/// after a continuation in curvature and cant.
+pub(crate) fn steady_state(
+    scene: &Scene,
+    case: &CurveCase,
+    run: &CurvingRun,
+    qs: &QuasiStatic,
+) -> Result<SteadyState, SimError> {
     let (study, curve_start) = curving_scene(scene, case, run)?;
     let at = curve_start + 0.5 * run.settle;
-    let mut sim = Simulation::new(&study)?;
+    let sim = Simulation::new(&study)?;
     let fail = |message: String| SimError::Study {
         message: format!(
             "quasi-static curving of scene '{}', R = {} m at {:.1} km/h: {message}",
@@ -474,20 +517,14 @@ pub fn quasi_static_curving(
             (xk, total + it, r)
         }
     };
-    let sample = sim.sample_at(at / case.speed, &x)?;
-    let mut means = Means::default();
-    means.add(&sample);
-    Ok(means.result(
-        &study,
-        case,
+    Ok(SteadyState {
+        study,
+        sim,
         at,
-        !sample.carbody.is_empty(),
-        CurvingSolution::QuasiStatic {
-            iterations,
-            residual,
-            wall: started.elapsed().as_secs_f64(),
-        },
-    ))
+        x,
+        iterations,
+        residual,
+    })
 }
 
 /// Newton's method for `f(t, x) = 0` of `sim`'s model from `start` (default: its initial

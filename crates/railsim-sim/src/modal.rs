@@ -23,6 +23,12 @@
 //! 2006): the two methods answer different questions, and the linear one needs a contact that is
 //! smooth about the centred position (the conicity at small amplitude decides it).
 //!
+//! **In a curve** ([`modes_in_curve`]) the linearisation point is the steady curving state of
+//! [`crate::curving::quasi_static_curving`] (Newton on the whole state in the circular curve,
+//! where the equations no longer depend on the distance run), and the Jacobian is taken there
+//! with the same steps: the modes of the vehicle in steady curving, with its wheels off centre,
+//! yawed and, in tight curves, in flange contact.
+//!
 //! Sources: Lyapunov's indirect method and the root locus of railway vehicles as in Wickens,
 //! *Fundamentals of Rail Vehicle Dynamics* (2003), ch. 3–4, and Knothe & Stichel, *Rail Vehicle
 //! Dynamics* (2017), ch. 8; the eigen decomposition is faer's (Francis QR).
@@ -32,7 +38,7 @@ use railsim_ode::linear::{Eigenpair, eigenpairs, jacobian};
 
 use railsim_log::LogStats;
 
-use crate::curving::smooth_track;
+use crate::curving::{CurveCase, CurvingRun, QuasiStatic, smooth_track, steady_state};
 use crate::dynamics::Dynamics;
 use crate::error::SimError;
 use crate::model::SimModel;
@@ -149,25 +155,11 @@ pub fn modal_scene(scene: &Scene, speed: f64) -> Result<Scene, SimError> {
 
 /// The modes of `scene`'s vehicle at constant `speed` \[m/s\] (module docs).
 pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalAnalysis, SimError> {
-    if !(opts.position_step > 0.0
-        && opts.position_step <= 1e-3
-        && opts.rate_step > 0.0
-        && opts.rate_step <= 1e-2)
-    {
-        return Err(SimError::Study {
-            message: format!(
-                "modal analysis of scene '{}': the difference steps must lie in (0, 1] mm and (0, 10] mm/s, found {} mm and {} mm/s",
-                scene.name,
-                opts.position_step * 1e3,
-                opts.rate_step * 1e3
-            ),
-        });
-    }
+    check_steps(scene, opts)?;
     let study = modal_scene(scene, speed)?;
     let sim = Simulation::new(&study)?;
     let model = sim.model();
     let mut x0 = sim.initial_state().to_vec();
-    let n = x0.len();
     let mut sys = Dynamics::new(model);
     let fail = |what: String| SimError::Study {
         message: format!(
@@ -183,6 +175,40 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
         .filter_map(|m| m.rate[4])
         .collect();
     let f0 = settle_spins(&mut sys, &mut x0, &spins, opts.rate_step).map_err(|e| fail(e.0))?;
+    linearise(model, &mut sys, 0.0, x0, &f0, speed, opts).map_err(fail)
+}
+
+/// Check the difference steps of `opts`: at most 1 mm and 10 mm/s.
+fn check_steps(scene: &Scene, opts: &ModalOptions) -> Result<(), SimError> {
+    if opts.position_step > 0.0
+        && opts.position_step <= 1e-3
+        && opts.rate_step > 0.0
+        && opts.rate_step <= 1e-2
+    {
+        return Ok(());
+    }
+    Err(SimError::Study {
+        message: format!(
+            "modal analysis of scene '{}': the difference steps must lie in (0, 1] mm and (0, 10] mm/s, found {} mm and {} mm/s",
+            scene.name,
+            opts.position_step * 1e3,
+            opts.rate_step * 1e3
+        ),
+    })
+}
+
+/// The modes of `model`'s equations linearised at `(t, x0)`, where the right-hand side is
+/// `f0`, at `speed` \[m/s\].
+fn linearise(
+    model: &SimModel,
+    sys: &mut Dynamics,
+    t: f64,
+    x0: Vec<f64>,
+    f0: &[f64],
+    speed: f64,
+    opts: &ModalOptions,
+) -> Result<ModalAnalysis, String> {
+    let n = x0.len();
     // positions' derivatives are the rates; the rest are accelerations and rates of internal
     // and rail states, which vanish at an equilibrium
     let residual = (model.n_pos..n)
@@ -195,8 +221,8 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
             (model.state_names[i].clone(), v)
         });
     let steps = difference_steps(model, &x0, opts);
-    let jac = jacobian(&mut sys, 0.0, &x0, &steps).map_err(|e| fail(e.0))?;
-    let pairs = eigenpairs(&jac).map_err(fail)?;
+    let jac = jacobian(sys, t, &x0, &steps).map_err(|e| e.0)?;
+    let pairs = eigenpairs(&jac)?;
     let modes = pairs
         .iter()
         .filter(|p| p.im >= 0.0)
@@ -209,6 +235,35 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
         residual,
         equilibrium: x0,
     })
+}
+
+/// The modes of `scene`'s vehicle in steady curving through `case` (module docs): linearised
+/// about the quasi-static solution of [`crate::curving::quasi_static_curving`] (`run`'s lengths
+/// place it in the circular curve, `qs` solves it), with `opts`' steps. Needs a contact model
+/// smooth enough for Newton (the Hertz rungs; STRIPES stalls in flange contact, as there).
+pub fn modes_in_curve(
+    scene: &Scene,
+    case: &CurveCase,
+    run: &CurvingRun,
+    qs: &QuasiStatic,
+    opts: &ModalOptions,
+) -> Result<ModalAnalysis, SimError> {
+    check_steps(scene, opts)?;
+    let steady = steady_state(scene, case, run, qs)?;
+    let model = steady.sim.model();
+    let t = steady.at / case.speed;
+    let mut sys = Dynamics::new(model);
+    let fail = |what: String| SimError::Study {
+        message: format!(
+            "modal analysis of scene '{}' in the curve R = {} m at {:.2} km/h: {what}",
+            scene.name,
+            case.radius,
+            case.speed * 3.6
+        ),
+    };
+    let mut f0 = vec![0.0; steady.x.len()];
+    sys.rhs(t, &steady.x, &mut f0).map_err(|e| fail(e.0))?;
+    linearise(model, &mut sys, t, steady.x.clone(), &f0, case.speed, opts).map_err(fail)
 }
 
 /// The difference step of every state of `model` at `x` for a Jacobian: `opts.rate_step` (at

@@ -269,3 +269,82 @@ fn a_modes_animation_logs_its_shape_at_its_frequency() {
     assert!(e.to_string().contains("amplitude must lie in"), "{e}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Modes in steady curving (`modes_in_curve`): about the quasi-static curving state.
+/// - In a curve so wide (R = 50 km, no cant) that the wheels stay within micrometres of the
+///   centre, the modes are those of straight track: the least damped oscillatory ones agree.
+/// - In R = 600 m with 100 mm cant at 80 km/h, where the time integration settles, every mode
+///   decays; the least damped one differs from straight track's (the wheels run off centre on
+///   other contact geometry).
+#[test]
+fn modes_in_a_curve_are_the_straight_tracks_in_a_wide_curve_and_stable_where_curving_settles() {
+    use railsim_sim::curving::{CurveCase, CurvingRun, QuasiStatic};
+    use railsim_sim::modal::modes_in_curve;
+    let s = manchester_polach(
+        r#"
+        track = "tracks/straight.toml"
+        speed_kmh = 100
+        duration_s = 1
+        "#,
+    );
+    let opts = ModalOptions::default();
+    let v = 100.0 / 3.6;
+    let straight = modes_at(&s, v, &opts).unwrap();
+    let wide = CurveCase {
+        radius: 50e3,
+        cant: 0.0,
+        left: true,
+        speed: v,
+    };
+    let curve = modes_in_curve(
+        &s,
+        &wide,
+        &CurvingRun::default(),
+        &QuasiStatic::default(),
+        &opts,
+    )
+    .unwrap();
+    let osc = |m: &[Mode]| -> Vec<(f64, f64)> {
+        m.iter()
+            .filter(|m| m.is_oscillatory())
+            .take(6)
+            .map(|m| (m.re, m.frequency))
+            .collect()
+    };
+    let (a, b) = (osc(&straight.modes), osc(&curve.modes));
+    eprintln!("straight {a:?}\ncurve R = 50 km {b:?}");
+    for ((ra, fa), (rb, fb)) in a.iter().zip(&b) {
+        assert!((fa - fb).abs() < 0.01 * fa, "{fa} Hz against {fb} Hz");
+        assert!(
+            (ra - rb).abs() < 0.02 * ra.abs() + 0.01,
+            "{ra} against {rb}"
+        );
+    }
+    let case = CurveCase {
+        radius: 600.0,
+        cant: 0.1,
+        left: true,
+        speed: 80.0 / 3.6,
+    };
+    let c = modes_in_curve(
+        &s,
+        &case,
+        &CurvingRun::default(),
+        &QuasiStatic::default(),
+        &opts,
+    )
+    .unwrap();
+    let least = c.least_stable().unwrap();
+    let straight80 = modes_at(&s, 80.0 / 3.6, &opts).unwrap();
+    eprintln!(
+        "R = 600 m, 80 km/h: least damped {:.3} Hz, ζ {:.4}, {:?} (residual {:?}); straight: {:.3} Hz, ζ {:.4}",
+        least.frequency,
+        least.damping_ratio,
+        least.shape,
+        c.residual,
+        straight80.least_stable().unwrap().frequency,
+        straight80.least_stable().unwrap().damping_ratio
+    );
+    assert!(c.modes.iter().all(|m| m.re < 0.0), "{:?}", c.modes[0]);
+    assert!(c.residual.1 < 1e-3, "{:?}", c.residual);
+}
