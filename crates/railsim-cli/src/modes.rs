@@ -9,7 +9,8 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use railsim_sim::Scene;
-use railsim_sim::modal::{LinearCritical, ModalAnalysis, ModalOptions, Mode};
+use railsim_sim::curving::{CurveCase, CurvingRun, QuasiStatic};
+use railsim_sim::modal::{LinearCritical, Linearisation, ModalAnalysis, ModalOptions, Mode};
 
 use crate::chart::{Labels, Series, line_chart};
 use crate::critical::{CriticalArgs, DEFAULT_SCENE};
@@ -76,6 +77,43 @@ pub struct ModesArgs {
     pub direction: crate::curving::Direction,
 }
 
+/// What `--radius-m`, `--cant-mm` and `--direction` ask to linearise about.
+fn about(
+    radius_m: Option<f64>,
+    cant_mm: f64,
+    direction: crate::curving::Direction,
+) -> Result<Linearisation> {
+    match radius_m {
+        None => Ok(Linearisation::Straight),
+        Some(r) if r.is_finite() && r > 0.0 && cant_mm.is_finite() && cant_mm >= 0.0 => {
+            Ok(Linearisation::Curve {
+                case: CurveCase {
+                    radius: r,
+                    cant: cant_mm * 1e-3,
+                    left: direction == crate::curving::Direction::Left,
+                    speed: 0.0,
+                },
+                run: CurvingRun::default(),
+                qs: QuasiStatic::default(),
+            })
+        }
+        Some(r) => bail!(
+            "--radius-m {r} with --cant-mm {cant_mm}: expected a positive radius and a cant of 0 mm or more"
+        ),
+    }
+}
+
+fn about_text(about: &Linearisation) -> String {
+    match about {
+        Linearisation::Straight => "its centred running on straight ideal track".to_owned(),
+        Linearisation::Curve { case, .. } => format!(
+            "its steady curving in R = {} m with {} mm cant",
+            case.radius,
+            case.cant * 1e3
+        ),
+    }
+}
+
 fn options(step_um: f64) -> Result<ModalOptions> {
     if !(step_um.is_finite() && step_um > 0.0 && step_um <= 1000.0) {
         bail!("--step-um: expected a number in (0, 1000] µm, found {step_um}");
@@ -110,52 +148,23 @@ pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
     if let Some(m) = a.model {
         scene.contact.model = m.into();
     }
-    let curve = match a.radius_m {
-        None => None,
-        Some(r) if r.is_finite() && r > 0.0 && a.cant_mm.is_finite() && a.cant_mm >= 0.0 => {
-            if a.animate.is_some() {
-                bail!("--animate: animates a mode on straight track only, not with --radius-m");
-            }
-            Some((r, a.cant_mm * 1e-3))
-        }
-        Some(r) => bail!(
-            "--radius-m {r} with --cant-mm {}: expected a positive radius and a cant of 0 mm or more",
-            a.cant_mm
-        ),
-    };
-    match curve {
-        None => eprintln!(
-            "railsim modes: {} (contact model {}): eigenvalues of the vehicle linearised about its centred running on straight ideal track",
-            scene.name,
-            scene.contact.model.name()
-        ),
-        Some((r, c)) => eprintln!(
-            "railsim modes: {} (contact model {}): eigenvalues of the vehicle linearised about its steady curving in R = {r} m with {} mm cant",
-            scene.name,
-            scene.contact.model.name(),
-            c * 1e3
-        ),
+    let about = about(a.radius_m, a.cant_mm, a.direction)?;
+    if a.animate.is_some() && about != Linearisation::Straight {
+        bail!("--animate: animates a mode on straight track only, not with --radius-m");
     }
+    eprintln!(
+        "railsim modes: {} (contact model {}): eigenvalues of the vehicle linearised about {}",
+        scene.name,
+        scene.contact.model.name(),
+        about_text(&about)
+    );
     let mut csv =
         String::from("speed_kmh,frequency_hz,damping_ratio,re_per_s,im_rad_s,coordinates\n");
     let mut analyses = Vec::new();
     for &kmh in &a.speed_kmh {
-        let r = match curve {
-            None => railsim_sim::modal::modes_at(&scene, kmh / 3.6, &opts),
-            Some((radius, cant)) => railsim_sim::modal::modes_in_curve(
-                &scene,
-                &railsim_sim::curving::CurveCase {
-                    radius,
-                    cant,
-                    left: a.direction == crate::curving::Direction::Left,
-                    speed: kmh / 3.6,
-                },
-                &railsim_sim::curving::CurvingRun::default(),
-                &railsim_sim::curving::QuasiStatic::default(),
-                &opts,
-            ),
-        }
-        .context("railsim modes")?;
+        let r = about
+            .modes(&scene, kmh / 3.6, &opts)
+            .context("railsim modes")?;
         print_modes(&r, a)?;
         for m in &r.modes {
             writeln!(
@@ -310,10 +319,12 @@ pub fn linear(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
     let opts = options(a.step_um)?;
     let tol = a.tol.unwrap_or(0.002);
     let (lo, hi) = (a.to_kmh / 3.6, a.from_kmh / 3.6);
+    let about = about(a.radius_m, a.cant_mm, a.direction)?;
     eprintln!(
-        "railsim critical-speed: {} (contact model {}): eigenvalues of the linearised vehicle from {} to {} km/h ({} intervals, then bisection to {} %)",
+        "railsim critical-speed: {} (contact model {}): eigenvalues of the vehicle linearised about {} from {} to {} km/h ({} intervals, then bisection to {} %)",
         scene.name,
         scene.contact.model.name(),
+        about_text(&about),
         a.to_kmh,
         a.from_kmh,
         a.scan,
@@ -331,8 +342,9 @@ pub fn linear(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
             );
         }
     };
-    let res = railsim_sim::modal::linear_critical_speed(
+    let res = railsim_sim::modal::linear_critical_speed_about(
         scene,
+        &about,
         &opts,
         (lo, hi),
         a.scan,
@@ -346,8 +358,9 @@ pub fn linear(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
         position_step: CHECK_FACTOR * opts.position_step,
         rate_step: CHECK_FACTOR * opts.rate_step,
     };
-    let check = railsim_sim::modal::linear_critical_speed(
+    let check = railsim_sim::modal::linear_critical_speed_about(
         scene,
+        &about,
         &check_opts,
         (lo, hi),
         a.scan,

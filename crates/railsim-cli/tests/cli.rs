@@ -577,4 +577,21 @@ fn modes_in_a_curve_are_listed_and_bad_curves_rejected() {
         assert_eq!(code, 2, "{err}");
         assert!(err.contains(text), "{err}");
     }
+    // the linear critical speed about a (very wide) curve, and the other methods refusing one
+    let (code, out, err) = railsim(&[
+        "critical-speed",
+        "--method",
+        "linear",
+        "--model",
+        "polach",
+        "--radius-m",
+        "1000000",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("steady curving in R = 1000000 m"), "{err}");
+    assert!(out.contains("linear critical speed"), "{out}");
+    let (code, _, err) = railsim(&["critical-speed", "--method", "bisect", "--radius-m", "600"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("only the linear method"), "{err}");
 }

@@ -388,13 +388,71 @@ pub struct LinearCritical {
     pub scan: Vec<(f64, f64)>,
 }
 
+/// What a vehicle is linearised about.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Linearisation {
+    /// Centred running on straight ideal track ([`modes_at`]).
+    Straight,
+    /// Steady curving through `case` ([`modes_in_curve`]); the analysis' speed replaces the
+    /// case's.
+    Curve {
+        /// The curve (its speed is not used).
+        case: CurveCase,
+        /// The lengths of the case's run.
+        run: CurvingRun,
+        /// The quasi-static solution's limits.
+        qs: QuasiStatic,
+    },
+}
+
+impl Linearisation {
+    /// The modes of `scene`'s vehicle at `speed` \[m/s\] about this state.
+    pub fn modes(
+        &self,
+        scene: &Scene,
+        speed: f64,
+        opts: &ModalOptions,
+    ) -> Result<ModalAnalysis, SimError> {
+        match self {
+            Linearisation::Straight => modes_at(scene, speed, opts),
+            Linearisation::Curve { case, run, qs } => {
+                let case = CurveCase { speed, ..*case };
+                modes_in_curve(scene, &case, run, qs, opts)
+            }
+        }
+    }
+}
+
 /// The lowest speed in `[lo, hi]` \[m/s\] at which an oscillatory mode of `scene`'s vehicle
-/// becomes unstable: `n_scan` equal intervals are scanned from `lo` for the first one over
-/// which the least damped mode's real part changes sign from negative to positive, and that
-/// interval is bisected until it is narrower than `rel_tol` of its upper end. Errors when the
-/// vehicle is already unstable at `lo` or stable up to `hi`.
+/// becomes unstable in centred running on straight track: [`linear_critical_speed_about`] with
+/// [`Linearisation::Straight`].
 pub fn linear_critical_speed(
     scene: &Scene,
+    opts: &ModalOptions,
+    range: (f64, f64),
+    n_scan: usize,
+    rel_tol: f64,
+    progress: &mut dyn FnMut(&ModalAnalysis),
+) -> Result<LinearCritical, SimError> {
+    linear_critical_speed_about(
+        scene,
+        &Linearisation::Straight,
+        opts,
+        range,
+        n_scan,
+        rel_tol,
+        progress,
+    )
+}
+
+/// The lowest speed in `[lo, hi]` \[m/s\] at which an oscillatory mode of `scene`'s vehicle,
+/// linearised about `about`, becomes unstable: `n_scan` equal intervals are scanned from `lo`
+/// for the first one over which the least damped mode's real part changes sign from negative
+/// to positive, and that interval is bisected until it is narrower than `rel_tol` of its upper
+/// end. Errors when the vehicle is already unstable at `lo` or stable up to `hi`.
+pub fn linear_critical_speed_about(
+    scene: &Scene,
+    about: &Linearisation,
     opts: &ModalOptions,
     (lo, hi): (f64, f64),
     n_scan: usize,
@@ -412,7 +470,7 @@ pub fn linear_critical_speed(
     let mut scan = Vec::new();
     // each analysis: the least stable oscillatory mode's real part, and all oscillatory modes
     let mut eval = |v: f64, scan: &mut Vec<(f64, f64)>| -> Result<(f64, Vec<Mode>), SimError> {
-        let a = modes_at(scene, v, opts)?;
+        let a = about.modes(scene, v, opts)?;
         progress(&a);
         let g = a.least_stable().map(|m| m.re).ok_or_else(|| {
             bad(format!(
