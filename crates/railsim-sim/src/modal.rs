@@ -110,6 +110,10 @@ pub struct ModalAnalysis {
     pub residual: (String, f64),
     /// The state linearised about.
     pub equilibrium: Vec<f64>,
+    /// \[s\] the time it was linearised at: 0 on straight track; in a curve the time at which
+    /// the case's run (`crate::curving::curving_scene`) is at the steady state, so that
+    /// [`Simulation::start_from`] can restart that run there.
+    pub time: f64,
 }
 
 impl ModalAnalysis {
@@ -234,6 +238,7 @@ fn linearise(
         states: n,
         residual,
         equilibrium: x0,
+        time: t,
     })
 }
 

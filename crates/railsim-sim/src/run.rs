@@ -48,7 +48,10 @@ pub struct Simulation {
     model: SimModel,
     ws: Option<Workspace>,
     integ: Integrator,
+    /// The state the run starts from, at `t0`.
     x0: Vec<f64>,
+    /// \[s\] the time the run starts at: 0, or where [`Simulation::start_from`] put it.
+    t0: f64,
     t_end: f64,
     /// Wheel loads of the static solution, per wheelset \[left, right\].
     static_loads: Vec<[f64; 2]>,
@@ -275,6 +278,7 @@ impl Simulation {
             ws: Some(ws),
             integ,
             x0,
+            t0: 0.0,
             t_end: scene.duration(),
             static_loads: stat.wheel_loads,
         })
@@ -288,6 +292,38 @@ impl Simulation {
     /// The initial state.
     pub fn initial_state(&self) -> &[f64] {
         &self.x0
+    }
+
+    /// Start the next [`run`](Self::run) from state `x` at time `t0` \[s\] instead of the
+    /// static equilibrium at 0 (a restart: e.g. a steady curving state with a disturbance added,
+    /// `crate::modal::ModalAnalysis::time` and `equilibrium`). The run then goes from `t0` to the
+    /// scene's end, samples on the log's grid from `t0` on, and the vehicle is where the speed
+    /// profile puts it at `t0`. Errors on a state of the wrong length or with a non-finite value,
+    /// or a `t0` outside `[0, end)`.
+    pub fn start_from(&mut self, t0: f64, x: &[f64]) -> Result<(), SimError> {
+        let bad = |message: String| SimError::Initial { message };
+        if x.len() != self.x0.len() {
+            return Err(bad(format!(
+                "a restart state of {} values for a model of {} states",
+                x.len(),
+                self.x0.len()
+            )));
+        }
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(bad(format!(
+                "the restart state's '{}' is {}",
+                self.model.state_names[i], x[i]
+            )));
+        }
+        if !(t0.is_finite() && t0 >= 0.0 && t0 < self.t_end) {
+            return Err(bad(format!(
+                "a restart at t = {t0} s, outside the run's [0, {}) s",
+                self.t_end
+            )));
+        }
+        self.x0.copy_from_slice(x);
+        self.t0 = t0;
+        Ok(())
     }
 
     /// The sample (wheel forces, Y/Q, angles of attack, wear numbers, carbody readings) of
@@ -356,6 +392,14 @@ impl Simulation {
         on_sample: &mut dyn FnMut(&Sample),
     ) -> Result<RunSummary, SimError> {
         let t_end = opts.t_end.unwrap_or(self.t_end).min(self.t_end);
+        if t_end <= self.t0 {
+            return Err(SimError::Initial {
+                message: format!(
+                    "the run would end at {t_end} s, not after its start at {} s",
+                    self.t0
+                ),
+            });
+        }
         let log_path = opts
             .log_path
             .clone()
@@ -395,9 +439,11 @@ impl Simulation {
         let mut state = LoopState::new(&self.model, scene.log.rate_hz, &self.static_loads);
         let wall = Instant::now();
         let mut logging = 0.0;
-        let mut next = 0usize;
+        // the first sample on the log's grid at or after the start
+        let first = ((self.t0 * 1e9 - 0.5) / dt_ns as f64).ceil().max(0.0) as usize;
+        let mut next = first;
         let result: Result<(), SimError> = (|| {
-            self.integ.start(&dynamics, 0.0, &self.x0, t_end)?;
+            self.integ.start(&dynamics, self.t0, &self.x0, t_end)?;
             loop {
                 // Samples up to the integrator's time.
                 loop {
@@ -409,7 +455,7 @@ impl Simulation {
                     if ts > t_int + 1e-9 || ts > t_end + 1e-9 {
                         break;
                     }
-                    if next == 0 {
+                    if next == first && ts <= self.t0 + 1e-9 {
                         xs.copy_from_slice(&self.x0);
                     } else {
                         self.integ.dense(ts.min(t_int), &mut xs)?;
@@ -473,7 +519,7 @@ impl Simulation {
             max_rail: state.max_rail,
             assessment,
             stats,
-            samples: next as u64,
+            samples: (next - first) as u64,
             digest: state.digest,
             cost,
             contact_searches,

@@ -395,3 +395,108 @@ fn the_linear_critical_speed_in_a_curve_tends_to_straight_tracks_as_the_radius_g
     assert!((far / straight - 1.0).abs() < 0.002, "{far} {straight}");
     assert!(wide < 0.99 * straight, "{wide} {straight}");
 }
+
+/// The linear critical speed about steady curving, checked by the time integration in the
+/// curve: the run of the curving case restarted (`Simulation::start_from`) from the steady state
+/// with the leading wheelset 10 µm further out; its late growth rate is negative 5 % below the
+/// linear critical speed and positive 5 % above, as on straight track (R = 10 km, no cant, where
+/// the critical speed is 24 % below straight track's).
+#[test]
+fn a_disturbance_of_steady_curving_decays_below_the_curves_linear_critical_speed_and_grows_above() {
+    use railsim_sim::curving::{CurveCase, CurvingRun, QuasiStatic, curving_scene};
+    use railsim_sim::modal::{Linearisation, linear_critical_speed_about, modes_in_curve};
+    use railsim_sim::stability::growth_rate;
+    let s = manchester_polach(
+        r#"
+        track = "tracks/straight.toml"
+        speed_kmh = 200
+        duration_s = 1
+        "#,
+    );
+    let opts = ModalOptions::default();
+    let case = CurveCase {
+        radius: 10e3,
+        cant: 0.0,
+        left: true,
+        speed: 0.0,
+    };
+    // a curve long enough for 8 s after the restart
+    let run = CurvingRun {
+        average: 500.0,
+        ..CurvingRun::default()
+    };
+    // the steady state solved tightly: the disturbance decays to below a micrometre, which
+    // the default tolerance (1e-3 of the wheel load) would leave as an offset
+    let qs = QuasiStatic {
+        force_tol: 1e-7,
+        rate_tol: 1e-10,
+        ..QuasiStatic::default()
+    };
+    let about = Linearisation::Curve { case, run, qs };
+    let vc = linear_critical_speed_about(
+        &s,
+        &about,
+        &opts,
+        (120.0 / 3.6, 250.0 / 3.6),
+        6,
+        2e-3,
+        &mut |_| {},
+    )
+    .unwrap()
+    .critical_speed;
+    eprintln!("R = 10 km: linear critical speed {:.2} km/h", vc * 3.6);
+    for (k, grows) in [(0.95, false), (1.05, true)] {
+        let case = CurveCase {
+            speed: k * vc,
+            ..case
+        };
+        let a = modes_in_curve(&s, &case, &run, &qs, &opts).unwrap();
+        let (study, _) = curving_scene(&s, &case, &run).unwrap();
+        let mut sim = Simulation::new(&study).unwrap();
+        let model = sim.model();
+        // the leading wheelset (numbered 0) and its lateral coordinate
+        let w0 = model
+            .wheels
+            .iter()
+            .find(|w| w.wheelset_number == 0)
+            .unwrap()
+            .member
+            .0;
+        let iy = model.members[w0].pos[1].unwrap();
+        // each wheelset oscillates about its steady lateral offset
+        let centre = sim.sample_at(a.time, &a.equilibrium).unwrap().lateral;
+        let mut x = a.equilibrium.clone();
+        x[iy] += 10e-6;
+        sim.start_from(a.time, &x).unwrap();
+        let mut t = Vec::new();
+        let mut y: Vec<Vec<f64>> = vec![Vec::new(); 4];
+        let opts_run = RunOptions {
+            no_log: true,
+            ..Default::default()
+        };
+        sim.run(&study, &opts_run, &mut |_, _| {}, &mut |smp| {
+            t.push(smp.t);
+            for (n, v) in smp.lateral.iter().enumerate() {
+                y[n].push(*v);
+            }
+        })
+        .unwrap();
+        let t_end = t[t.len() - 1];
+        // after the first second, once the other wheelsets move with the leading one
+        let late = a.time + 1.0;
+        let rate = y
+            .iter()
+            .enumerate()
+            .filter_map(|(n, yy)| growth_rate(&half_cycles(&t, yy, centre[n], 1e-9), late))
+            .fold(f64::NEG_INFINITY, f64::max);
+        eprintln!(
+            "{:.1} km/h in R = 10 km: restarted at {:.2} s, run to {:.2} s, late growth {rate:.4}/s (least damped mode Re λ {:.4}/s)",
+            k * vc * 3.6,
+            a.time,
+            t_end,
+            a.least_stable().unwrap().re
+        );
+        assert!(rate.is_finite());
+        assert_eq!(rate > 0.0, grows, "{rate}");
+    }
+}

@@ -258,3 +258,53 @@ fn the_wheels_in_parallel_give_the_same_run_bit_for_bit() {
     assert_eq!(alone.stats.rhs_evals, shared.stats.rhs_evals);
     assert!(alone.samples > 100, "{}", alone.samples);
 }
+
+/// A restart (`Simulation::start_from`) checks its state and time, and a run restarted from its
+/// own start state at t = 0 is the run itself.
+#[test]
+fn a_restart_checks_its_state_and_time_and_a_restart_at_the_start_is_the_run() {
+    let scene = common::scene(
+        r#"
+        vehicle = "vehicles/wheelset_free.toml"
+        track = "tracks/straight.toml"
+        speed_kmh = 100
+        duration_s = 0.2
+        [initial]
+        lateral_offset_mm = 1
+        "#,
+    );
+    let mut sim = Simulation::new(&scene).unwrap();
+    let x = sim.initial_state().to_vec();
+    let err = |r: Result<(), railsim_sim::SimError>| r.unwrap_err().to_string();
+    assert!(err(sim.start_from(0.0, &x[1..])).contains("restart state of"));
+    let mut bad = x.clone();
+    bad[2] = f64::NAN;
+    assert!(err(sim.start_from(0.0, &bad)).contains("is NaN"));
+    assert!(err(sim.start_from(0.2, &x)).contains("outside the run's [0, 0.2) s"));
+    assert!(err(sim.start_from(-1.0, &x)).contains("outside"));
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let (_, _, whole) = common::run(&scene);
+    sim.start_from(0.0, &x).unwrap();
+    let again = sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {}).unwrap();
+    assert_eq!(whole.digest, again.digest);
+    // restarted half way: the samples from there on, on the log's grid
+    sim.start_from(0.1, &x).unwrap();
+    let mut times = Vec::new();
+    let half = sim
+        .run(&scene, &opts, &mut |_, _| {}, &mut |s| times.push(s.t))
+        .unwrap();
+    assert_eq!(half.samples as usize, times.len());
+    assert!((times[0] - 0.1).abs() < 1e-9 && (times[times.len() - 1] - 0.2).abs() < 1e-9);
+    let early = RunOptions {
+        t_end: Some(0.05),
+        ..opts
+    };
+    let e = sim
+        .run(&scene, &early, &mut |_, _| {}, &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not after its start at 0.1 s"), "{e}");
+}
