@@ -98,16 +98,9 @@ pub struct CriticalArgs {
     /// Ramp: write the MCAP log of the ramp run here (default: no log).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Linear method: linearise about steady curving in a curve of this radius (m) instead of
-    /// centred running on straight track (`railsim modes --radius-m`).
-    #[arg(long)]
-    pub radius_m: Option<f64>,
-    /// Linear method: the curve's cant (mm), with --radius-m.
-    #[arg(long, default_value_t = 0.0)]
-    pub cant_mm: f64,
-    /// Linear method: the curve's direction, with --radius-m.
-    #[arg(long, value_enum, default_value_t = crate::curving::Direction::Left)]
-    pub direction: crate::curving::Direction,
+    /// Linear method only: the curve to linearise about.
+    #[command(flatten)]
+    pub curve: crate::modes::CurveArgs,
     /// No progress line.
     #[arg(long, short)]
     pub quiet: bool,
@@ -146,7 +139,7 @@ pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
     if a.scan == 0 {
         bail!("--scan: expected at least one interval, found 0");
     }
-    if a.radius_m.is_some() && a.method != MethodName::Linear {
+    if a.curve.radius_m.is_some() && a.method != MethodName::Linear {
         bail!("--radius-m: only the linear method (--method linear) linearises about a curve");
     }
     let mut scene = Scene::from_file(&path)?;

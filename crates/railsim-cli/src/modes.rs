@@ -64,9 +64,18 @@ pub struct ModesArgs {
     /// The animation's length in periods of the mode.
     #[arg(long, default_value_t = 3.0)]
     pub periods: f64,
+    /// The curve to linearise about, if any.
+    #[command(flatten)]
+    pub curve: CurveArgs,
+}
+
+/// A curve to linearise about (`railsim modes`, `railsim critical-speed --method linear`).
+#[derive(Args)]
+pub struct CurveArgs {
     /// Linearise about steady curving in a curve of this radius (m) instead of centred running
     /// on straight track: the quasi-static curving state (`railsim curving --method
-    /// quasi-static`), which needs a Hertz contact model (e.g. --model polach).
+    /// quasi-static`), which needs a Hertz contact model (e.g. --model polach); in
+    /// `critical-speed`, with --method linear only.
     #[arg(long)]
     pub radius_m: Option<f64>,
     /// The curve's cant (mm), with --radius-m.
@@ -78,12 +87,9 @@ pub struct ModesArgs {
 }
 
 /// What `--radius-m`, `--cant-mm` and `--direction` ask to linearise about.
-fn about(
-    radius_m: Option<f64>,
-    cant_mm: f64,
-    direction: crate::curving::Direction,
-) -> Result<Linearisation> {
-    match radius_m {
+fn about(curve: &CurveArgs) -> Result<Linearisation> {
+    let (cant_mm, direction) = (curve.cant_mm, curve.direction);
+    match curve.radius_m {
         None => Ok(Linearisation::Straight),
         Some(r) if r.is_finite() && r > 0.0 && cant_mm.is_finite() && cant_mm >= 0.0 => {
             Ok(Linearisation::Curve {
@@ -148,7 +154,7 @@ pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
     if let Some(m) = a.model {
         scene.contact.model = m.into();
     }
-    let about = about(a.radius_m, a.cant_mm, a.direction)?;
+    let about = about(&a.curve)?;
     if a.animate.is_some() && about != Linearisation::Straight {
         bail!("--animate: animates a mode on straight track only, not with --radius-m");
     }
@@ -319,7 +325,7 @@ pub fn linear(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
     let opts = options(a.step_um)?;
     let tol = a.tol.unwrap_or(0.002);
     let (lo, hi) = (a.to_kmh / 3.6, a.from_kmh / 3.6);
-    let about = about(a.radius_m, a.cant_mm, a.direction)?;
+    let about = about(&a.curve)?;
     eprintln!(
         "railsim critical-speed: {} (contact model {}): eigenvalues of the vehicle linearised about {} from {} to {} km/h ({} intervals, then bisection to {} %)",
         scene.name,
