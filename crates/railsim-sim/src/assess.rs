@@ -331,7 +331,7 @@ pub struct YqZone {
 
 /// One wheel's quasi-static forces in one circular curve.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct QuasiStatic {
+pub struct QuasiStaticForces {
     /// Index of the curve in [`Series::curves`].
     pub curve: usize,
     /// \[m\] its radius (positive to the left).
@@ -364,7 +364,7 @@ pub struct WheelAssessment {
     /// \[N\] the limit of Q.
     pub q_limit: f64,
     /// Per circular curve it ran in.
-    pub quasi_static: Vec<QuasiStatic>,
+    pub quasi_static: Vec<QuasiStaticForces>,
 }
 
 /// One bogie frame's simplified stability criterion at one measuring point.
@@ -665,7 +665,7 @@ fn assess_wheel(
             v.sort_by(f64::total_cmp);
             percentile(&v, QUASI_STATIC_PERCENTILE)
         };
-        quasi_static.push(QuasiStatic {
+        quasi_static.push(QuasiStaticForces {
             curve: k,
             radius: c.radius,
             outer: c.outer() == w.side,
