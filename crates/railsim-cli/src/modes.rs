@@ -90,6 +90,7 @@ pub struct CurveArgs {
 fn about(curve: &CurveArgs) -> Result<Linearisation> {
     let (cant_mm, direction) = (curve.cant_mm, curve.direction);
     match curve.radius_m {
+        None if cant_mm != 0.0 => bail!("--cant-mm {cant_mm}: a cant needs a curve (--radius-m)"),
         None => Ok(Linearisation::Straight),
         Some(r) if r.is_finite() && r > 0.0 && cant_mm.is_finite() && cant_mm >= 0.0 => {
             Ok(Linearisation::Curve {

@@ -570,6 +570,7 @@ fn modes_in_a_curve_are_listed_and_bad_curves_rejected() {
             vec!["--radius-m", "600", "--animate", "1"],
             "straight track only",
         ),
+        (vec!["--cant-mm", "100"], "a cant needs a curve"),
     ] {
         let mut all = vec!["modes", "--model", "polach", "--speed-kmh", "80"];
         all.extend(args);
