@@ -483,10 +483,31 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         })
         .collect();
     let top_speed = top_speed(series);
+    // per wheelset: the circular curve it runs in at each sample
+    let curve_of: Vec<Vec<Option<usize>>> = series
+        .wheelset_position
+        .iter()
+        .map(|position| {
+            position
+                .iter()
+                .map(|&s| {
+                    series
+                        .curves
+                        .iter()
+                        .position(|c| c.s[0] <= s && s <= c.s[1])
+                })
+                .collect()
+        })
+        .collect();
     let wheels = series
         .wheels
         .iter()
-        .map(|w| assess_wheel(series, w, lowpass.as_ref(), &opts.limits, top_speed))
+        .map(|w| {
+            let curves = curve_of
+                .get(w.wheelset as usize)
+                .map_or(&[][..], Vec::as_slice);
+            assess_wheel(series, w, curves, lowpass.as_ref(), &opts.limits, top_speed)
+        })
         .collect();
     let bogies = series
         .bogies
@@ -498,31 +519,7 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
             points: b
                 .points
                 .iter()
-                .map(|(name, a)| {
-                    let band_passed = bandpass.as_ref().map(|f| {
-                        let mut y = a.clone();
-                        f.apply(&mut y);
-                        y
-                    });
-                    let peak = band_passed.as_ref().and_then(|y| {
-                        let (i, v) = y
-                            .iter()
-                            .enumerate()
-                            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
-                        Some(Extreme {
-                            value: *v,
-                            at: d[i],
-                        })
-                    });
-                    let rms = band_passed.as_ref().and_then(|y| {
-                        largest(&sliding_rms(d, y, STABILITY_WINDOW, STABILITY_STEP), |v| v)
-                    });
-                    BogiePointAssessment {
-                        name: name.clone(),
-                        peak,
-                        rms,
-                    }
-                })
+                .map(|(name, a)| assess_bogie_point(name, a, d, bandpass.as_ref()))
                 .collect(),
         })
         .collect();
@@ -564,6 +561,33 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
     }
 }
 
+/// The simplified stability criterion at one bogie-frame point with lateral accelerations `a`
+/// at the distances `d`: the band-passed signal's largest magnitude and largest 100 m sliding
+/// r.m.s. (none without a band).
+fn assess_bogie_point(
+    name: &str,
+    a: &[f64],
+    d: &[f64],
+    bandpass: Option<&Filter>,
+) -> BogiePointAssessment {
+    let (mut peak, mut rms) = (None, None);
+    if let Some(f) = bandpass {
+        let mut y = a.to_vec();
+        f.apply(&mut y);
+        peak = y
+            .iter()
+            .enumerate()
+            .max_by(|p, q| p.1.abs().total_cmp(&q.1.abs()))
+            .map(|(i, &v)| Extreme { value: v, at: d[i] });
+        rms = largest(&sliding_rms(d, &y, STABILITY_WINDOW, STABILITY_STEP), |v| v);
+    }
+    BogiePointAssessment {
+        name: name.to_owned(),
+        peak,
+        rms,
+    }
+}
+
 /// \[m/s\] the largest speed between two samples of `series`.
 fn top_speed(series: &Series) -> f64 {
     series
@@ -573,10 +597,12 @@ fn top_speed(series: &Series) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The running-safety and track-loading quantities of wheel `w` (module docs).
+/// The running-safety and track-loading quantities of wheel `w` (module docs), whose wheelset
+/// runs in curve `curve_of[i]` of `series.curves` at sample `i` (none beyond its length).
 fn assess_wheel(
     series: &Series,
     w: &WheelSeries,
+    curve_of: &[Option<usize>],
     lowpass: Option<&Filter>,
     limits: &Limits,
     top_speed: f64,
@@ -590,20 +616,6 @@ fn assess_wheel(
     };
     let (y, q) = (low(&w.y), low(&w.q));
     let d = &series.distance;
-    let position = series
-        .wheelset_position
-        .get(w.wheelset as usize)
-        .map_or(&[][..], Vec::as_slice);
-    // the circular curve the wheelset runs in at each sample
-    let curve_of: Vec<Option<usize>> = (0..q.len())
-        .map(|i| {
-            let s = *position.get(i)?;
-            series
-                .curves
-                .iter()
-                .position(|c| c.s[0] <= s && s <= c.s[1])
-        })
-        .collect();
     let small = |i: usize| {
         curve_of
             .get(i)
@@ -656,7 +668,9 @@ fn assess_wheel(
     let q_max = q.iter().copied().reduce(f64::max);
     let mut quasi_static = Vec::new();
     for (k, c) in series.curves.iter().enumerate() {
-        let inside: Vec<usize> = (0..q.len()).filter(|&i| curve_of[i] == Some(k)).collect();
+        let inside: Vec<usize> = (0..q.len())
+            .filter(|&i| curve_of.get(i) == Some(&Some(k)))
+            .collect();
         if inside.is_empty() {
             continue;
         }

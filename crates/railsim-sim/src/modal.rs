@@ -38,7 +38,7 @@ use railsim_ode::linear::{Eigenpair, eigenpairs, jacobian};
 
 use railsim_log::LogStats;
 
-use crate::curving::{CurveCase, CurvingRun, QuasiStatic, smooth_track, steady_state};
+use crate::curving::{CurveCase, CurvingRun, QuasiStatic, SteadyState, smooth_track, steady_state};
 use crate::dynamics::Dynamics;
 use crate::error::SimError;
 use crate::model::SimModel;
@@ -254,9 +254,9 @@ pub fn modes_in_curve(
     opts: &ModalOptions,
 ) -> Result<ModalAnalysis, SimError> {
     check_steps(scene, opts)?;
-    let steady = steady_state(scene, case, run, qs)?;
-    let model = steady.sim.model();
-    let t = steady.at / case.speed;
+    let SteadyState { sim, at, x, .. } = steady_state(scene, case, run, qs)?;
+    let model = sim.model();
+    let t = at / case.speed;
     let mut sys = Dynamics::new(model);
     let fail = |what: String| SimError::Study {
         message: format!(
@@ -266,9 +266,9 @@ pub fn modes_in_curve(
             case.speed * 3.6
         ),
     };
-    let mut f0 = vec![0.0; steady.x.len()];
-    sys.rhs(t, &steady.x, &mut f0).map_err(|e| fail(e.0))?;
-    linearise(model, &mut sys, t, steady.x.clone(), &f0, case.speed, opts).map_err(fail)
+    let mut f0 = vec![0.0; x.len()];
+    sys.rhs(t, &x, &mut f0).map_err(|e| fail(e.0))?;
+    linearise(model, &mut sys, t, x, &f0, case.speed, opts).map_err(fail)
 }
 
 /// The difference step of every state of `model` at `x` for a Jacobian: `opts.rate_step` (at
