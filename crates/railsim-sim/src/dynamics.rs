@@ -21,13 +21,14 @@ use railsim_contact::{
 };
 use railsim_ode::{OdeSystem, RhsError};
 use railsim_vehicle::model::{Axis, ForceLaw, series_force, series_state_rate};
+use railsim_vehicle::suspension::{damper_series_law, friction_law};
 use rayon::prelude::*;
 
 use crate::math::{
     M3, V3, add, cross, mat_mul, mat_t_mul, mul, mul_t, rot_x, rot_y, rot_z, rotation_rpy, scale,
     small_rotation, sub,
 };
-use crate::model::{End, MemberKind, SimModel};
+use crate::model::{ElementModel, End, MemberKind, SimModel};
 
 /// A member's frame and kinematics at one evaluation (global components unless noted).
 #[derive(Debug, Clone, Copy, Default)]
@@ -128,8 +129,12 @@ pub struct Workspace {
     pub timing: bool,
     /// Accumulated cost.
     pub cost: CostSplit,
-    /// \[m\] axial deflection of each series spring-damper (0 for other elements).
+    /// \[m\] axial deflection of each element with an internal state (series spring-damper,
+    /// damper with a series stiffness, friction; 0 for other elements): the state's value at
+    /// which the element is relaxed.
     pub series_delta: Vec<f64>,
+    /// \[N\] per element: the magnitude of its force (the normal load of friction elements).
+    pub element_force: Vec<f64>,
     /// The wheel and the message of the last failed contact evaluation (for the stop error).
     pub failure: Option<(String, String)>,
 }
@@ -154,6 +159,7 @@ impl Workspace {
             timing: false,
             cost: CostSplit::default(),
             series_delta: vec![0.0; model.elements.len()],
+            element_force: vec![0.0; model.elements.len()],
             failure: None,
         }
     }
@@ -407,59 +413,100 @@ impl Dynamics<'_> {
         }
     }
 
-    /// Stage 4: force elements. Writes the internal-state rates into `dx`.
+    /// Stage 4: force elements, the friction elements last (their sliding force may depend on
+    /// another element's force). Writes the internal-state rates into `dx`.
     fn elements(&mut self, x: &[f64], dx: &mut [f64]) {
-        for (ei, el) in self.model.elements.iter().enumerate() {
-            let (p1, v1, q1, w1) = self.end_state(el.ends[0], el.ends[1], el.points[0]);
-            let (p2, v2, q2, w2) = self.end_state(el.ends[1], el.ends[0], el.points[1]);
-            let dp = sub(p2, p1);
-            // Deflections in body 1's axes, then the element's local axes.
-            let e = &el.axes;
-            let lin = mul_t(e, sub(mul_t(&q1, dp), sub(el.points[1], el.points[0])));
-            let lin_rate = mul_t(e, mul_t(&q1, sub(sub(v2, v1), cross(w1, dp))));
-            let rot = mul_t(e, small_rotation(&mat_t_mul(&q1, &q2)));
-            let rot_rate = mul_t(e, mul_t(&q1, sub(w2, w1)));
-            let mut f = [0.0; 3];
-            let mut mo = [0.0; 3];
-            match &el.law {
-                ForceLaw::Bushing { stiffness, damping } => {
-                    for k in 0..3 {
-                        f[k] = -stiffness[k] * lin[k] - damping[k] * lin_rate[k];
-                        mo[k] = -stiffness[3 + k] * rot[k] - damping[3 + k] * rot_rate[k];
+        let model = self.model;
+        for friction_pass in [false, true] {
+            for (ei, el) in model.elements.iter().enumerate() {
+                if matches!(el.law, ForceLaw::Friction { .. }) == friction_pass {
+                    self.element(ei, el, x, dx);
+                }
+            }
+        }
+    }
+
+    /// One force element `el` (number `ei`): its forces on the members, its state rate.
+    fn element(&mut self, ei: usize, el: &ElementModel, x: &[f64], dx: &mut [f64]) {
+        let (p1, v1, q1, w1) = self.end_state(el.ends[0], el.ends[1], el.points[0]);
+        let (p2, v2, q2, w2) = self.end_state(el.ends[1], el.ends[0], el.points[1]);
+        let dp = sub(p2, p1);
+        // Deflections in body 1's axes, then the element's local axes.
+        let e = &el.axes;
+        let lin = mul_t(e, sub(mul_t(&q1, dp), sub(el.points[1], el.points[0])));
+        let lin_rate = mul_t(e, mul_t(&q1, sub(sub(v2, v1), cross(w1, dp))));
+        let rot = mul_t(e, small_rotation(&mat_t_mul(&q1, &q2)));
+        let rot_rate = mul_t(e, mul_t(&q1, sub(w2, w1)));
+        let mut f = [0.0; 3];
+        let mut mo = [0.0; 3];
+        match &el.law {
+            ForceLaw::Bushing { stiffness, damping } => {
+                for k in 0..3 {
+                    f[k] = -stiffness[k] * lin[k] - damping[k] * lin_rate[k];
+                    mo[k] = -stiffness[3 + k] * rot[k] - damping[3 + k] * rot_rate[k];
+                }
+            }
+            ForceLaw::Table { axis, table } => {
+                let k = axis.index();
+                f[k] = -table.force(lin[k]);
+            }
+            ForceLaw::SeriesSpringDamper {
+                axis,
+                stiffness,
+                damping,
+            } => {
+                let k = axis.index();
+                let i = el.internal.expect("series elements carry a state");
+                let s = x[i];
+                f[k] = series_force(*stiffness, lin[k], s);
+                dx[i] = series_state_rate(*stiffness, *damping, lin[k], s);
+                self.ws.series_delta[ei] = lin[k];
+            }
+            ForceLaw::AntiRollBar { stiffness } => {
+                mo[Axis::X.index()] = -stiffness * rot[0];
+            }
+            ForceLaw::Damper {
+                axis,
+                table,
+                stiffness,
+            } => {
+                let k = axis.index();
+                match (stiffness, el.internal) {
+                    (Some(ks), Some(i)) => {
+                        (f[k], dx[i]) = damper_series_law(table, *ks, lin[k], x[i]);
+                        self.ws.series_delta[ei] = lin[k];
                     }
-                }
-                ForceLaw::Table { axis, table } => {
-                    let k = axis.index();
-                    f[k] = -table.force(lin[k]);
-                }
-                ForceLaw::SeriesSpringDamper {
-                    axis,
-                    stiffness,
-                    damping,
-                } => {
-                    let k = axis.index();
-                    let i = el.internal.expect("series elements carry a state");
-                    let s = x[i];
-                    f[k] = series_force(*stiffness, lin[k], s);
-                    dx[i] = series_state_rate(*stiffness, *damping, lin[k], s);
-                    self.ws.series_delta[ei] = lin[k];
-                }
-                ForceLaw::AntiRollBar { stiffness } => {
-                    mo[Axis::X.index()] = -stiffness * rot[0];
+                    _ => f[k] = -table.force(lin_rate[k]),
                 }
             }
-            let force = mul(&q1, mul(e, f));
-            let moment = mul(&q1, mul(e, mo));
-            if let End::Member(i) = el.ends[1] {
-                let k = &mut self.ws.kin[i.0];
-                k.force = add(k.force, force);
-                k.moment = add(add(k.moment, cross(sub(p2, k.cog), force)), moment);
+            ForceLaw::Friction {
+                axis,
+                stiffness,
+                force,
+                coefficient,
+                normal,
+            } => {
+                let k = axis.index();
+                let i = el.internal.expect("friction elements carry a state");
+                // (the normal element was evaluated in the first pass)
+                let load = normal.map_or(0.0, |j| self.ws.element_force[j.index()]);
+                let f0 = force + coefficient * load;
+                (f[k], dx[i]) = friction_law(*stiffness, f0, lin[k], lin_rate[k], x[i]);
+                self.ws.series_delta[ei] = lin[k];
             }
-            if let End::Member(i) = el.ends[0] {
-                let k = &mut self.ws.kin[i.0];
-                k.force = sub(k.force, force);
-                k.moment = sub(sub(k.moment, cross(sub(p1, k.cog), force)), moment);
-            }
+        }
+        self.ws.element_force[ei] = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+        let force = mul(&q1, mul(e, f));
+        let moment = mul(&q1, mul(e, mo));
+        if let End::Member(i) = el.ends[1] {
+            let k = &mut self.ws.kin[i.0];
+            k.force = add(k.force, force);
+            k.moment = add(add(k.moment, cross(sub(p2, k.cog), force)), moment);
+        }
+        if let End::Member(i) = el.ends[0] {
+            let k = &mut self.ws.kin[i.0];
+            k.force = sub(k.force, force);
+            k.moment = sub(sub(k.moment, cross(sub(p1, k.cog), force)), moment);
         }
     }
 

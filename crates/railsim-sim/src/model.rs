@@ -301,7 +301,11 @@ impl SimModel {
                 n_pos + n_rate + n_internal - 1
             });
             if internal.is_some() {
-                state_names.push(format!("{} damper elongation", f.name));
+                let what = match f.law {
+                    ForceLaw::Friction { .. } => "friction slip",
+                    _ => "damper elongation",
+                };
+                state_names.push(format!("{} {what}", f.name));
             }
             elements.push(ElementModel {
                 name: f.name.clone(),

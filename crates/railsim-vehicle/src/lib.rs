@@ -21,6 +21,7 @@ pub mod linalg;
 pub mod model;
 pub mod spec;
 pub mod statics;
+pub mod suspension;
 
 pub use error::{Problem, SourceMap, VehicleError};
 pub use model::{
@@ -30,3 +31,4 @@ pub use model::{
 };
 pub use spec::{BodySpec, ForceSpec, NumberOrTriple, VehicleSpec, WheelProfileSpec, WheelsetSpec};
 pub use statics::StaticEquilibrium;
+pub use suspension::{DamperTable, damper_series_law, friction_law};

@@ -10,6 +10,7 @@ use toml::Spanned;
 use crate::error::{Sink, VehicleError, did_you_mean};
 use crate::linalg::{Mat3, cholesky, rotation_rpy, sym3_eigenvalues};
 use crate::spec::{BodySpec, ForceSpec, NumberOrTriple, VehicleSpec, WheelsetSpec};
+use crate::suspension::DamperTable;
 
 /// \[m/s²\] gravitational acceleration used when the file gives none.
 pub const DEFAULT_GRAVITY: f64 = 9.81;
@@ -279,12 +280,49 @@ pub enum ForceLaw {
         /// \[N·m/rad\] torsional stiffness.
         stiffness: f64,
     },
+    /// Damper with a force–velocity table along one local axis
+    /// ([`crate::suspension::damper_series_law`]): F = −f_d(Δ̇), or with a series (mount)
+    /// stiffness k an internal state, the damper's elongation s: F = −k·(Δ − s),
+    /// ṡ = f_d⁻¹(k·(Δ − s)).
+    Damper {
+        /// The local axis.
+        axis: Axis,
+        /// The force–velocity law.
+        table: DamperTable,
+        /// \[N/m\] series stiffness (`None`: the damper acts alone, no state).
+        stiffness: Option<f64>,
+    },
+    /// Dry friction with a stick stiffness along one local axis
+    /// ([`crate::suspension::friction_law`]). Internal state: the slider's position s;
+    /// F = −k·(Δ − s), sliding at F0 = `force` + `coefficient`·N, N the magnitude of the
+    /// force of element `normal`.
+    Friction {
+        /// The local axis.
+        axis: Axis,
+        /// \[N/m\] stick stiffness.
+        stiffness: f64,
+        /// \[N\] constant part of the sliding force.
+        force: f64,
+        /// \[-\] friction coefficient on the normal element's force (0 without one).
+        coefficient: f64,
+        /// The element whose force magnitude is the normal load (never a friction element).
+        normal: Option<ForceElementId>,
+    },
 }
 
 impl ForceLaw {
-    /// Number of internal states the element carries (1 for a series spring-damper, else 0).
+    /// Number of internal states the element carries: 1 for a series spring-damper, a
+    /// friction element and a damper with a series stiffness, else 0.
     pub fn internal_states(&self) -> usize {
-        usize::from(matches!(self, ForceLaw::SeriesSpringDamper { .. }))
+        usize::from(matches!(
+            self,
+            ForceLaw::SeriesSpringDamper { .. }
+                | ForceLaw::Friction { .. }
+                | ForceLaw::Damper {
+                    stiffness: Some(_),
+                    ..
+                }
+        ))
     }
 }
 
@@ -331,8 +369,11 @@ pub struct InternalState {
 /// Kinds of internal states.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum InternalStateKind {
-    /// \[m\] the elongation s of the damper of a series spring-damper, from its nominal length.
+    /// \[m\] the elongation s of the damper of a series spring-damper or of a damper with a
+    /// series stiffness, from its nominal length.
     DamperElongation,
+    /// \[m\] the position s of a friction element's slider (its tension is k·(Δ − s)).
+    FrictionSlip,
 }
 
 /// The compiled vehicle: immutable, SI, names resolved, shareable between threads.
@@ -543,16 +584,19 @@ impl VehicleModel {
         out
     }
 
-    /// The internal states of the force elements (one per series spring-damper), in element
-    /// order.
+    /// The internal states of the force elements (one per series spring-damper, friction
+    /// element and damper with a series stiffness), in element order.
     pub fn internal_states(&self) -> Vec<InternalState> {
         self.forces
             .iter()
             .enumerate()
             .filter(|(_, f)| f.law.internal_states() > 0)
-            .map(|(i, _)| InternalState {
+            .map(|(i, f)| InternalState {
                 element: ForceElementId(i),
-                kind: InternalStateKind::DamperElongation,
+                kind: match f.law {
+                    ForceLaw::Friction { .. } => InternalStateKind::FrictionSlip,
+                    _ => InternalStateKind::DamperElongation,
+                },
             })
             .collect()
     }
@@ -684,6 +728,7 @@ impl Compiler<'_> {
                 forces.push(fe);
             }
         }
+        self.resolve_normals(spec, &mut forces);
         VehicleModel {
             name,
             source: self.sink.file.to_owned(),
@@ -1172,7 +1217,14 @@ impl Compiler<'_> {
         let label = name
             .as_ref()
             .map_or_else(|| "force".to_owned(), |n| format!("force '{n}'"));
-        const KINDS: [&str; 4] = ["bushing", "table", "series_spring_damper", "anti_roll_bar"];
+        const KINDS: [&str; 6] = [
+            "bushing",
+            "table",
+            "series_spring_damper",
+            "damper",
+            "friction",
+            "anti_roll_bar",
+        ];
         let kind = self
             .req(&f.kind, table, &label, "type", &KINDS.join(", "))
             .and_then(|k| {
@@ -1271,7 +1323,7 @@ impl Compiler<'_> {
     }
 
     fn not_applicable(&mut self, f: &ForceSpec, label: &str, kind: &str, allowed: &[&str]) {
-        let present: [(&str, Option<Range<usize>>); 9] = [
+        let present: [(&str, Option<Range<usize>>); 13] = [
             ("direction", f.direction.as_ref().map(|v| v.span())),
             (
                 "stiffness_n_per_m",
@@ -1292,6 +1344,22 @@ impl Compiler<'_> {
             ("deflection_mm", f.deflection_mm.as_ref().map(|v| v.span())),
             ("force_n", f.force_n.as_ref().map(|v| v.span())),
             ("symmetric", f.symmetric.as_ref().map(|v| v.span())),
+            (
+                "velocity_m_per_s",
+                f.velocity_m_per_s.as_ref().map(|v| v.span()),
+            ),
+            (
+                "friction_force_n",
+                f.friction_force_n.as_ref().map(|v| v.span()),
+            ),
+            (
+                "friction_coefficient",
+                f.friction_coefficient.as_ref().map(|v| v.span()),
+            ),
+            (
+                "normal_element",
+                f.normal_element.as_ref().map(|v| v.span()),
+            ),
             ("point2_m", None),
         ];
         for (key, span) in present {
@@ -1521,6 +1589,59 @@ impl Compiler<'_> {
                     damping: c?,
                 })
             }
+            "damper" => {
+                self.not_applicable(
+                    f,
+                    label,
+                    kind,
+                    &[
+                        "direction",
+                        "velocity_m_per_s",
+                        "force_n",
+                        "symmetric",
+                        "stiffness_n_per_m",
+                    ],
+                );
+                let axis = self.axis(f, table, label);
+                let stiffness = match &f.stiffness_n_per_m {
+                    None => Some(None),
+                    Some(_) => self
+                        .scalar(
+                            &f.stiffness_n_per_m,
+                            table,
+                            label,
+                            "stiffness_n_per_m",
+                            "N/m",
+                            true,
+                        )
+                        .map(Some),
+                };
+                let v = self.req(
+                    &f.velocity_m_per_s,
+                    table,
+                    label,
+                    "velocity_m_per_s",
+                    "an array of increasing velocities in m/s",
+                );
+                let fo = self.req(
+                    &f.force_n,
+                    table,
+                    label,
+                    "force_n",
+                    "an array of damper forces in N, one per velocity",
+                );
+                let symmetric = f.symmetric.as_ref().is_some_and(|s| *s.get_ref());
+                let t = match (v, fo) {
+                    (Some(v), Some(fo)) => self.damper_table(v, fo, symmetric, label),
+                    _ => None,
+                };
+                Some(ForceLaw::Damper {
+                    axis: axis?,
+                    table: t?,
+                    stiffness: stiffness?,
+                })
+            }
+            "friction" => self.friction(f, table, label),
             _ => {
                 self.not_applicable(f, label, kind, &["rotational_stiffness_nm_per_rad"]);
                 let k = self.scalar(
@@ -1534,6 +1655,272 @@ impl Compiler<'_> {
                 Some(ForceLaw::AntiRollBar { stiffness: k })
             }
         }
+    }
+
+    /// A non-negative number of `unit` (absent: 0).
+    fn non_negative(
+        &mut self,
+        v: &Option<Spanned<f64>>,
+        label: &str,
+        key: &str,
+        unit: &str,
+    ) -> Option<f64> {
+        let Some(v) = v else {
+            return Some(0.0);
+        };
+        let x = *v.get_ref();
+        if x.is_finite() && x >= 0.0 {
+            Some(x)
+        } else {
+            let of = if unit.is_empty() {
+                String::new()
+            } else {
+                format!(" of {unit}")
+            };
+            self.err(
+                &v.span(),
+                key,
+                format!("{label}: {key} must be a non-negative number{of}, found {x}"),
+            );
+            None
+        }
+    }
+
+    /// A friction element; its `normal_element` is resolved once every element is compiled
+    /// ([`Self::resolve_normals`]).
+    fn friction(&mut self, f: &ForceSpec, table: &Range<usize>, label: &str) -> Option<ForceLaw> {
+        self.not_applicable(
+            f,
+            label,
+            "friction",
+            &[
+                "direction",
+                "stiffness_n_per_m",
+                "friction_force_n",
+                "friction_coefficient",
+                "normal_element",
+            ],
+        );
+        let axis = self.axis(f, table, label);
+        let k = self.scalar(
+            &f.stiffness_n_per_m,
+            table,
+            label,
+            "stiffness_n_per_m",
+            "N/m (the stick stiffness)",
+            true,
+        );
+        let force = self.non_negative(&f.friction_force_n, label, "friction_force_n", "N");
+        let mu = self.non_negative(&f.friction_coefficient, label, "friction_coefficient", "");
+        match (&f.friction_coefficient, &f.normal_element) {
+            (Some(c), None) => self.err(
+                &c.span(),
+                "friction_coefficient",
+                format!(
+                    "{label}: friction_coefficient needs normal_element, the force element whose force presses the surfaces together"
+                ),
+            ),
+            (None, Some(n)) => self.err(
+                &n.span(),
+                "normal_element",
+                format!("{label}: normal_element needs friction_coefficient (expected a number >= 0)"),
+            ),
+            (None, None) if f.friction_force_n.is_none() => self.err(
+                table,
+                "friction_force_n",
+                format!(
+                    "{label}: a friction element needs friction_force_n (N), or friction_coefficient with normal_element, or both"
+                ),
+            ),
+            _ => {}
+        }
+        Some(ForceLaw::Friction {
+            axis: axis?,
+            stiffness: k?,
+            force: force?,
+            coefficient: mu?,
+            normal: None,
+        })
+    }
+
+    /// Resolve each friction element's `normal_element` to the element it names, which must
+    /// be declared, differ from it and not be a friction element itself (checked also when the
+    /// friction element failed its own checks).
+    fn resolve_normals(&mut self, spec: &VehicleSpec, forces: &mut [ForceElement]) {
+        let declared = |n: &str| {
+            spec.force.iter().any(|o| {
+                o.get_ref()
+                    .name
+                    .as_ref()
+                    .is_some_and(|m| m.get_ref().trim() == n)
+            })
+        };
+        for fs in &spec.force {
+            let fs = fs.get_ref();
+            let (Some(normal), Some(kind)) = (&fs.normal_element, &fs.kind) else {
+                continue;
+            };
+            if kind.get_ref() != "friction" {
+                continue;
+            }
+            let name = fs.name.as_ref().map_or("", |n| n.get_ref().trim());
+            let label = format!("force '{name}'");
+            let target = normal.get_ref().trim();
+            let problem = if !declared(target) {
+                format!(
+                    "{label}: normal_element refers to unknown force element '{target}'{}",
+                    did_you_mean(
+                        target,
+                        spec.force.iter().filter_map(|o| o
+                            .get_ref()
+                            .name
+                            .as_ref()
+                            .map(|n| n.get_ref().trim()))
+                    )
+                )
+            } else if target == name {
+                format!(
+                    "{label}: normal_element names the element itself; expected another force element"
+                )
+            } else if spec.force.iter().any(|o| {
+                let o = o.get_ref();
+                o.name
+                    .as_ref()
+                    .is_some_and(|n| n.get_ref().trim() == target)
+                    && o.kind.as_ref().is_some_and(|k| k.get_ref() == "friction")
+            }) {
+                format!(
+                    "{label}: normal_element '{target}' is a friction element; expected a spring, table or damper element whose force is the normal load"
+                )
+            } else {
+                // declared and not a friction element: bind it when both compiled (otherwise
+                // their own problems are reported)
+                let j = forces.iter().position(|e| e.name == target);
+                if let (Some(i), Some(j)) = (forces.iter().position(|e| e.name == name), j)
+                    && let ForceLaw::Friction { normal, .. } = &mut forces[i].law
+                {
+                    *normal = Some(ForceElementId(j));
+                }
+                continue;
+            };
+            self.err(&normal.span(), "normal_element", problem);
+        }
+    }
+
+    fn damper_table(
+        &mut self,
+        v: &Spanned<Vec<Spanned<f64>>>,
+        f: &Spanned<Vec<Spanned<f64>>>,
+        symmetric: bool,
+        label: &str,
+    ) -> Option<DamperTable> {
+        let mut ok = true;
+        let (vv, fv) = (v.get_ref(), f.get_ref());
+        if vv.len() < 2 {
+            self.err(
+                &v.span(),
+                "velocity_m_per_s",
+                format!(
+                    "{label}: velocity_m_per_s needs at least 2 points, found {}",
+                    vv.len()
+                ),
+            );
+            ok = false;
+        }
+        if vv.len() != fv.len() {
+            self.err(
+                &f.span(),
+                "force_n",
+                format!(
+                    "{label}: force_n has {} values but velocity_m_per_s has {}; expected one force per velocity",
+                    fv.len(),
+                    vv.len()
+                ),
+            );
+            ok = false;
+        }
+        for (key, list) in [("velocity_m_per_s", vv), ("force_n", fv)] {
+            for x in list {
+                if !x.get_ref().is_finite() {
+                    self.err(
+                        &x.span(),
+                        key,
+                        format!(
+                            "{label}: {key} values must be finite, found {}",
+                            x.get_ref()
+                        ),
+                    );
+                    ok = false;
+                }
+            }
+            for w in list.windows(2) {
+                if *w[1].get_ref() <= *w[0].get_ref() {
+                    self.err(
+                        &w[1].span(),
+                        key,
+                        format!(
+                            "{label}: {key} must be strictly increasing (a damper's force grows with its velocity and must be invertible), but {} follows {}",
+                            w[1].get_ref(),
+                            w[0].get_ref()
+                        ),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        if symmetric
+            && let Some(first) = vv.first()
+            && *first.get_ref() < 0.0
+        {
+            self.err(
+                &first.span(),
+                "velocity_m_per_s",
+                format!(
+                    "{label}: a symmetric table is given for velocities >= 0, but velocity_m_per_s starts at {}",
+                    first.get_ref()
+                ),
+            );
+            ok = false;
+        }
+        if !ok {
+            return None;
+        }
+        let mut velocity: Vec<f64> = vv.iter().map(|x| *x.get_ref()).collect();
+        let mut force: Vec<f64> = fv.iter().map(|x| *x.get_ref()).collect();
+        if symmetric && velocity[0] > 0.0 {
+            if force[0] <= 0.0 {
+                self.err(
+                    &f.span(),
+                    "force_n",
+                    format!(
+                        "{label}: the mirrored table passes through 0 N at rest, so its first force must be positive, found {}",
+                        force[0]
+                    ),
+                );
+                return None;
+            }
+            velocity.insert(0, 0.0);
+            force.insert(0, 0.0);
+        }
+        let t = DamperTable {
+            velocity,
+            force,
+            symmetric,
+        };
+        let scale = t.force.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let at_rest = t.force(0.0);
+        if at_rest.abs() > 1e-9 * scale {
+            self.err(
+                &f.span(),
+                "force_n",
+                format!(
+                    "{label}: the table gives {} N at zero velocity; a damper carries no force at rest (expected 0)",
+                    short_number(at_rest)
+                ),
+            );
+            return None;
+        }
+        Some(t)
     }
 
     fn force_table(

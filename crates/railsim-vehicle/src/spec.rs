@@ -141,7 +141,8 @@ pub struct ForceSpec {
     /// Unique name among force elements (required).
     #[serde(default)]
     pub name: Option<Spanned<String>>,
-    /// `"bushing"`, `"table"`, `"series_spring_damper"` or `"anti_roll_bar"` (required).
+    /// `"bushing"`, `"table"`, `"series_spring_damper"`, `"damper"`, `"friction"` or
+    /// `"anti_roll_bar"` (required).
     #[serde(default, rename = "type")]
     pub kind: Option<Spanned<String>>,
     /// First body (a body or wheelset name, or `"track"`) (required).
@@ -182,9 +183,23 @@ pub struct ForceSpec {
     /// \[N\] table: restoring force magnitude at each deflection.
     #[serde(default)]
     pub force_n: Option<Spanned<Vec<Spanned<f64>>>>,
-    /// Table: mirror the table to negative deflections (odd force law); default false.
+    /// Table: mirror the table to negative deflections (odd force law); damper: to negative
+    /// velocities; default false.
     #[serde(default)]
     pub symmetric: Option<Spanned<bool>>,
+    /// \[m/s\] damper: velocities of its force–velocity table, strictly increasing (the forces
+    /// in `force_n`).
+    #[serde(default)]
+    pub velocity_m_per_s: Option<Spanned<Vec<Spanned<f64>>>>,
+    /// \[N\] friction: the constant part of the sliding force, ≥ 0.
+    #[serde(default)]
+    pub friction_force_n: Option<Spanned<f64>>,
+    /// \[-\] friction: the coefficient that multiplies the force of `normal_element`, ≥ 0.
+    #[serde(default)]
+    pub friction_coefficient: Option<Spanned<f64>>,
+    /// Friction: the force element whose force presses the friction surfaces together.
+    #[serde(default)]
+    pub normal_element: Option<Spanned<String>>,
 }
 
 /// A number, or three numbers (one per local axis).
@@ -246,6 +261,10 @@ pub const FORCE_KEYS: &[&str] = &[
     "deflection_mm",
     "force_n",
     "symmetric",
+    "velocity_m_per_s",
+    "friction_force_n",
+    "friction_coefficient",
+    "normal_element",
 ];
 
 impl VehicleSpec {

@@ -254,7 +254,10 @@ fn linear_stiffness(law: &ForceLaw) -> [f64; 6] {
     match law {
         ForceLaw::Bushing { stiffness, .. } => k = *stiffness,
         ForceLaw::Table { axis, table } => k[axis.index()] = table.slope(0.0).max(0.0),
-        ForceLaw::SeriesSpringDamper { .. } => {}
+        // dissipative elements start relaxed and carry no static load
+        ForceLaw::SeriesSpringDamper { .. }
+        | ForceLaw::Damper { .. }
+        | ForceLaw::Friction { .. } => {}
         ForceLaw::AntiRollBar { stiffness } => k[3] = *stiffness,
     }
     k

@@ -493,3 +493,202 @@ position_m = [0, 0, 0.6]
         ],
     );
 }
+
+/// The friction and damper elements: compiled with their states, the normal element resolved.
+#[test]
+fn friction_and_damper_elements_compile_with_their_states() {
+    let text = format!(
+        r#"{WS}
+[[force]]
+name = "spring"
+type = "bushing"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+stiffness_n_per_m = [0, 1e6, 0]
+
+[[force]]
+name = "rub"
+type = "friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+stiffness_n_per_m = 5e6
+friction_force_n = 100
+friction_coefficient = 0.1
+normal_element = "spring"
+
+[[force]]
+name = "blow_off"
+type = "damper"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+velocity_m_per_s = [0.1, 0.5]
+force_n = [10e3, 14e3]
+symmetric = true
+stiffness_n_per_m = 6e6
+
+[[force]]
+name = "plain"
+type = "damper"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+velocity_m_per_s = [-1, 1]
+force_n = [-5e3, 5e3]
+"#
+    );
+    let v = compile(&text).unwrap_or_else(|e| panic!("{e}"));
+    let states = v.internal_states();
+    assert_eq!(
+        states.len(),
+        2,
+        "friction and the damper with a series stiffness"
+    );
+    assert_eq!(states[0].kind, InternalStateKind::FrictionSlip);
+    assert_eq!(states[1].kind, InternalStateKind::DamperElongation);
+    let ForceLaw::Friction {
+        stiffness,
+        force,
+        coefficient,
+        normal,
+        ..
+    } = v.forces()[1].law
+    else {
+        panic!("{:?}", v.forces()[1].law);
+    };
+    assert_eq!((stiffness, force, coefficient), (5e6, 100.0, 0.1));
+    assert_eq!(normal, v.force_id("spring"));
+    let ForceLaw::Damper {
+        ref table,
+        stiffness,
+        ..
+    } = v.forces()[2].law
+    else {
+        panic!();
+    };
+    assert_eq!(stiffness, Some(6e6));
+    // the mirrored table through the origin
+    assert_eq!(table.velocity, [0.0, 0.1, 0.5]);
+    assert!((table.force(-0.3) + 12e3).abs() < 1e-9);
+    assert_eq!(v.forces()[3].law.internal_states(), 0);
+    // dissipative elements carry no static load
+    v.static_equilibrium().unwrap();
+}
+
+#[test]
+fn bad_friction_and_damper_elements_are_located() {
+    let text = format!(
+        r#"{WS}
+[[force]]
+name = "rub"
+type = "friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+stiffness_n_per_m = 5e6
+friction_coefficient = -0.1
+normal_element = "sprung"
+
+[[force]]
+name = "spring"
+type = "bushing"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+stiffness_n_per_m = [0, 1e6, 0]
+
+[[force]]
+name = "rub2"
+type = "friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+stiffness_n_per_m = 5e6
+friction_coefficient = 0.1
+normal_element = "rub3"
+
+[[force]]
+name = "rub3"
+type = "friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+stiffness_n_per_m = 5e6
+velocity_m_per_s = [0, 1]
+
+[[force]]
+name = "d1"
+type = "damper"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+velocity_m_per_s = [-1, 0, 1]
+force_n = [-5e3, 5e3, 4e3]
+
+[[force]]
+name = "d2"
+type = "damper"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+velocity_m_per_s = [-1, 1]
+force_n = [-4e3, 6e3]
+friction_force_n = 10
+"#
+    );
+    let p = problems(&text);
+    // line numbers in the text above (WS takes lines 1-10)
+    expect(
+        &p,
+        19,
+        &[
+            "force 'rub'",
+            "friction_coefficient",
+            "non-negative number, found -0.1",
+        ],
+    );
+    expect(
+        &p,
+        20,
+        &[
+            "normal_element refers to unknown force element 'sprung'",
+            "did you mean 'spring'",
+        ],
+    );
+    expect(&p, 39, &["force 'rub2'", "'rub3' is a friction element"]);
+    expect(&p, 41, &["force 'rub3'", "needs friction_force_n"]);
+    expect(
+        &p,
+        49,
+        &["velocity_m_per_s", "does not apply to type 'friction'"],
+    );
+    expect(
+        &p,
+        59,
+        &[
+            "force 'd1'",
+            "force_n must be strictly increasing",
+            "4000 follows 5000",
+        ],
+    );
+    expect(
+        &p,
+        69,
+        &["force 'd2'", "gives 1000 N at zero velocity", "expected 0"],
+    );
+    expect(
+        &p,
+        70,
+        &["friction_force_n", "does not apply to type 'damper'"],
+    );
+}

@@ -1,0 +1,354 @@
+//! The nonlinear dissipative suspension elements in a simulation: the Coulomb-damped
+//! oscillator (dry friction with a stick stiffness, constant or load-dependent sliding force)
+//! against its closed-form decrements, and a damper's table against the bushing's viscous
+//! damping.
+mod common;
+
+use common::{root, scene};
+use railsim_sim::{RunOptions, Simulation};
+
+/// A scene with the test vehicle `tests/vehicles/friction_mass.toml`, its friction element
+/// completed by `keys` (written to a temporary vehicle file named after `tag`), run for
+/// `duration` s with Radau IIA.
+fn friction_scene(tag: &str, keys: &str, duration: f64) -> railsim_sim::Scene {
+    let base = root().join("crates/railsim-sim/tests/vehicles/friction_mass.toml");
+    let text = std::fs::read_to_string(&base).unwrap() + keys;
+    let dir = std::env::temp_dir().join(format!("railsim-suspension-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{tag}.toml"));
+    std::fs::write(&path, text).unwrap();
+    scene(&format!(
+        r#"
+        vehicle = "{}"
+        track = "tracks/straight.toml"
+        speed_kmh = 36
+        duration_s = {duration}
+        [contact]
+        model = "polach"
+        [integrator]
+        method = "radau5"
+        rtol = 1e-8
+        atol = 1e-11
+        [log]
+        rate_hz = 2000
+        "#,
+        path.display()
+    ))
+}
+
+/// Run `s` from its static equilibrium with the mass lifted by `lift` \[m\] (the friction
+/// relaxed there); the mass's vertical displacement from equilibrium at every sample.
+fn released(s: &railsim_sim::Scene, lift: f64) -> (Vec<f64>, Vec<f64>) {
+    let mut sim = Simulation::new(s).unwrap();
+    let names = &sim.model().state_names;
+    let iz = names.iter().position(|n| n == "mass.z").unwrap();
+    let is = names
+        .iter()
+        .position(|n| n == "rubbing friction slip")
+        .unwrap();
+    let mut x = sim.initial_state().to_vec();
+    // The mass's equilibrium on its spring (the initial state also moves bodies by the
+    // wheelsets' contact sink, 0.19 mm here, which a body hung from the track does not share).
+    let z0 = -MASS * G / K_SPRING;
+    x[is] += z0 + lift - x[iz];
+    x[iz] = z0 + lift;
+    sim.start_from(0.0, &x).unwrap();
+    let (mut t, mut z) = (Vec::new(), Vec::new());
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    sim.run(s, &opts, &mut |_, _| {}, &mut |smp| {
+        t.push(smp.t);
+        z.push(smp.x[iz] - z0);
+    })
+    .unwrap();
+    (t, z)
+}
+
+/// The turning points of `z` (samples where the motion reverses) whose excursion exceeds
+/// `floor`, refined by a parabola through the neighbouring samples.
+fn turning_points(z: &[f64], floor: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    for i in 1..z.len() - 1 {
+        let (a, b, c) = (z[i - 1], z[i], z[i + 1]);
+        let peak = (b > a && b >= c) || (b < a && b <= c);
+        if peak && b.abs() > floor {
+            let den = a - 2.0 * b + c;
+            let ext = if den != 0.0 {
+                b - (c - a) * (c - a) / (8.0 * den)
+            } else {
+                b
+            };
+            out.push(ext);
+        }
+    }
+    out
+}
+
+const K_SPRING: f64 = 1e6;
+const K_STICK: f64 = 1e7;
+const MASS: f64 = 1000.0;
+/// \[m/s²\] the vehicle files' default gravity
+const G: f64 = 9.81;
+
+/// Constant sliding force F0: each half cycle loses 2 F0 / k of amplitude (Den Hartog 1930),
+/// less the elastic stretch of the stick stiffness at the reversal (energy balance of the
+/// elastoplastic element: z1 − |z2| = (2 F0/k)(1 − 2 F0 / (k_f (z1 + |z2|)))), and the mass
+/// comes to rest inside the band |z| < F0 / k.
+#[test]
+fn a_constant_friction_force_damps_the_oscillation_by_coulombs_decrement() {
+    let f0 = 500.0;
+    let s = friction_scene("constant", "friction_force_n = 500\n", 2.5);
+    let (t, z) = released(&s, 10e-3);
+    let tp = turning_points(&z, 0.3 * f0 / K_SPRING);
+    assert!(tp.len() >= 8, "{tp:?}");
+    let step = 2.0 * f0 / K_SPRING;
+    let mut worst = 0.0f64;
+    for w in tp.windows(2) {
+        let (z1, z2) = (w[0].abs(), w[1].abs());
+        let want = step * (1.0 - 2.0 * f0 / (K_STICK * (z1 + z2)));
+        eprintln!(
+            "{:+.5} mm -> {:+.5} mm: lost {:.5} mm, closed form {:.5} mm",
+            w[0] * 1e3,
+            w[1] * 1e3,
+            (z1 - z2) * 1e3,
+            want * 1e3
+        );
+        let rel = (z1 - z2) / want - 1.0;
+        worst = worst.max(rel.abs());
+        assert!(w[0] * w[1] < 0.0, "turning points alternate: {tp:?}");
+    }
+    eprintln!(
+        "{} turning points from {:.4} mm, worst decrement error {worst:.2e}",
+        tp.len(),
+        tp[0] * 1e3
+    );
+    assert!(worst < 1e-3, "{worst}");
+    // At rest inside the band, after the last reversal: held by the friction (the residual
+    // oscillation on the stick stiffness is undamped but tiny).
+    let late: Vec<f64> = t
+        .iter()
+        .zip(&z)
+        .filter(|(ti, _)| **ti > 2.0)
+        .map(|(_, zi)| *zi)
+        .collect();
+    let (lo, hi) = late
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(*v), b.max(*v))
+        });
+    assert!(
+        hi.abs() < f0 / K_SPRING && lo.abs() < f0 / K_SPRING,
+        "{lo} {hi}"
+    );
+    // what is left oscillates on the stick stiffness about the held position: the mass is
+    // at most (F0 + k z_last) / (k + k_f) from it (the tension's swing from sliding to held)
+    let last = tp[tp.len() - 1].abs();
+    let swing = (f0 + K_SPRING * last) / (K_SPRING + K_STICK);
+    assert!(
+        hi - lo <= 2.0 * swing,
+        "still moving: {lo} .. {hi} (swing {swing})"
+    );
+}
+
+/// Sliding force μ N with N the spring's force (the weight plus the spring's change): the
+/// friction is larger below the equilibrium. Without the stick stiffness the energy balance over
+/// a half cycle gives z1 + z2 = 2 μ m g / (k (1 + μ)) moving down and −2 μ m g / (k (1 − μ))
+/// moving up; with it ([`elastoplastic_half_cycle`]) the stick stretch at each reversal, up to
+/// 0.19 mm here, is taken up before the slider moves.
+#[test]
+fn a_load_dependent_friction_follows_its_normal_force() {
+    let mu = 0.05;
+    let s = friction_scene(
+        "normal",
+        "friction_coefficient = 0.05\nnormal_element = \"spring\"\n",
+        1.2,
+    );
+    let (_, z) = released(&s, 10e-3);
+    let tp = turning_points(&z, 1e-3);
+    assert!(tp.len() >= 6, "{tp:?}");
+    let mg = MASS * G;
+    let sliding = |z: f64| mu * (mg - K_SPRING * z);
+    let mut worst = 0.0f64;
+    for w in tp.windows(2) {
+        let (z1, z2) = (w[0], w[1]);
+        let down = z1 > 0.0;
+        let rigid = if down {
+            2.0 * mu * mg / (K_SPRING * (1.0 + mu))
+        } else {
+            -2.0 * mu * mg / (K_SPRING * (1.0 - mu))
+        };
+        let want = z1 + elastoplastic_half_cycle(z1, &sliding);
+        let rel = (z1 + z2 - want) / want;
+        eprintln!(
+            "{} from {:+.4} mm to {:+.4} mm: z1 + z2 = {:+.5} mm, elastoplastic {:+.5} mm ({rel:+.2e}), rigid slider {:+.5} mm",
+            if down { "down" } else { "up  " },
+            z1 * 1e3,
+            z2 * 1e3,
+            (z1 + z2) * 1e3,
+            want * 1e3,
+            rigid * 1e3,
+        );
+        worst = worst.max(rel.abs());
+    }
+    assert!(worst < 1e-3, "{worst}");
+}
+
+/// The next turning point of the mass on its spring after a reversal at `z1`, with an
+/// elastoplastic friction element of stick stiffness `K_STICK` whose sliding force is
+/// `sliding(z)`: the tension swings from `sliding(z1)` to the opposite sliding force while the
+/// slider sticks (the mass moves by the stretch), then the slider dissipates `∫ sliding dz`;
+/// the spring's and the stick stiffness's energies balance that (solved by bisection).
+fn elastoplastic_half_cycle(z1: f64, sliding: &dyn Fn(f64) -> f64) -> f64 {
+    let dir = -z1.signum();
+    let mut stretch = 0.0;
+    for _ in 0..20 {
+        stretch = (sliding(z1) + sliding(z1 + dir * stretch)) / K_STICK;
+    }
+    let zs = z1 + dir * stretch;
+    // ∫ sliding dz from zs to z, by Simpson's rule (the integrand is linear here: exact)
+    let dissipated =
+        |z: f64| (z - zs).abs() / 6.0 * (sliding(zs) + 4.0 * sliding(0.5 * (zs + z)) + sliding(z));
+    // The slider's work: the tension follows the sliding force, so the slider moves by
+    // dz − de/k_f and dissipates ∫ F dz − [F²/(2 k_f)]; with the stick stiffness's energy
+    // F²/(2 k_f) at both turning points the balance keeps F(z1)² − F(zs)².
+    let balance = |z: f64| {
+        0.5 * K_SPRING * (z1 * z1 - z * z)
+            + (sliding(z1).powi(2) - sliding(zs).powi(2)) / (2.0 * K_STICK)
+            - dissipated(z)
+    };
+    // from the start of sliding (energy to spare) to the mirror point (none left)
+    let (mut a, mut b) = (zs, -z1);
+    assert!(balance(a) > 0.0 && balance(b) < 0.0);
+    for _ in 0..100 {
+        let m = 0.5 * (a + b);
+        if balance(m) > 0.0 {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// A damper whose table is linear (force = c v) and a bushing with the same viscous
+/// coefficient give the same motion; with a series stiffness the damper follows the series
+/// spring-damper.
+#[test]
+fn a_linear_damper_table_moves_like_the_viscous_bushing() {
+    let c = 20e3;
+    let body = |damping: &str| {
+        format!(
+            r#"
+name = "damped mass (test)"
+[[body]]
+name = "mass"
+mass_kg = 1000
+inertia_kgm2 = [100, 100, 100]
+position_m = [0.0, 0.0, 1.0]
+frozen = ["x", "y", "roll", "pitch", "yaw"]
+[[wheelset]]
+name = "ws"
+mass_kg = 1813
+inertia_kgm2 = [1120, 112, 1120]
+position_m = [0.0, 0.0, 0.46]
+nominal_radius_m = 0.46
+back_to_back_mm = 1360
+wheel_profile = {{ left = "s1002", right = "s1002" }}
+frozen = ["x", "y", "yaw", "spin"]
+[[force]]
+name = "spring"
+type = "bushing"
+body1 = "track"
+body2 = "mass"
+point_m = [0.0, 0.0, 1.0]
+stiffness_n_per_m = [0, 0, 1e6]
+{damping}
+"#
+        )
+    };
+    let run = |tag: &str, damping: &str| {
+        let dir = std::env::temp_dir().join(format!("railsim-suspension-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(format!("{tag}.toml"));
+        std::fs::write(&path, body(damping)).unwrap();
+        let s = scene(&format!(
+            r#"
+            vehicle = "{}"
+            track = "tracks/straight.toml"
+            speed_kmh = 36
+            duration_s = 0.6
+            [contact]
+            model = "polach"
+            [integrator]
+            method = "radau5"
+            rtol = 1e-9
+            atol = 1e-12
+            [log]
+            rate_hz = 1000
+            "#,
+            path.display()
+        ));
+        let mut sim = Simulation::new(&s).unwrap();
+        let names = sim.model().state_names.clone();
+        let iz = names.iter().position(|n| n == "mass.z").unwrap();
+        let mut x = sim.initial_state().to_vec();
+        let z0 = -MASS * G / K_SPRING;
+        if let Some(i) = names.iter().position(|n| n.ends_with("damper elongation")) {
+            x[i] += z0 + 5e-3 - x[iz];
+        }
+        x[iz] = z0 + 5e-3;
+        sim.start_from(0.0, &x).unwrap();
+        let mut z = Vec::new();
+        let opts = RunOptions {
+            no_log: true,
+            ..Default::default()
+        };
+        sim.run(&s, &opts, &mut |_, _| {}, &mut |smp| z.push(smp.x[iz] - z0))
+            .unwrap();
+        z
+    };
+    let common_keys = "body1 = \"track\"\nbody2 = \"mass\"\npoint_m = [0.0, 0.0, 1.0]\n";
+    let viscous = run(
+        "viscous",
+        &format!(
+            "[[force]]\nname = \"d\"\ntype = \"bushing\"\n{common_keys}damping_ns_per_m = [0, 0, {c}]\n"
+        ),
+    );
+    let table = run(
+        "table",
+        &format!(
+            "[[force]]\nname = \"d\"\ntype = \"damper\"\n{common_keys}direction = \"z\"\nvelocity_m_per_s = [0.0, 1.0]\nforce_n = [0.0, {c}]\nsymmetric = true\n"
+        ),
+    );
+    let series_table = run(
+        "series_table",
+        &format!(
+            "[[force]]\nname = \"d\"\ntype = \"damper\"\n{common_keys}direction = \"z\"\nstiffness_n_per_m = 4e6\nvelocity_m_per_s = [-1.0, 1.0]\nforce_n = [-{c}, {c}]\n"
+        ),
+    );
+    let series = run(
+        "series",
+        &format!(
+            "[[force]]\nname = \"d\"\ntype = \"series_spring_damper\"\n{common_keys}direction = \"z\"\nstiffness_n_per_m = 4e6\ndamping_ns_per_m = {c}\n"
+        ),
+    );
+    let diff = |a: &[f64], b: &[f64]| {
+        assert_eq!(a.len(), b.len());
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+    };
+    let (d1, d2) = (diff(&viscous, &table), diff(&series, &series_table));
+    eprintln!(
+        "largest difference: table vs bushing {d1:.2e} m, series table vs series element {d2:.2e} m"
+    );
+    // the oscillation decays (ζ = c / (2 sqrt(k m)) = 0.32), and the two agree to the
+    // integrator's tolerance
+    assert!(viscous[viscous.len() - 1].abs() < 0.01 * 5e-3);
+    assert!(d1 < 1e-8, "{d1}");
+    assert!(d2 < 1e-8, "{d2}");
+    // the series stiffness changes the motion (it is not ignored)
+    assert!(diff(&viscous, &series) > 1e-5);
+}
