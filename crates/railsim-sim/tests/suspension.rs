@@ -92,7 +92,7 @@ const MASS: f64 = 1000.0;
 /// \[m/s²\] the vehicle files' default gravity
 const G: f64 = 9.81;
 
-/// Constant sliding force F0: each half cycle loses 2 F0 / k of amplitude (Den Hartog 1930),
+/// Constant sliding force F0: each half cycle loses 2 F0 / k of amplitude (Den Hartog 1931),
 /// less the elastic stretch of the stick stiffness at the reversal (energy balance of the
 /// elastoplastic element: z1 − |z2| = (2 F0/k)(1 − 2 F0 / (k_f (z1 + |z2|)))), and the mass
 /// comes to rest inside the band |z| < F0 / k.
