@@ -61,8 +61,9 @@ mod writer;
 
 pub use error::{LogError, Result};
 pub use messages::{
-    BodyState, BogieFrameMessage, CarbodyMessage, Creepages, FoxgloveTime, FrameTransform,
-    LogMessage, PatchMessage, Quaternion, Side, Vector3, WheelsetMessage, topics, wear_number,
+    BodyState, BogieFrameMessage, CarbodyMessage, Creepages, ElementMessage, FoxgloveTime,
+    FrameTransform, LogMessage, PatchMessage, Quaternion, Side, Vector3, WheelsetMessage, topics,
+    wear_number,
 };
 pub use reader::{ChannelInfo, LogMessageRef, LogReader, Query};
 pub use time::{NS_PER_S, ns_to_s, s_to_ns, step_time_ns};

@@ -287,6 +287,49 @@ impl LogMessage for BogieFrameMessage {
     }
 }
 
+/// One suspension force element at one instant: its deflections, rates and forces in its own
+/// local axes, and its internal state.
+///
+/// Topic `/elements/<name>`, schema `railsim.ElementMessage`. Deflections are body 2's
+/// attachment point relative to body 1's from the nominal configuration, rotations body 2's
+/// relative to body 1's; forces and moments act on body 2 (body 1 receives the opposite).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ElementMessage {
+    /// \[s\] simulation time
+    pub t_s: f64,
+    /// The element's name.
+    pub element: String,
+    /// Its type as written in the vehicle file, e.g. `friction`.
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// \[m\] deflection along the local x, y, z axes
+    pub deflection_m: [f64; 3],
+    /// \[m/s\] its rate
+    pub deflection_rate_m_s: [f64; 3],
+    /// \[rad\] rotation about the local axes (small angles)
+    pub rotation_rad: [f64; 3],
+    /// \[N\] force on body 2 along the local axes
+    pub force_n: [f64; 3],
+    /// \[N m\] moment on body 2 about the local axes
+    pub moment_nm: [f64; 3],
+    /// \[m\] the internal state, if the element has one: a damper's elongation or a friction
+    /// slider's position (as deflections: the element is relaxed where it equals the deflection)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub state_m: Option<f64>,
+    /// \[N\] a friction element's sliding force at this instant (its constant part plus its
+    /// coefficient times the normal element's force)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sliding_force_n: Option<f64>,
+}
+
+impl LogMessage for ElementMessage {
+    const SCHEMA_NAME: &'static str = "railsim.ElementMessage";
+    fn schema_json() -> Vec<u8> {
+        generated_schema::<Self>()
+    }
+}
+
 /// A time as Foxglove writes it: whole seconds and nanoseconds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct FoxgloveTime {
@@ -401,5 +444,10 @@ pub mod topics {
     /// `/bogie_frames/<n>`.
     pub fn bogie_frame(point: usize) -> String {
         format!("/bogie_frames/{point}")
+    }
+
+    /// `/elements/<name>`.
+    pub fn element(name: &str) -> String {
+        format!("/elements/{name}")
     }
 }

@@ -98,6 +98,25 @@ pub struct CostSplit {
     pub evaluations: u64,
 }
 
+/// One force element at the last recorded evaluation (`Workspace::record`), local axes.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ElementRecord {
+    /// \[m\] deflection: body 2's attachment point relative to body 1's, from nominal
+    pub deflection: V3,
+    /// \[m/s\] its rate
+    pub rate: V3,
+    /// \[rad\] rotation of body 2 relative to body 1 (small angles)
+    pub rotation: V3,
+    /// \[N\] force on body 2
+    pub force: V3,
+    /// \[N·m\] moment on body 2
+    pub moment: V3,
+    /// \[m\] the internal state, if the element has one
+    pub state: Option<f64>,
+    /// \[N\] a friction element's sliding force
+    pub sliding_force: Option<f64>,
+}
+
 /// Reusable buffers of the right-hand side: nothing is allocated per evaluation once they have
 /// grown.
 pub struct Workspace {
@@ -135,6 +154,8 @@ pub struct Workspace {
     pub series_delta: Vec<f64>,
     /// \[N\] per element: the magnitude of its force (the normal load of friction elements).
     pub element_force: Vec<f64>,
+    /// Per element: deflections and forces, filled only when `record` is set (for outputs).
+    pub elements: Vec<ElementRecord>,
     /// The wheel and the message of the last failed contact evaluation (for the stop error).
     pub failure: Option<(String, String)>,
 }
@@ -160,6 +181,7 @@ impl Workspace {
             cost: CostSplit::default(),
             series_delta: vec![0.0; model.elements.len()],
             element_force: vec![0.0; model.elements.len()],
+            elements: vec![ElementRecord::default(); model.elements.len()],
             failure: None,
         }
     }
@@ -439,6 +461,7 @@ impl Dynamics<'_> {
         let rot_rate = mul_t(e, mul_t(&q1, sub(w2, w1)));
         let mut f = [0.0; 3];
         let mut mo = [0.0; 3];
+        let mut sliding = None;
         match &el.law {
             ForceLaw::Bushing { stiffness, damping } => {
                 for k in 0..3 {
@@ -493,9 +516,21 @@ impl Dynamics<'_> {
                 let f0 = force + coefficient * load;
                 (f[k], dx[i]) = friction_law(*stiffness, f0, lin[k], lin_rate[k], x[i]);
                 self.ws.series_delta[ei] = lin[k];
+                sliding = Some(f0);
             }
         }
         self.ws.element_force[ei] = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+        if self.ws.record {
+            self.ws.elements[ei] = ElementRecord {
+                deflection: lin,
+                rate: lin_rate,
+                rotation: rot,
+                force: f,
+                moment: mo,
+                state: el.internal.map(|i| x[i]),
+                sliding_force: sliding,
+            };
+        }
         let force = mul(&q1, mul(e, f));
         let moment = mul(&q1, mul(e, mo));
         if let End::Member(i) = el.ends[1] {

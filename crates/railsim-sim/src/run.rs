@@ -7,8 +7,9 @@ use std::time::Instant;
 
 use railsim_contact::{Side, WheelsetPose, WheelsetVelocity};
 use railsim_log::messages::{
-    BodyState, BogieFrameMessage, CarbodyMessage, Creepages as LogCreepages, FrameTransform,
-    PatchMessage, Quaternion, Side as LogSide, WheelsetMessage, topics, wear_number,
+    BodyState, BogieFrameMessage, CarbodyMessage, Creepages as LogCreepages, ElementMessage,
+    FrameTransform, PatchMessage, Quaternion, Side as LogSide, WheelsetMessage, topics,
+    wear_number,
 };
 use railsim_log::{Channel, LogHeader, LogStats, LogWriter, WriterOptions, step_time_ns};
 use railsim_ode::{Integrator, Method, OdeSystem, Stats, StepOutcome, StopReason};
@@ -17,7 +18,7 @@ use railsim_track::SegmentKind;
 use crate::assess::{
     Assessment, BogieSeries, ComfortSeries, CurveSection, Series, WheelSeries, assess,
 };
-use crate::dynamics::{CostSplit, Dynamics, MemberKin, Workspace, rail_frame};
+use crate::dynamics::{CostSplit, Dynamics, ElementRecord, MemberKin, Workspace, rail_frame};
 use crate::error::SimError;
 use crate::math::{add, cross, mul, mul_t, quaternion, rotation_rpy};
 use crate::model::{MemberKind, SimModel};
@@ -78,6 +79,8 @@ pub struct Sample {
     /// \[m/s²\] per measuring point of the bogie frames (`RunSummary::assessment`'s `bogies`,
     /// the same order): the specific force in the frame's axes.
     pub bogie_frames: Vec<[f64; 3]>,
+    /// Per force element (the vehicle's order): deflections, forces and state, local axes.
+    pub elements: Vec<ElementRecord>,
 }
 
 /// What a finished run reports.
@@ -926,6 +929,7 @@ impl LoopState {
                 lateral: vec![0.0; model.wheels.len() / 2],
                 carbody: Vec::new(),
                 bogie_frames: vec![[0.0; 3]; model.bogies.iter().map(|b| b.points.len()).sum()],
+                elements: vec![ElementRecord::default(); model.elements.len()],
             },
         };
         if let Some((_, points)) = &model.comfort {
@@ -953,6 +957,7 @@ impl LoopState {
         smp.t = t;
         smp.t_ns = t_ns;
         smp.x.copy_from_slice(x);
+        smp.elements.copy_from_slice(&ws.elements);
         self.series.distance.push(dist);
         if let Some((cb, points)) = &model.comfort {
             let k = &ws.kin[*cb];
@@ -1092,6 +1097,8 @@ struct Recorder {
     carbody: Vec<(Channel<CarbodyMessage>, String)>,
     /// Per measuring point of the bogie frames, with its name.
     bogie_frames: Vec<(Channel<BogieFrameMessage>, String)>,
+    /// Per force element: its channel, name and type.
+    elements: Vec<(Channel<ElementMessage>, String, &'static str)>,
     tf: Option<Channel<FrameTransform>>,
     /// Patches written per wheel at the current sample.
     patch_count: Vec<u32>,
@@ -1164,6 +1171,16 @@ impl Recorder {
                 ));
             }
         }
+        let mut elements = Vec::new();
+        if want(Topic::Elements) {
+            for el in &model.elements {
+                elements.push((
+                    writer.channel::<ElementMessage>(&topics::element(&el.name))?,
+                    el.name.clone(),
+                    el.law.type_name(),
+                ));
+            }
+        }
         let tf = want(Topic::Tf)
             .then(|| writer.channel::<FrameTransform>(topics::TF))
             .transpose()?;
@@ -1174,6 +1191,7 @@ impl Recorder {
             wheelsets,
             carbody,
             bogie_frames,
+            elements,
             tf,
             patch_count: vec![0; model.wheels.len()],
         })
@@ -1257,6 +1275,21 @@ impl Recorder {
                 longitudinal_m_s2: a[0],
                 lateral_m_s2: a[1],
                 vertical_m_s2: a[2],
+            };
+            self.writer.write(channel, t_ns, &msg)?;
+        }
+        for ((channel, name, kind), e) in self.elements.iter().zip(&s.elements) {
+            let msg = ElementMessage {
+                t_s: s.t,
+                element: name.clone(),
+                kind: (*kind).to_owned(),
+                deflection_m: e.deflection,
+                deflection_rate_m_s: e.rate,
+                rotation_rad: e.rotation,
+                force_n: e.force,
+                moment_nm: e.moment,
+                state_m: e.state,
+                sliding_force_n: e.sliding_force,
             };
             self.writer.write(channel, t_ns, &msg)?;
         }

@@ -77,11 +77,24 @@ pub enum Topic {
     /// Per bogie frame and wheelset above which it is measured, the accelerometer's reading:
     /// `/bogie_frames/<n>`.
     BogieFrames,
+    /// Per suspension force element, its deflections, forces and state: `/elements/<name>`.
+    Elements,
 }
 
 impl Topic {
     /// All topics, in file-name order.
-    pub const ALL: [Topic; 6] = [
+    pub const ALL: [Topic; 7] = [
+        Topic::Bodies,
+        Topic::BogieFrames,
+        Topic::Carbody,
+        Topic::Contact,
+        Topic::Elements,
+        Topic::Wheelsets,
+        Topic::Tf,
+    ];
+    /// The topics of a scene without `[log] topics`: all but the force elements (one topic per
+    /// element; asked for by name).
+    pub const DEFAULT: [Topic; 6] = [
         Topic::Bodies,
         Topic::BogieFrames,
         Topic::Carbody,
@@ -98,6 +111,7 @@ impl Topic {
             Topic::Tf => "tf",
             Topic::Carbody => "carbody",
             Topic::BogieFrames => "bogie_frames",
+            Topic::Elements => "elements",
         }
     }
 }
@@ -1426,7 +1440,7 @@ impl Compiler<'_> {
         let mut opts = LogOptions {
             path: PathBuf::from(DEFAULT_LOG_PATH),
             rate_hz: DEFAULT_LOG_RATE_HZ,
-            topics: Topic::ALL.to_vec(),
+            topics: Topic::DEFAULT.to_vec(),
         };
         let Some(l) = l else {
             return (!self.unreadable.iter().any(|t| t == "log")).then_some(opts);

@@ -97,7 +97,7 @@ fn default_scene_is_the_issue_default() {
     assert!((1.0 / r_min - 1200.0).abs() < 1e-6);
     assert_eq!(s.contact.model, ContactModelKind::Stripes);
     assert!(matches!(s.integrator, Method::DormandPrince { .. }));
-    assert_eq!(s.log.topics, Topic::ALL.to_vec());
+    assert_eq!(s.log.topics, Topic::DEFAULT.to_vec());
     // Rear wheelset at s = 0, and the whole run stays on the track.
     assert!((s.start - 10.78).abs() < 1e-12);
     assert!(s.start + s.distance() + 10.78 <= s.track.length());

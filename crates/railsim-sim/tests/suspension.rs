@@ -11,6 +11,16 @@ use railsim_sim::{RunOptions, Simulation};
 /// completed by `keys` (written to a temporary vehicle file named after `tag`), run for
 /// `duration` s with Radau IIA.
 fn friction_scene(tag: &str, keys: &str, duration: f64) -> railsim_sim::Scene {
+    friction_scene_logging(tag, keys, duration, "")
+}
+
+/// [`friction_scene`] with more `[log]` keys.
+fn friction_scene_logging(
+    tag: &str,
+    keys: &str,
+    duration: f64,
+    log_keys: &str,
+) -> railsim_sim::Scene {
     let base = root().join("crates/railsim-sim/tests/vehicles/friction_mass.toml");
     let text = std::fs::read_to_string(&base).unwrap() + keys;
     let dir = std::env::temp_dir().join(format!("railsim-suspension-{}", std::process::id()));
@@ -31,6 +41,7 @@ fn friction_scene(tag: &str, keys: &str, duration: f64) -> railsim_sim::Scene {
         atol = 1e-11
         [log]
         rate_hz = 2000
+        {log_keys}
         "#,
         path.display()
     ))
@@ -351,4 +362,89 @@ stiffness_n_per_m = [0, 0, 1e6]
     assert!(d2 < 1e-8, "{d2}");
     // the series stiffness changes the motion (it is not ignored)
     assert!(diff(&viscous, &series) > 1e-5);
+}
+
+/// The `/elements/<name>` topic: each element's deflections, forces, state and (friction) sliding
+/// force, read back as sampled; the friction never exceeds its sliding force, which is the
+/// coefficient times the spring's force, and the spring's force is its stiffness times its
+/// deflection.
+#[test]
+fn element_forces_are_logged_as_sampled() {
+    let dir = std::env::temp_dir().join(format!("railsim-elements-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let log = dir.join("elements.mcap");
+    let s = friction_scene_logging(
+        "logged",
+        "friction_coefficient = 0.05\nnormal_element = \"spring\"\n",
+        0.3,
+        "topics = [\"bodies\", \"elements\"]",
+    );
+    let mut sim = Simulation::new(&s).unwrap();
+    let names = sim.model().state_names.clone();
+    let iz = names.iter().position(|n| n == "mass.z").unwrap();
+    let is = names
+        .iter()
+        .position(|n| n == "rubbing friction slip")
+        .unwrap();
+    let mut x = sim.initial_state().to_vec();
+    let z0 = -MASS * G / K_SPRING;
+    x[is] += z0 + 5e-3 - x[iz];
+    x[iz] = z0 + 5e-3;
+    sim.start_from(0.0, &x).unwrap();
+    let mut samples = Vec::new();
+    let opts = RunOptions {
+        log_path: Some(log.clone()),
+        ..Default::default()
+    };
+    sim.run(&s, &opts, &mut |_, _| {}, &mut |smp| {
+        samples.push(smp.clone())
+    })
+    .unwrap();
+    let reader = railsim_log::LogReader::open(&log).unwrap();
+    let spring: Vec<(u64, railsim_log::ElementMessage)> = reader
+        .read_topic(&railsim_log::topics::element("spring"), None)
+        .unwrap();
+    let rubbing: Vec<(u64, railsim_log::ElementMessage)> = reader
+        .read_topic(&railsim_log::topics::element("rubbing"), None)
+        .unwrap();
+    assert_eq!(spring.len(), samples.len());
+    assert_eq!(rubbing.len(), samples.len());
+    let mut slid = 0;
+    for (((_, sp), (_, ru)), smp) in spring.iter().zip(&rubbing).zip(&samples) {
+        assert_eq!(
+            (sp.element.as_str(), sp.kind.as_str()),
+            ("spring", "bushing")
+        );
+        assert_eq!(
+            (ru.element.as_str(), ru.kind.as_str()),
+            ("rubbing", "friction")
+        );
+        assert_eq!(sp.t_s, smp.t);
+        // read back as sampled
+        assert_eq!(sp.force_n, smp.elements[0].force);
+        assert_eq!(ru.deflection_m, smp.elements[1].deflection);
+        assert_eq!(ru.state_m, smp.elements[1].state);
+        assert_eq!(sp.state_m, None);
+        assert_eq!(sp.sliding_force_n, None);
+        // the spring: F = -k z along its local z
+        assert!((sp.force_n[2] + K_SPRING * sp.deflection_m[2]).abs() < 1e-6);
+        // the friction's sliding force is 0.05 times the spring's force magnitude, and its own
+        // force stays within it (up to the transition's overshoot while the load falls)
+        let f0 = ru.sliding_force_n.unwrap();
+        assert!((f0 - 0.05 * sp.force_n[2].abs()).abs() < 1e-9 * f0, "{f0}");
+        assert!(
+            ru.force_n[2].abs() <= 1.001 * f0,
+            "{} > {f0}",
+            ru.force_n[2]
+        );
+        assert_eq!(
+            ru.force_n[2],
+            -K_STICK * (ru.deflection_m[2] - ru.state_m.unwrap())
+        );
+        if ru.force_n[2].abs() > 0.99 * f0 {
+            slid += 1;
+        }
+    }
+    assert!(slid > samples.len() / 2, "slides most of the time: {slid}");
+    std::fs::remove_dir_all(&dir).ok();
 }

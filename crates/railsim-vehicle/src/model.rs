@@ -311,6 +311,18 @@ pub enum ForceLaw {
 }
 
 impl ForceLaw {
+    /// The type's name as written in a vehicle file (`type = "..."`).
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            ForceLaw::Bushing { .. } => "bushing",
+            ForceLaw::Table { .. } => "table",
+            ForceLaw::SeriesSpringDamper { .. } => "series_spring_damper",
+            ForceLaw::AntiRollBar { .. } => "anti_roll_bar",
+            ForceLaw::Damper { .. } => "damper",
+            ForceLaw::Friction { .. } => "friction",
+        }
+    }
+
     /// Number of internal states the element carries: 1 for a series spring-damper, a
     /// friction element and a damper with a series stiffness, else 0.
     pub fn internal_states(&self) -> usize {

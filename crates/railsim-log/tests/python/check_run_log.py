@@ -9,8 +9,12 @@ read, that the six kinds of topics are there (/bodies/*, /bogie_frames/*, /carbo
 +g vertically (9.81 ± 0.2 m/s²), that
 every message decodes as JSON with its own time equal to the log time, that no number is NaN or
 infinite, and that the `scene` and `railsim_result` metadata (with the state digest) are present.
-With --rails (a run on an elastic rail support, logging bodies, carbody, contact and wheelsets):
-/tf and /bogie_frames are not required, and every /wheelsets message must carry
+Messages on /elements/* (force elements) must name their element, carry a known type, the
+vectors of three numbers and the state exactly where the type has one, and a friction element's
+force must stay within its sliding force.
+With --rails (a run on an elastic rail support, logging bodies, carbody, contact, elements and
+wheelsets): /tf and /bogie_frames are not required, /elements/* is, and every /wheelsets message
+must carry
 `rail_displacement_m`, four finite numbers with both rails below their unloaded height. Exits 1 on any mismatch.
 """
 
@@ -29,6 +33,34 @@ def finite(v):
     if isinstance(v, list):
         return all(finite(x) for x in v)
     return True
+
+
+ELEMENT_TYPES = {"bushing", "table", "series_spring_damper", "damper", "friction",
+                 "anti_roll_bar"}
+WITH_STATE = {"series_spring_damper", "friction"}
+
+
+def check_element(topic, body):
+    """A /elements/<name> message: its name, a known type, three numbers per vector, the state
+    present exactly for the elements that carry one (a damper may or may not), and a friction
+    element within its sliding force."""
+    out = []
+    kind = body.get("type")
+    if topic != "/elements/" + str(body.get("element")):
+        out.append(f"{topic}: element name {body.get('element')!r}")
+    if kind not in ELEMENT_TYPES:
+        out.append(f"{topic}: unknown type {kind!r}")
+    for key in ("deflection_m", "deflection_rate_m_s", "rotation_rad", "force_n", "moment_nm"):
+        v = body.get(key)
+        if not (isinstance(v, list) and len(v) == 3):
+            out.append(f"{topic}: {key} = {v!r}")
+    if kind != "damper" and (kind in WITH_STATE) != ("state_m" in body):
+        out.append(f"{topic}: state_m for a {kind}: {body.get('state_m')!r}")
+    if kind == "friction":
+        f0 = body.get("sliding_force_n")
+        if f0 is None or max(abs(x) for x in body["force_n"]) > 1.01 * f0 + 1e-6:
+            out.append(f"{topic}: friction force {body['force_n']} beyond {f0}")
+    return out
 
 
 def main():
@@ -59,6 +91,8 @@ def main():
                 vertical.append(body["vertical_m_s2"])
             if channel.topic.startswith("/bogie_frames/"):
                 frames.append(body["vertical_m_s2"])
+            if channel.topic.startswith("/elements/"):
+                failures.extend(check_element(channel.topic, body))
             if schema.name == "foxglove.FrameTransform":
                 st = body["timestamp"]
                 ok = st["sec"] * 1_000_000_000 + st["nsec"] == message.log_time
@@ -72,7 +106,7 @@ def main():
             if counts.get(topic, 0) != n:
                 failures.append(f"{topic}: summary says {n} messages, read {counts.get(topic, 0)}")
         for prefix in ("/bodies/", "/carbody/", "/contact/", "/wheelsets/") + (
-                () if rails else ("/bogie_frames/", "/tf")):
+                ("/elements/",) if rails else ("/bogie_frames/", "/tf")):
             if not any(t.startswith(prefix) for t in counts):
                 failures.append(f"no topic {prefix}*")
         if vertical and abs(sum(vertical) / len(vertical) - 9.81) > 0.2:
