@@ -51,19 +51,7 @@ fn friction_scene_logging(
 /// relaxed there); the mass's vertical displacement from equilibrium at every sample.
 fn released(s: &railsim_sim::Scene, lift: f64) -> (Vec<f64>, Vec<f64>) {
     let mut sim = Simulation::new(s).unwrap();
-    let names = &sim.model().state_names;
-    let iz = names.iter().position(|n| n == "mass.z").unwrap();
-    let is = names
-        .iter()
-        .position(|n| n == "rubbing friction slip")
-        .unwrap();
-    let mut x = sim.initial_state().to_vec();
-    // The mass's equilibrium on its spring (the initial state also moves bodies by the
-    // wheelsets' contact sink, 0.19 mm here, which a body hung from the track does not share).
-    let z0 = -MASS * G / K_SPRING;
-    x[is] += z0 + lift - x[iz];
-    x[iz] = z0 + lift;
-    sim.start_from(0.0, &x).unwrap();
+    let (iz, z0) = lift_mass(&mut sim, lift);
     let (mut t, mut z) = (Vec::new(), Vec::new());
     let opts = RunOptions {
         no_log: true,
@@ -75,6 +63,26 @@ fn released(s: &railsim_sim::Scene, lift: f64) -> (Vec<f64>, Vec<f64>) {
     })
     .unwrap();
     (t, z)
+}
+
+/// Restart `sim` from its initial state with the mass `lift` \[m\] above its equilibrium on the
+/// spring, the internal states (friction slider, damper) relaxed there; the mass's state index
+/// and equilibrium. (The initial state also moves bodies by the wheelsets' contact sink, 0.19 mm
+/// here, which a body hung from the track does not share: the equilibrium is m g / k below
+/// nominal.)
+fn lift_mass(sim: &mut Simulation, lift: f64) -> (usize, f64) {
+    let names = &sim.model().state_names;
+    let iz = names.iter().position(|n| n == "mass.z").unwrap();
+    let mut x = sim.initial_state().to_vec();
+    let z0 = -MASS * G / K_SPRING;
+    for (i, n) in names.iter().enumerate() {
+        if n.ends_with("friction slip") || n.ends_with("damper elongation") {
+            x[i] += z0 + lift - x[iz];
+        }
+    }
+    x[iz] = z0 + lift;
+    sim.start_from(0.0, &x).unwrap();
+    (iz, z0)
 }
 
 /// The turning points of `z` (samples where the motion reverses) whose excursion exceeds
@@ -302,15 +310,7 @@ stiffness_n_per_m = [0, 0, 1e6]
             path.display()
         ));
         let mut sim = Simulation::new(&s).unwrap();
-        let names = sim.model().state_names.clone();
-        let iz = names.iter().position(|n| n == "mass.z").unwrap();
-        let mut x = sim.initial_state().to_vec();
-        let z0 = -MASS * G / K_SPRING;
-        if let Some(i) = names.iter().position(|n| n.ends_with("damper elongation")) {
-            x[i] += z0 + 5e-3 - x[iz];
-        }
-        x[iz] = z0 + 5e-3;
-        sim.start_from(0.0, &x).unwrap();
+        let (iz, z0) = lift_mass(&mut sim, 5e-3);
         let mut z = Vec::new();
         let opts = RunOptions {
             no_log: true,
@@ -380,17 +380,7 @@ fn element_forces_are_logged_as_sampled() {
         "topics = [\"bodies\", \"elements\"]",
     );
     let mut sim = Simulation::new(&s).unwrap();
-    let names = sim.model().state_names.clone();
-    let iz = names.iter().position(|n| n == "mass.z").unwrap();
-    let is = names
-        .iter()
-        .position(|n| n == "rubbing friction slip")
-        .unwrap();
-    let mut x = sim.initial_state().to_vec();
-    let z0 = -MASS * G / K_SPRING;
-    x[is] += z0 + 5e-3 - x[iz];
-    x[iz] = z0 + 5e-3;
-    sim.start_from(0.0, &x).unwrap();
+    lift_mass(&mut sim, 5e-3);
     let mut samples = Vec::new();
     let opts = RunOptions {
         log_path: Some(log.clone()),
@@ -447,4 +437,29 @@ fn element_forces_are_logged_as_sampled() {
     }
     assert!(slid > samples.len() / 2, "slides most of the time: {slid}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Linearised at rest, a friction element is stuck: the mass bounces on its spring and the stick
+/// stiffness in parallel, undamped (docs/models/vehicle.md).
+#[test]
+fn a_friction_element_at_rest_linearises_as_stuck() {
+    use railsim_sim::modal::{ModalOptions, modes_at};
+    let s = friction_scene("modes", "friction_force_n = 500\n", 1.0);
+    let a = modes_at(&s, 10.0, &ModalOptions::default()).unwrap();
+    let bounce = a
+        .modes
+        .iter()
+        .find(|m| m.is_oscillatory() && m.shape.first().is_some_and(|(n, _)| n == "mass.z"))
+        .expect("the mass's bounce");
+    let f = ((K_SPRING + K_STICK) / MASS).sqrt() / (2.0 * std::f64::consts::PI);
+    eprintln!(
+        "bounce: {:.4} Hz (stuck: {f:.4} Hz), Re λ {:.2e} 1/s",
+        bounce.frequency, bounce.re
+    );
+    assert!(
+        (bounce.frequency / f - 1.0).abs() < 1e-3,
+        "{}",
+        bounce.frequency
+    );
+    assert!(bounce.re.abs() < 1e-3, "{}", bounce.re);
 }

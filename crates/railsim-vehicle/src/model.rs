@@ -1819,59 +1819,68 @@ impl Compiler<'_> {
         }
     }
 
-    fn damper_table(
+    /// The points of a piecewise-linear table: at least two, one value per abscissa, finite,
+    /// the abscissae strictly increasing (and the values too when `increasing_values` gives
+    /// the reason), starting at 0 or above for a `symmetric` (mirrored) table. File units.
+    fn table_points(
         &mut self,
-        v: &Spanned<Vec<Spanned<f64>>>,
-        f: &Spanned<Vec<Spanned<f64>>>,
+        x: (&Spanned<Vec<Spanned<f64>>>, &str, &str),
+        y: (&Spanned<Vec<Spanned<f64>>>, &str, &str),
         symmetric: bool,
+        increasing_values: Option<&str>,
         label: &str,
-    ) -> Option<DamperTable> {
+    ) -> Option<(Vec<f64>, Vec<f64>)> {
+        let ((xs, x_key, x_noun), (ys, y_key, y_noun)) = (x, y);
         let mut ok = true;
-        let (vv, fv) = (v.get_ref(), f.get_ref());
-        if vv.len() < 2 {
+        let (xv, yv) = (xs.get_ref(), ys.get_ref());
+        if xv.len() < 2 {
             self.err(
-                &v.span(),
-                "velocity_m_per_s",
+                &xs.span(),
+                x_key,
                 format!(
-                    "{label}: velocity_m_per_s needs at least 2 points, found {}",
-                    vv.len()
+                    "{label}: {x_key} needs at least 2 points, found {}",
+                    xv.len()
                 ),
             );
             ok = false;
         }
-        if vv.len() != fv.len() {
+        if xv.len() != yv.len() {
             self.err(
-                &f.span(),
-                "force_n",
+                &ys.span(),
+                y_key,
                 format!(
-                    "{label}: force_n has {} values but velocity_m_per_s has {}; expected one force per velocity",
-                    fv.len(),
-                    vv.len()
+                    "{label}: {y_key} has {} values but {x_key} has {}; expected one {y_noun} per {x_noun}",
+                    yv.len(),
+                    xv.len()
                 ),
             );
             ok = false;
         }
-        for (key, list) in [("velocity_m_per_s", vv), ("force_n", fv)] {
-            for x in list {
-                if !x.get_ref().is_finite() {
+        let lists = [(x_key, xv, Some("")), (y_key, yv, increasing_values)];
+        for (key, list, increasing) in lists {
+            for v in list {
+                if !v.get_ref().is_finite() {
                     self.err(
-                        &x.span(),
+                        &v.span(),
                         key,
                         format!(
                             "{label}: {key} values must be finite, found {}",
-                            x.get_ref()
+                            v.get_ref()
                         ),
                     );
                     ok = false;
                 }
             }
+            let Some(why) = increasing else {
+                continue;
+            };
             for w in list.windows(2) {
                 if *w[1].get_ref() <= *w[0].get_ref() {
                     self.err(
                         &w[1].span(),
                         key,
                         format!(
-                            "{label}: {key} must be strictly increasing (a damper's force grows with its velocity and must be invertible), but {} follows {}",
+                            "{label}: {key} must be strictly increasing{why}, but {} follows {}",
                             w[1].get_ref(),
                             w[0].get_ref()
                         ),
@@ -1881,24 +1890,41 @@ impl Compiler<'_> {
             }
         }
         if symmetric
-            && let Some(first) = vv.first()
+            && let Some(first) = xv.first()
             && *first.get_ref() < 0.0
         {
             self.err(
                 &first.span(),
-                "velocity_m_per_s",
+                x_key,
                 format!(
-                    "{label}: a symmetric table is given for velocities >= 0, but velocity_m_per_s starts at {}",
+                    "{label}: a symmetric table is given for {x_noun}s >= 0, but {x_key} starts at {}",
                     first.get_ref()
                 ),
             );
             ok = false;
         }
-        if !ok {
-            return None;
-        }
-        let mut velocity: Vec<f64> = vv.iter().map(|x| *x.get_ref()).collect();
-        let mut force: Vec<f64> = fv.iter().map(|x| *x.get_ref()).collect();
+        ok.then(|| {
+            (
+                xv.iter().map(|v| *v.get_ref()).collect(),
+                yv.iter().map(|v| *v.get_ref()).collect(),
+            )
+        })
+    }
+
+    fn damper_table(
+        &mut self,
+        v: &Spanned<Vec<Spanned<f64>>>,
+        f: &Spanned<Vec<Spanned<f64>>>,
+        symmetric: bool,
+        label: &str,
+    ) -> Option<DamperTable> {
+        let (mut velocity, mut force) = self.table_points(
+            (v, "velocity_m_per_s", "velocity"),
+            (f, "force_n", "force"),
+            symmetric,
+            Some(" (a damper's force grows with its velocity and must be invertible)"),
+            label,
+        )?;
         if symmetric && velocity[0] > 0.0 {
             if force[0] <= 0.0 {
                 self.err(
@@ -1942,74 +1968,14 @@ impl Compiler<'_> {
         symmetric: bool,
         label: &str,
     ) -> Option<ForceTable> {
-        let mut ok = true;
-        let (dv, fv) = (d.get_ref(), f.get_ref());
-        if dv.len() < 2 {
-            self.err(
-                &d.span(),
-                "deflection_mm",
-                format!(
-                    "{label}: deflection_mm needs at least 2 points, found {}",
-                    dv.len()
-                ),
-            );
-            ok = false;
-        }
-        if dv.len() != fv.len() {
-            self.err(
-                &f.span(),
-                "force_n",
-                format!(
-                    "{label}: force_n has {} values but deflection_mm has {}; expected one force per deflection",
-                    fv.len(),
-                    dv.len()
-                ),
-            );
-            ok = false;
-        }
-        for x in dv.iter().chain(fv.iter()) {
-            if !x.get_ref().is_finite() {
-                self.err(
-                    &x.span(),
-                    "deflection_mm",
-                    format!("{label}: table values must be finite"),
-                );
-                ok = false;
-            }
-        }
-        for w in dv.windows(2) {
-            if *w[1].get_ref() <= *w[0].get_ref() {
-                self.err(
-                    &w[1].span(),
-                    "deflection_mm",
-                    format!(
-                        "{label}: deflection_mm must be strictly increasing, but {} follows {}",
-                        w[1].get_ref(),
-                        w[0].get_ref()
-                    ),
-                );
-                ok = false;
-            }
-        }
-        if symmetric
-            && let Some(first) = dv.first()
-            && *first.get_ref() < 0.0
-        {
-            self.err(
-                &first.span(),
-                "deflection_mm",
-                format!(
-                    "{label}: a symmetric table is given for deflections >= 0, but deflection_mm starts at {}",
-                    first.get_ref()
-                ),
-            );
-            ok = false;
-        }
-        if !ok {
-            return None;
-        }
-        let mut deflection: Vec<f64> = dv.iter().map(|x| *x.get_ref() * 1e-3).collect();
-        let mut force: Vec<f64> = fv.iter().map(|x| *x.get_ref()).collect();
+        let (d_mm, mut force) = self.table_points(
+            (d, "deflection_mm", "deflection"),
+            (f, "force_n", "force"),
+            symmetric,
+            None,
+            label,
+        )?;
+        let mut deflection: Vec<f64> = d_mm.iter().map(|x| x * 1e-3).collect();
         if symmetric && deflection[0] > 0.0 {
             // Pin the mirrored law through the origin so that F(0) = 0 and it stays odd.
             deflection.insert(0, 0.0);
