@@ -435,16 +435,13 @@ impl Dynamics<'_> {
         }
     }
 
-    /// Stage 4: force elements, the friction elements last (their sliding force may depend on
-    /// another element's force). Writes the internal-state rates into `dx`.
+    /// Stage 4: force elements, the friction elements last (`SimModel::element_order`: their
+    /// sliding force may depend on another element's force). Writes the internal-state rates
+    /// into `dx`.
     fn elements(&mut self, x: &[f64], dx: &mut [f64]) {
         let model = self.model;
-        for friction_pass in [false, true] {
-            for (ei, el) in model.elements.iter().enumerate() {
-                if matches!(el.law, ForceLaw::Friction { .. }) == friction_pass {
-                    self.element(ei, el, x, dx);
-                }
-            }
+        for &ei in &model.element_order {
+            self.element(ei, &model.elements[ei], x, dx);
         }
     }
 

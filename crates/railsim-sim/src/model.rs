@@ -129,6 +129,9 @@ pub struct SimModel {
     pub members: Vec<MemberModel>,
     /// Force elements, in file order.
     pub elements: Vec<ElementModel>,
+    /// The order in which the right-hand side evaluates the elements: file order, the friction
+    /// elements last (their sliding force may be another element's force times a coefficient).
+    pub element_order: Vec<usize>,
     /// Two per wheelset, left then right.
     pub wheels: Vec<WheelModel>,
     /// The track.
@@ -316,6 +319,11 @@ impl SimModel {
                 internal,
             });
         }
+        let is_friction = |e: &ElementModel| matches!(e.law, ForceLaw::Friction { .. });
+        let element_order: Vec<usize> = (0..elements.len())
+            .filter(|&i| !is_friction(&elements[i]))
+            .chain((0..elements.len()).filter(|&i| is_friction(&elements[i])))
+            .collect();
         if elements.iter().any(|e| e.ends == [End::Track, End::Track]) {
             return Err(SimError::Model {
                 message: "a force element joins the track to the track".into(),
@@ -337,6 +345,7 @@ impl SimModel {
         }
         Ok(SimModel {
             members,
+            element_order,
             elements,
             wheels,
             track: scene.track.clone(),
