@@ -314,13 +314,17 @@ pub struct ElementMessage {
     /// \[N m\] moment on body 2 about the local axes
     pub moment_nm: [f64; 3],
     /// \[m\] the internal state, if the element has one: a damper's elongation or a friction
-    /// slider's position (as deflections: the element is relaxed where it equals the deflection)
+    /// slider's position (as deflections: the element is relaxed where it equals the deflection;
+    /// \[rad\] for a rotational friction, compared with the rotation)
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub state_m: Option<f64>,
     /// \[N\] a friction element's sliding force at this instant (its constant part plus its
     /// coefficient times the normal element's force)
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sliding_force_n: Option<f64>,
+    /// \[N m\] a rotational friction element's sliding moment at this instant
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sliding_moment_nm: Option<f64>,
 }
 
 impl LogMessage for ElementMessage {

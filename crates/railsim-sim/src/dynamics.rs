@@ -115,6 +115,8 @@ pub struct ElementRecord {
     pub state: Option<f64>,
     /// \[N\] a friction element's sliding force
     pub sliding_force: Option<f64>,
+    /// \[N·m\] a rotational friction element's sliding moment
+    pub sliding_moment: Option<f64>,
 }
 
 /// Reusable buffers of the right-hand side: nothing is allocated per evaluation once they have
@@ -148,9 +150,9 @@ pub struct Workspace {
     pub timing: bool,
     /// Accumulated cost.
     pub cost: CostSplit,
-    /// \[m\] axial deflection of each element with an internal state (series spring-damper,
-    /// damper with a series stiffness, friction; 0 for other elements): the state's value at
-    /// which the element is relaxed.
+    /// \[m or rad\] deflection (rotation for a rotational friction) of each element with an
+    /// internal state (series spring-damper, damper with a series stiffness, friction; 0 for
+    /// other elements): the state's value at which the element is relaxed.
     pub series_delta: Vec<f64>,
     /// \[N\] per element: the magnitude of its force (the normal load of friction elements).
     pub element_force: Vec<f64>,
@@ -458,7 +460,7 @@ impl Dynamics<'_> {
         let rot_rate = mul_t(e, mul_t(&q1, sub(w2, w1)));
         let mut f = [0.0; 3];
         let mut mo = [0.0; 3];
-        let mut sliding = None;
+        let (mut sliding, mut sliding_moment) = (None, None);
         match &el.law {
             ForceLaw::Bushing { stiffness, damping } => {
                 for k in 0..3 {
@@ -501,6 +503,7 @@ impl Dynamics<'_> {
             }
             ForceLaw::Friction {
                 axis,
+                rotational,
                 stiffness,
                 force,
                 coefficient,
@@ -508,12 +511,18 @@ impl Dynamics<'_> {
             } => {
                 let k = axis.index();
                 let i = el.internal.expect("friction elements carry a state");
-                // (the normal element was evaluated in the first pass)
+                // (the normal element comes earlier in `element_order`)
                 let load = normal.map_or(0.0, |j| self.ws.element_force[j.index()]);
                 let f0 = force + coefficient * load;
-                (f[k], dx[i]) = friction_law(*stiffness, f0, lin[k], lin_rate[k], x[i]);
-                self.ws.series_delta[ei] = lin[k];
-                sliding = Some(f0);
+                if *rotational {
+                    (mo[k], dx[i]) = friction_law(*stiffness, f0, rot[k], rot_rate[k], x[i]);
+                    self.ws.series_delta[ei] = rot[k];
+                    sliding_moment = Some(f0);
+                } else {
+                    (f[k], dx[i]) = friction_law(*stiffness, f0, lin[k], lin_rate[k], x[i]);
+                    self.ws.series_delta[ei] = lin[k];
+                    sliding = Some(f0);
+                }
             }
         }
         self.ws.element_force[ei] = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
@@ -526,6 +535,7 @@ impl Dynamics<'_> {
                 moment: mo,
                 state: el.internal.map(|i| x[i]),
                 sliding_force: sliding,
+                sliding_moment,
             };
         }
         let force = mul(&q1, mul(e, f));

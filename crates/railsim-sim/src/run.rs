@@ -1290,6 +1290,7 @@ impl Recorder {
                 moment_nm: e.moment,
                 state_m: e.state,
                 sliding_force_n: e.sliding_force,
+                sliding_moment_nm: e.sliding_moment,
             };
             self.writer.write(channel, t_ns, &msg)?;
         }

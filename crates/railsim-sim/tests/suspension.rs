@@ -463,3 +463,105 @@ fn a_friction_element_at_rest_linearises_as_stuck() {
     );
     assert!(bounce.re.abs() < 1e-3, "{}", bounce.re);
 }
+
+/// Rotational friction (side bearers, centre pivot): a body turning about z on a torsional
+/// spring with a friction moment loses Coulomb's decrement per half cycle, as the translational
+/// element does: (2 M0/k_r)(1 − 2 M0/(k_f (ψ1 + |ψ2|))).
+#[test]
+fn a_friction_moment_damps_a_yaw_oscillation_by_coulombs_decrement() {
+    let (k_r, k_f, m0, izz) = (2e6, 2e7, 2e3, 2e3);
+    let vehicle = format!(
+        r#"
+name = "yaw friction (test)"
+[[body]]
+name = "frame"
+mass_kg = 2000
+inertia_kgm2 = [1000, 1000, {izz}]
+position_m = [0.0, 0.0, 0.6]
+frozen = ["x", "y", "z", "roll", "pitch"]
+[[wheelset]]
+name = "ws"
+mass_kg = 1813
+inertia_kgm2 = [1120, 112, 1120]
+position_m = [0.0, 0.0, 0.46]
+nominal_radius_m = 0.46
+back_to_back_mm = 1360
+wheel_profile = {{ left = "s1002", right = "s1002" }}
+frozen = ["x", "y", "yaw", "spin"]
+[[force]]
+name = "torsion"
+type = "bushing"
+body1 = "track"
+body2 = "frame"
+point_m = [0.0, 0.0, 0.6]
+rotational_stiffness_nm_per_rad = [0, 0, {k_r}]
+[[force]]
+name = "side_bearers"
+type = "rotational_friction"
+body1 = "track"
+body2 = "frame"
+point_m = [0.0, 0.0, 0.6]
+about = "z"
+rotational_stiffness_nm_per_rad = {k_f}
+friction_moment_nm = {m0}
+"#
+    );
+    let dir = std::env::temp_dir().join(format!("railsim-suspension-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("yaw.toml");
+    std::fs::write(&path, vehicle).unwrap();
+    let s = scene(&format!(
+        r#"
+        vehicle = "{}"
+        track = "tracks/straight.toml"
+        speed_kmh = 36
+        duration_s = 1.5
+        [contact]
+        model = "polach"
+        [integrator]
+        method = "radau5"
+        rtol = 1e-8
+        atol = 1e-11
+        [log]
+        rate_hz = 4000
+        "#,
+        path.display()
+    ));
+    let mut sim = Simulation::new(&s).unwrap();
+    let names = sim.model().state_names.clone();
+    let iy = names.iter().position(|n| n == "frame.yaw").unwrap();
+    let is = names
+        .iter()
+        .position(|n| n == "side_bearers friction slip")
+        .unwrap();
+    // 20 mrad of yaw, the friction relaxed there
+    let mut x = sim.initial_state().to_vec();
+    let psi0 = x[iy];
+    x[iy] += 0.02;
+    x[is] += 0.02;
+    sim.start_from(0.0, &x).unwrap();
+    let mut psi = Vec::new();
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    sim.run(&s, &opts, &mut |_, _| {}, &mut |smp| {
+        psi.push(smp.x[iy] - psi0)
+    })
+    .unwrap();
+    let tp = turning_points(&psi, 0.3 * m0 / k_r);
+    assert!(tp.len() >= 6, "{tp:?}");
+    let mut worst = 0.0f64;
+    for w in tp.windows(2) {
+        let (a, b) = (w[0].abs(), w[1].abs());
+        let want = 2.0 * m0 / k_r * (1.0 - 2.0 * m0 / (k_f * (a + b)));
+        worst = worst.max(((a - b) / want - 1.0).abs());
+        assert!(w[0] * w[1] < 0.0, "{tp:?}");
+    }
+    eprintln!(
+        "{} yaw reversals from {:.3} mrad, worst decrement error {worst:.2e}",
+        tp.len(),
+        tp[0] * 1e3
+    );
+    assert!(worst < 1e-3, "{worst}");
+}

@@ -292,18 +292,22 @@ pub enum ForceLaw {
         /// \[N/m\] series stiffness (`None`: the damper acts alone, no state).
         stiffness: Option<f64>,
     },
-    /// Dry friction with a stick stiffness along one local axis
-    /// ([`crate::suspension::friction_law`]). Internal state: the slider's position s;
-    /// F = −k·(Δ − s), sliding at F0 = `force` + `coefficient`·N, N the magnitude of the
-    /// force of element `normal`.
+    /// Dry friction with a stick stiffness along one local axis, or about it when `rotational`
+    /// ([`crate::suspension::friction_law`]). Internal state: the slider's position s (an
+    /// angle when rotational); F = −k·(Δ − s), sliding at F0 = `force` + `coefficient`·N, N the
+    /// magnitude of the force of element `normal`.
     Friction {
         /// The local axis.
         axis: Axis,
-        /// \[N/m\] stick stiffness.
+        /// A friction moment about `axis` (side bearers, centre pivot) instead of a force along
+        /// it: the law on the rotation, the moment on the bodies.
+        rotational: bool,
+        /// \[N/m\] stick stiffness (\[N·m/rad\] when rotational).
         stiffness: f64,
-        /// \[N\] constant part of the sliding force.
+        /// \[N\] constant part of the sliding force (\[N·m\] of the sliding moment).
         force: f64,
-        /// \[-\] friction coefficient on the normal element's force (0 without one).
+        /// \[-\] friction coefficient on the normal element's force (0 without one); \[m\] the
+        /// coefficient times the friction radius when rotational.
         coefficient: f64,
         /// The element whose force magnitude is the normal load (never a friction element).
         normal: Option<ForceElementId>,
@@ -319,7 +323,12 @@ impl ForceLaw {
             ForceLaw::SeriesSpringDamper { .. } => "series_spring_damper",
             ForceLaw::AntiRollBar { .. } => "anti_roll_bar",
             ForceLaw::Damper { .. } => "damper",
-            ForceLaw::Friction { .. } => "friction",
+            ForceLaw::Friction {
+                rotational: false, ..
+            } => "friction",
+            ForceLaw::Friction {
+                rotational: true, ..
+            } => "rotational_friction",
         }
     }
 
@@ -1229,12 +1238,13 @@ impl Compiler<'_> {
         let label = name
             .as_ref()
             .map_or_else(|| "force".to_owned(), |n| format!("force '{n}'"));
-        const KINDS: [&str; 6] = [
+        const KINDS: [&str; 7] = [
             "bushing",
             "table",
             "series_spring_damper",
             "damper",
             "friction",
+            "rotational_friction",
             "anti_roll_bar",
         ];
         let kind = self
@@ -1335,7 +1345,7 @@ impl Compiler<'_> {
     }
 
     fn not_applicable(&mut self, f: &ForceSpec, label: &str, kind: &str, allowed: &[&str]) {
-        let present: [(&str, Option<Range<usize>>); 13] = [
+        let present: [(&str, Option<Range<usize>>); 16] = [
             ("direction", f.direction.as_ref().map(|v| v.span())),
             (
                 "stiffness_n_per_m",
@@ -1371,6 +1381,15 @@ impl Compiler<'_> {
             (
                 "normal_element",
                 f.normal_element.as_ref().map(|v| v.span()),
+            ),
+            ("about", f.about.as_ref().map(|v| v.span())),
+            (
+                "friction_moment_nm",
+                f.friction_moment_nm.as_ref().map(|v| v.span()),
+            ),
+            (
+                "friction_radius_m",
+                f.friction_radius_m.as_ref().map(|v| v.span()),
             ),
             ("point2_m", None),
         ];
@@ -1464,13 +1483,18 @@ impl Compiler<'_> {
     }
 
     fn axis(&mut self, f: &ForceSpec, table: &Range<usize>, label: &str) -> Option<Axis> {
-        let d = self.req(
-            &f.direction,
-            table,
-            label,
-            "direction",
-            "\"x\", \"y\" or \"z\"",
-        )?;
+        self.axis_key(&f.direction, "direction", table, label)
+    }
+
+    /// The local axis named by the required key `key` (`"x"`, `"y"` or `"z"`).
+    fn axis_key(
+        &mut self,
+        v: &Option<Spanned<String>>,
+        key: &str,
+        table: &Range<usize>,
+        label: &str,
+    ) -> Option<Axis> {
+        let d = self.req(v, table, label, key, "\"x\", \"y\" or \"z\"")?;
         match d.get_ref().as_str() {
             "x" => Some(Axis::X),
             "y" => Some(Axis::Y),
@@ -1478,8 +1502,10 @@ impl Compiler<'_> {
             s => {
                 self.err(
                     &d.span(),
-                    "direction",
-                    format!("{label}: direction '{s}' is not a local axis (expected \"x\", \"y\" or \"z\")"),
+                    key,
+                    format!(
+                        "{label}: {key} '{s}' is not a local axis (expected \"x\", \"y\" or \"z\")"
+                    ),
                 );
                 None
             }
@@ -1653,7 +1679,8 @@ impl Compiler<'_> {
                     stiffness: stiffness?,
                 })
             }
-            "friction" => self.friction(f, table, label),
+            "friction" => self.friction(f, table, label, false),
+            "rotational_friction" => self.friction(f, table, label, true),
             _ => {
                 self.not_applicable(f, label, kind, &["rotational_stiffness_nm_per_rad"]);
                 let k = self.scalar(
@@ -1698,31 +1725,66 @@ impl Compiler<'_> {
         }
     }
 
-    /// A friction element; its `normal_element` is resolved once every element is compiled
-    /// ([`Self::resolve_normals`]).
-    fn friction(&mut self, f: &ForceSpec, table: &Range<usize>, label: &str) -> Option<ForceLaw> {
-        self.not_applicable(
-            f,
-            label,
-            "friction",
-            &[
+    /// A friction element, along its `direction` or, `rotational`, about the axis `about`; its
+    /// `normal_element` is resolved once every element is compiled ([`Self::resolve_normals`]).
+    fn friction(
+        &mut self,
+        f: &ForceSpec,
+        table: &Range<usize>,
+        label: &str,
+        rotational: bool,
+    ) -> Option<ForceLaw> {
+        let (kind, axis_key, stiffness_key, stiffness_unit, constant_key, constant) = if rotational
+        {
+            (
+                "rotational_friction",
+                "about",
+                "rotational_stiffness_nm_per_rad",
+                "N·m/rad (the stick stiffness)",
+                "friction_moment_nm",
+                &f.friction_moment_nm,
+            )
+        } else {
+            (
+                "friction",
                 "direction",
                 "stiffness_n_per_m",
+                "N/m (the stick stiffness)",
                 "friction_force_n",
-                "friction_coefficient",
-                "normal_element",
-            ],
-        );
-        let axis = self.axis(f, table, label);
+                &f.friction_force_n,
+            )
+        };
+        let mut keys = vec![
+            axis_key,
+            stiffness_key,
+            constant_key,
+            "friction_coefficient",
+            "normal_element",
+        ];
+        if rotational {
+            keys.push("friction_radius_m");
+        }
+        self.not_applicable(f, label, kind, &keys);
+        let axis = if rotational {
+            self.axis_key(&f.about, "about", table, label)
+        } else {
+            self.axis(f, table, label)
+        };
+        let stiffness_value = if rotational {
+            &f.rotational_stiffness_nm_per_rad
+        } else {
+            &f.stiffness_n_per_m
+        };
         let k = self.scalar(
-            &f.stiffness_n_per_m,
+            stiffness_value,
             table,
             label,
-            "stiffness_n_per_m",
-            "N/m (the stick stiffness)",
+            stiffness_key,
+            stiffness_unit,
             true,
         );
-        let force = self.non_negative(&f.friction_force_n, label, "friction_force_n", "N");
+        let unit = if rotational { "N·m" } else { "N" };
+        let force = self.non_negative(constant, label, constant_key, unit);
         let mu = self.non_negative(&f.friction_coefficient, label, "friction_coefficient", "");
         match (&f.friction_coefficient, &f.normal_element) {
             (Some(c), None) => self.err(
@@ -1737,20 +1799,37 @@ impl Compiler<'_> {
                 "normal_element",
                 format!("{label}: normal_element needs friction_coefficient (expected a number >= 0)"),
             ),
-            (None, None) if f.friction_force_n.is_none() => self.err(
+            (None, None) if constant.is_none() => self.err(
                 table,
-                "friction_force_n",
+                constant_key,
                 format!(
-                    "{label}: a friction element needs friction_force_n (N), or friction_coefficient with normal_element, or both"
+                    "{label}: a {kind} element needs {constant_key} ({unit}), or friction_coefficient with normal_element, or both"
                 ),
             ),
             _ => {}
         }
+        // the lever of the normal load's friction about the axis
+        let radius = match (rotational, &f.friction_radius_m) {
+            (false, _) => Some(1.0),
+            (true, Some(r)) => self.positive(r, label, "friction_radius_m", "m"),
+            (true, None) if f.friction_coefficient.is_some() => {
+                self.err(
+                    table,
+                    "friction_radius_m",
+                    format!(
+                        "{label}: missing key 'friction_radius_m' (expected the radius in m at which the normal force rubs: the sliding moment is friction_coefficient × normal force × radius)"
+                    ),
+                );
+                None
+            }
+            (true, None) => Some(0.0),
+        };
         Some(ForceLaw::Friction {
             axis: axis?,
+            rotational,
             stiffness: k?,
             force: force?,
-            coefficient: mu?,
+            coefficient: mu? * radius?,
             normal: None,
         })
     }
@@ -1772,7 +1851,7 @@ impl Compiler<'_> {
             let (Some(normal), Some(kind)) = (&fs.normal_element, &fs.kind) else {
                 continue;
             };
-            if kind.get_ref() != "friction" {
+            if !matches!(kind.get_ref().as_str(), "friction" | "rotational_friction") {
                 continue;
             }
             let name = fs.name.as_ref().map_or("", |n| n.get_ref().trim());
@@ -1799,7 +1878,9 @@ impl Compiler<'_> {
                 o.name
                     .as_ref()
                     .is_some_and(|n| n.get_ref().trim() == target)
-                    && o.kind.as_ref().is_some_and(|k| k.get_ref() == "friction")
+                    && o.kind.as_ref().is_some_and(|k| {
+                        matches!(k.get_ref().as_str(), "friction" | "rotational_friction")
+                    })
             }) {
                 format!(
                     "{label}: normal_element '{target}' is a friction element; expected a spring, table or damper element whose force is the normal load"

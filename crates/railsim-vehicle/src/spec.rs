@@ -141,8 +141,8 @@ pub struct ForceSpec {
     /// Unique name among force elements (required).
     #[serde(default)]
     pub name: Option<Spanned<String>>,
-    /// `"bushing"`, `"table"`, `"series_spring_damper"`, `"damper"`, `"friction"` or
-    /// `"anti_roll_bar"` (required).
+    /// `"bushing"`, `"table"`, `"series_spring_damper"`, `"damper"`, `"friction"`,
+    /// `"rotational_friction"` or `"anti_roll_bar"` (required).
     #[serde(default, rename = "type")]
     pub kind: Option<Spanned<String>>,
     /// First body (a body or wheelset name, or `"track"`) (required).
@@ -200,6 +200,16 @@ pub struct ForceSpec {
     /// Friction: the force element whose force presses the friction surfaces together.
     #[serde(default)]
     pub normal_element: Option<Spanned<String>>,
+    /// Rotational friction: the local axis it acts about, `"x"`, `"y"` or `"z"`.
+    #[serde(default)]
+    pub about: Option<Spanned<String>>,
+    /// \[N·m\] rotational friction: the constant part of the sliding moment, ≥ 0.
+    #[serde(default)]
+    pub friction_moment_nm: Option<Spanned<f64>>,
+    /// \[m\] rotational friction: the radius at which the normal element's force rubs (the
+    /// sliding moment's load-dependent part is coefficient × normal force × radius), > 0.
+    #[serde(default)]
+    pub friction_radius_m: Option<Spanned<f64>>,
 }
 
 /// A number, or three numbers (one per local axis).
@@ -265,6 +275,9 @@ pub const FORCE_KEYS: &[&str] = &[
     "friction_force_n",
     "friction_coefficient",
     "normal_element",
+    "about",
+    "friction_moment_nm",
+    "friction_radius_m",
 ];
 
 impl VehicleSpec {

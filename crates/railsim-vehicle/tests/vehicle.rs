@@ -692,3 +692,80 @@ friction_force_n = 10
         &["friction_force_n", "does not apply to type 'damper'"],
     );
 }
+
+#[test]
+fn rotational_friction_compiles_and_its_keys_are_checked() {
+    let good = format!(
+        r#"{WS}
+[[force]]
+name = "spring"
+type = "bushing"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+stiffness_n_per_m = [0, 0, 1e6]
+
+[[force]]
+name = "pivot"
+type = "rotational_friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+about = "z"
+rotational_stiffness_nm_per_rad = 2e7
+friction_moment_nm = 500
+friction_coefficient = 0.1
+normal_element = "spring"
+friction_radius_m = 0.8
+"#
+    );
+    let v = compile(&good).unwrap_or_else(|e| panic!("{e}"));
+    let f = &v.forces()[1];
+    assert_eq!(f.law.type_name(), "rotational_friction");
+    let ForceLaw::Friction {
+        rotational,
+        stiffness,
+        force,
+        coefficient,
+        normal,
+        ..
+    } = f.law
+    else {
+        panic!("{:?}", f.law);
+    };
+    assert!(rotational);
+    assert_eq!((stiffness, force), (2e7, 500.0));
+    assert!((coefficient - 0.08).abs() < 1e-15, "μ times the radius");
+    assert_eq!(normal, v.force_id("spring"));
+    assert_eq!(v.internal_states()[0].kind, InternalStateKind::FrictionSlip);
+    let bad = format!(
+        r#"{WS}
+[[force]]
+name = "pivot"
+type = "rotational_friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "z"
+rotational_stiffness_nm_per_rad = [1, 2, 3]
+friction_force_n = 5
+friction_coefficient = 0.1
+normal_element = "pivot"
+"#
+    );
+    let p = problems(&bad);
+    expect(&p, 11, &["force 'pivot'", "missing key 'about'"]);
+    expect(
+        &p,
+        11,
+        &["missing key 'friction_radius_m'", "× normal force × radius"],
+    );
+    expect(
+        &p,
+        17,
+        &["direction", "does not apply to type 'rotational_friction'"],
+    );
+    expect(&p, 18, &["rotational_stiffness_nm_per_rad", "one number"]);
+    expect(&p, 19, &["friction_force_n", "does not apply"]);
+    expect(&p, 21, &["normal_element names the element itself"]);
+}
