@@ -43,6 +43,11 @@ pub struct ReplayArgs {
     /// The PNG file the plot is written to.
     #[arg(long, requires = "plot")]
     png: Option<PathBuf>,
+    /// Plot the `--plot` signals against this signal instead of time (`topic:field.path`, one
+    /// message per time), e.g. a friction element's force against its deflection:
+    /// `--plot /elements/rubbing:force_n.2 --against /elements/rubbing:deflection_m.2`.
+    #[arg(long, requires = "plot")]
+    against: Option<String>,
     /// Re-run the scene stored in the log (its scene, vehicle and track files must be unchanged
     /// on disk) and report whether the re-run's state digest equals the logged one (exit 1 if
     /// not).
@@ -126,7 +131,7 @@ pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
         did_something = true;
     }
     if let Some(png) = &a.png {
-        plot(&reader, &a.plot, range, png)?;
+        plot(&reader, &a.plot, a.against.as_deref(), range, png)?;
         did_something = true;
     }
     if !did_something {
@@ -537,6 +542,7 @@ fn read_signal(
 fn plot(
     reader: &LogReader,
     specs: &[String],
+    against: Option<&str>,
     range: (Option<u64>, Option<u64>),
     png: &Path,
 ) -> Result<()> {
@@ -547,6 +553,25 @@ fn plot(
     for signal in &mut signals {
         read_signal(reader, signal, range)?;
     }
+    let abscissa = match against {
+        Some(spec) => {
+            let mut x = parse_signal(reader, spec)?;
+            read_signal(reader, &mut x, range)?;
+            if x.series.len() != 1 {
+                bail!(
+                    "--against {spec}: the topic has {} messages at a time; expected one (a signal to plot against)",
+                    x.series.len()
+                );
+            }
+            for signal in &mut signals {
+                for series in &mut signal.series {
+                    *series = against_signal(series, &x.series[0]);
+                }
+            }
+            Some(x)
+        }
+        None => None,
+    };
     // one chart line per signal and message slot
     let mut lines = Vec::new();
     for signal in &signals {
@@ -565,10 +590,11 @@ fn plot(
             });
         }
     }
-    let Some(([t0, t1], _)) = bounds(&lines) else {
+    let Some(([x0, x1], _)) = bounds(&lines) else {
         bail!(
-            "--plot: no samples of {} in the chosen time range",
-            specs.join(", ")
+            "--plot: no samples of {} in the chosen time range{}",
+            specs.join(", "),
+            against.map_or(String::new(), |a| format!(" at the times of {a}"))
         );
     };
     let units: Vec<Option<&str>> = signals.iter().map(|s| s.unit.as_deref()).collect();
@@ -583,11 +609,12 @@ fn plot(
         Some(name) => format!("scene {name}: {}", file_name(reader.path())),
         None => file_name(reader.path()),
     };
+    let x_label = abscissa.as_ref().map_or("time [s]".to_owned(), label);
     line_chart(
         png,
         &Labels {
             title: &title,
-            x: "time [s]",
+            x: &x_label,
             y: &y_label,
         },
         &lines,
@@ -596,14 +623,37 @@ fn plot(
         .iter()
         .flat_map(|s| s.series.iter().map(Vec::len))
         .sum();
-    outln!(
-        "plotted {} signal(s), {samples} samples, {} s to {} s, to {}",
-        signals.len(),
-        num(t0),
-        num(t1),
-        png.display()
-    );
+    match &abscissa {
+        None => outln!(
+            "plotted {} signal(s), {samples} samples, {} s to {} s, to {}",
+            signals.len(),
+            num(x0),
+            num(x1),
+            png.display()
+        ),
+        Some(x) => outln!(
+            "plotted {} signal(s) against {}, {samples} samples, {} to {}, to {}",
+            signals.len(),
+            label(x),
+            num(x0),
+            num(x1),
+            png.display()
+        ),
+    }
     Ok(())
+}
+
+/// The points `(t, y)` of `series` as `(x(t), y)`, with `x` sampled at the same times (both
+/// read from one log, so equal times are equal numbers); points without an `x` are left out.
+fn against_signal(series: &[(f64, f64)], x: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    series
+        .iter()
+        .filter_map(|&(t, y)| {
+            x.binary_search_by(|(tx, _)| tx.total_cmp(&t))
+                .ok()
+                .map(|i| (x[i].1, y))
+        })
+        .collect()
 }
 
 fn label(signal: &Signal) -> String {

@@ -217,6 +217,39 @@ fn plots_signals_to_a_png() {
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("plotted 1 signal(s), 400 samples"), "{out}");
     assert!(png.exists());
+
+    // One signal against another (a force against a displacement): the x range is the other
+    // signal's, here the lateral position's ±1 mm.
+    let png = dir.join("loop.png");
+    let (code, out, err) = railsim(&[
+        "replay",
+        log.to_str().unwrap(),
+        "--plot",
+        "/wheelsets/0:y_left_n",
+        "--against",
+        "/bodies/wheelset_0:position.1",
+        "--png",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("plotted 1 signal(s) against /bodies/wheelset_0:position.1 [m], 400 samples, -0.001 to 0.001"),
+        "{out}"
+    );
+    assert!(std::fs::read(&png).unwrap().len() > 10_000);
+    // against a topic with two messages per time: refused
+    let (code, _, err) = railsim(&[
+        "replay",
+        log.to_str().unwrap(),
+        "--plot",
+        "/wheelsets/0:y_left_n",
+        "--against",
+        "/contact/0/left:fn_n",
+        "--png",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("expected one"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
 
