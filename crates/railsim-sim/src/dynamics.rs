@@ -111,7 +111,7 @@ pub struct ElementRecord {
     pub force: V3,
     /// \[N·m\] moment on body 2
     pub moment: V3,
-    /// \[m\] the internal state, if the element has one
+    /// \[m, or rad for a rotational friction\] the internal state, if the element has one
     pub state: Option<f64>,
     /// \[N\] a friction element's sliding force
     pub sliding_force: Option<f64>,

@@ -393,7 +393,8 @@ pub enum InternalStateKind {
     /// \[m\] the elongation s of the damper of a series spring-damper or of a damper with a
     /// series stiffness, from its nominal length.
     DamperElongation,
-    /// \[m\] the position s of a friction element's slider (its tension is k·(Δ − s)).
+    /// \[m\] the position s of a friction element's slider (its tension is k·(Δ − s)); \[rad\]
+    /// its angle for a rotational friction.
     FrictionSlip,
 }
 
