@@ -313,11 +313,12 @@ pub struct ElementMessage {
     pub force_n: [f64; 3],
     /// \[N m\] moment on body 2 about the local axes
     pub moment_nm: [f64; 3],
-    /// \[m\] the internal state, if the element has one: a damper's elongation or a friction
-    /// slider's position (as deflections: the element is relaxed where it equals the deflection;
-    /// \[rad\] for a rotational friction, compared with the rotation)
+    /// \[m\] the internal states, if the element has any: a damper's elongation or a friction
+    /// slider's position (as deflections: the element is relaxed where they equal the
+    /// deflection; \[rad\] for a rotational friction, compared with the rotation; two values,
+    /// along the plane's two axes, for a planar friction)
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub state_m: Option<f64>,
+    pub state_m: Option<Vec<f64>>,
     /// \[N\] a friction element's sliding force at this instant (its constant part plus its
     /// coefficient times the normal element's force)
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -21,7 +21,7 @@ use railsim_contact::{
 };
 use railsim_ode::{OdeSystem, RhsError};
 use railsim_vehicle::model::{Axis, ForceLaw, series_force, series_state_rate};
-use railsim_vehicle::suspension::{damper_series_law, friction_law};
+use railsim_vehicle::suspension::{damper_series_law, friction_law, planar_friction_law};
 use rayon::prelude::*;
 
 use crate::math::{
@@ -111,8 +111,11 @@ pub struct ElementRecord {
     pub force: V3,
     /// \[N·m\] moment on body 2
     pub moment: V3,
-    /// \[m, or rad for a rotational friction\] the internal state, if the element has one
-    pub state: Option<f64>,
+    /// \[m, or rad for a rotational friction\] the internal states, if the element has any
+    /// (the first `states` of the array)
+    pub state: Option<[f64; 2]>,
+    /// How many internal states the element has (0, 1 or 2)
+    pub states: usize,
     /// \[N\] a friction element's sliding force
     pub sliding_force: Option<f64>,
     /// \[N·m\] a rotational friction element's sliding moment
@@ -150,10 +153,11 @@ pub struct Workspace {
     pub timing: bool,
     /// Accumulated cost.
     pub cost: CostSplit,
-    /// \[m or rad\] deflection (rotation for a rotational friction) of each element with an
-    /// internal state (series spring-damper, damper with a series stiffness, friction; 0 for
-    /// other elements): the state's value at which the element is relaxed.
-    pub series_delta: Vec<f64>,
+    /// \[m or rad\] deflection (rotation for a rotational friction; two components for a
+    /// planar friction) of each element with an internal state (series spring-damper, damper
+    /// with a series stiffness, friction; 0 for other elements): the states' values at which the
+    /// element is relaxed.
+    pub series_delta: Vec<[f64; 2]>,
     /// \[N\] per element: the magnitude of its force (the normal load of friction elements).
     pub element_force: Vec<f64>,
     /// Per element: deflections and forces, filled only when `record` is set (for outputs).
@@ -181,7 +185,7 @@ impl Workspace {
             record: false,
             timing: false,
             cost: CostSplit::default(),
-            series_delta: vec![0.0; model.elements.len()],
+            series_delta: vec![[0.0; 2]; model.elements.len()],
             element_force: vec![0.0; model.elements.len()],
             elements: vec![ElementRecord::default(); model.elements.len()],
             failure: None,
@@ -482,7 +486,7 @@ impl Dynamics<'_> {
                 let s = x[i];
                 f[k] = series_force(*stiffness, lin[k], s);
                 dx[i] = series_state_rate(*stiffness, *damping, lin[k], s);
-                self.ws.series_delta[ei] = lin[k];
+                self.ws.series_delta[ei][0] = lin[k];
             }
             ForceLaw::AntiRollBar { stiffness } => {
                 mo[Axis::X.index()] = -stiffness * rot[0];
@@ -496,7 +500,7 @@ impl Dynamics<'_> {
                 match (stiffness, el.internal) {
                     (Some(ks), Some(i)) => {
                         (f[k], dx[i]) = damper_series_law(table, *ks, lin[k], x[i]);
-                        self.ws.series_delta[ei] = lin[k];
+                        self.ws.series_delta[ei][0] = lin[k];
                     }
                     _ => f[k] = -table.force(lin_rate[k]),
                 }
@@ -516,13 +520,38 @@ impl Dynamics<'_> {
                 let f0 = force + coefficient * load;
                 if *rotational {
                     (mo[k], dx[i]) = friction_law(*stiffness, f0, rot[k], rot_rate[k], x[i]);
-                    self.ws.series_delta[ei] = rot[k];
+                    self.ws.series_delta[ei][0] = rot[k];
                     sliding_moment = Some(f0);
                 } else {
                     (f[k], dx[i]) = friction_law(*stiffness, f0, lin[k], lin_rate[k], x[i]);
-                    self.ws.series_delta[ei] = lin[k];
+                    self.ws.series_delta[ei][0] = lin[k];
                     sliding = Some(f0);
                 }
+            }
+            ForceLaw::PlanarFriction {
+                axes,
+                stiffness,
+                force,
+                coefficient,
+                normal,
+            } => {
+                let [a, b] = [axes[0].index(), axes[1].index()];
+                let i = el
+                    .internal
+                    .expect("planar friction elements carry two states");
+                let load = normal.map_or(0.0, |j| self.ws.element_force[j.index()]);
+                let f0 = force + coefficient * load;
+                let (fo, rate) = planar_friction_law(
+                    *stiffness,
+                    f0,
+                    [lin[a], lin[b]],
+                    [lin_rate[a], lin_rate[b]],
+                    [x[i], x[i + 1]],
+                );
+                (f[a], f[b]) = (fo[0], fo[1]);
+                (dx[i], dx[i + 1]) = (rate[0], rate[1]);
+                self.ws.series_delta[ei] = [lin[a], lin[b]];
+                sliding = Some(f0);
             }
         }
         self.ws.element_force[ei] = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
@@ -533,7 +562,15 @@ impl Dynamics<'_> {
                 rotation: rot,
                 force: f,
                 moment: mo,
-                state: el.internal.map(|i| x[i]),
+                state: el.internal.map(|i| {
+                    let second = if el.law.internal_states() > 1 {
+                        x[i + 1]
+                    } else {
+                        0.0
+                    };
+                    [x[i], second]
+                }),
+                states: el.law.internal_states(),
                 sliding_force: sliding,
                 sliding_moment,
             };

@@ -102,7 +102,8 @@ pub struct ElementModel {
     pub axes: M3,
     /// The law.
     pub law: ForceLaw,
-    /// Index of the internal state (series spring-damper).
+    /// Index of the (first) internal state in the state vector, if the element has any (a
+    /// planar friction has two, one after the other).
     pub internal: Option<usize>,
 }
 
@@ -299,16 +300,18 @@ impl SimModel {
             Endpoint::Member(m) => End::Member(MemberIx(index(m))),
         };
         for f in v.forces() {
-            let internal = (f.law.internal_states() > 0).then(|| {
-                n_internal += 1;
-                n_pos + n_rate + n_internal - 1
-            });
-            if internal.is_some() {
-                let what = match f.law {
-                    ForceLaw::Friction { .. } => "friction slip",
-                    _ => "damper elongation",
-                };
-                state_names.push(format!("{} {what}", f.name));
+            let count = f.law.internal_states();
+            let internal = (count > 0).then_some(n_pos + n_rate + n_internal);
+            n_internal += count;
+            match &f.law {
+                ForceLaw::PlanarFriction { axes, .. } => {
+                    for a in axes {
+                        state_names.push(format!("{} friction slip {}", f.name, a.name()));
+                    }
+                }
+                law if law.is_friction() => state_names.push(format!("{} friction slip", f.name)),
+                _ if count > 0 => state_names.push(format!("{} damper elongation", f.name)),
+                _ => {}
             }
             elements.push(ElementModel {
                 name: f.name.clone(),
@@ -319,7 +322,7 @@ impl SimModel {
                 internal,
             });
         }
-        let is_friction = |e: &ElementModel| matches!(e.law, ForceLaw::Friction { .. });
+        let is_friction = |e: &ElementModel| e.law.is_friction();
         let element_order: Vec<usize> = (0..elements.len())
             .filter(|&i| !is_friction(&elements[i]))
             .chain((0..elements.len()).filter(|&i| is_friction(&elements[i])))

@@ -271,7 +271,8 @@ impl Simulation {
                 .map_err(|e| SimError::Initial { message: e.0 })?;
             for (ei, el) in model.elements.iter().enumerate() {
                 if let Some(ix) = el.internal {
-                    x0[ix] = d.ws.series_delta[ei];
+                    let n = el.law.internal_states();
+                    x0[ix..ix + n].copy_from_slice(&d.ws.series_delta[ei][..n]);
                 }
             }
             ws = d.ws;
@@ -1288,7 +1289,7 @@ impl Recorder {
                 rotation_rad: e.rotation,
                 force_n: e.force,
                 moment_nm: e.moment,
-                state_m: e.state,
+                state_m: e.state.map(|v| v[..e.states].to_vec()),
                 sliding_force_n: e.sliding_force,
                 sliding_moment_nm: e.sliding_moment,
             };

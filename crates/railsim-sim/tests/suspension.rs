@@ -76,7 +76,11 @@ fn lift_mass(sim: &mut Simulation, lift: f64) -> (usize, f64) {
     let mut x = sim.initial_state().to_vec();
     let z0 = -MASS * G / K_SPRING;
     for (i, n) in names.iter().enumerate() {
-        if n.ends_with("friction slip") || n.ends_with("damper elongation") {
+        // (a planar friction's z component moves with the mass, its other one does not)
+        if n.ends_with("friction slip")
+            || n.ends_with("friction slip z")
+            || n.ends_with("damper elongation")
+        {
             x[i] += z0 + lift - x[iz];
         }
     }
@@ -413,7 +417,10 @@ fn element_forces_are_logged_as_sampled() {
         // read back as sampled
         assert_eq!(sp.force_n, smp.elements[0].force);
         assert_eq!(ru.deflection_m, smp.elements[1].deflection);
-        assert_eq!(ru.state_m, smp.elements[1].state);
+        assert_eq!(
+            ru.state_m.as_deref(),
+            smp.elements[1].state.as_ref().map(|v| &v[..1])
+        );
         assert_eq!(sp.state_m, None);
         assert_eq!(sp.sliding_force_n, None);
         // the spring: F = -k z along its local z
@@ -429,7 +436,7 @@ fn element_forces_are_logged_as_sampled() {
         );
         assert_eq!(
             ru.force_n[2],
-            -K_STICK * (ru.deflection_m[2] - ru.state_m.unwrap())
+            -K_STICK * (ru.deflection_m[2] - ru.state_m.as_ref().unwrap()[0])
         );
         if ru.force_n[2].abs() > 0.99 * f0 {
             slid += 1;
@@ -564,4 +571,61 @@ friction_moment_nm = {m0}
         tp[0] * 1e3
     );
     assert!(worst < 1e-3, "{worst}");
+}
+
+/// A planar friction in the plane z–x of a mass that moves only along z behaves as the one-axis
+/// element: the same motion to the integrator's tolerance (the planar law along one axis is the
+/// one-axis law; its second state stays at rest).
+#[test]
+fn a_planar_friction_moving_along_one_axis_is_the_one_axis_element() {
+    let one = released(
+        &friction_scene("axis", "friction_force_n = 500\n", 1.0),
+        10e-3,
+    )
+    .1;
+    // the base vehicle's friction keys with `direction` replaced by `plane`
+    let base = root().join("crates/railsim-sim/tests/vehicles/friction_mass.toml");
+    let text = std::fs::read_to_string(&base)
+        .unwrap()
+        .replace("type = \"friction\"", "type = \"planar_friction\"")
+        .replace("direction = \"z\"", "plane = \"zx\"")
+        + "friction_force_n = 500\n";
+    let dir = std::env::temp_dir().join(format!("railsim-suspension-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("planar.toml");
+    std::fs::write(&path, text).unwrap();
+    let s = scene(&format!(
+        r#"
+        vehicle = "{}"
+        track = "tracks/straight.toml"
+        speed_kmh = 36
+        duration_s = 1.0
+        [contact]
+        model = "polach"
+        [integrator]
+        method = "radau5"
+        rtol = 1e-8
+        atol = 1e-11
+        [log]
+        rate_hz = 2000
+        "#,
+        path.display()
+    ));
+    let names = Simulation::new(&s).unwrap().model().state_names.clone();
+    assert!(
+        names.iter().any(|n| n == "rubbing friction slip z"),
+        "{names:?}"
+    );
+    assert!(
+        names.iter().any(|n| n == "rubbing friction slip x"),
+        "{names:?}"
+    );
+    let planar = released(&s, 10e-3).1;
+    assert_eq!(one.len(), planar.len());
+    let diff = one
+        .iter()
+        .zip(&planar)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    eprintln!("planar against one-axis friction: largest difference {diff:.2e} m");
+    assert!(diff < 1e-7, "{diff}");
 }

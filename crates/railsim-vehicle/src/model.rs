@@ -206,6 +206,11 @@ impl Axis {
     pub fn index(self) -> usize {
         self as usize
     }
+
+    /// `"x"`, `"y"` or `"z"`.
+    pub fn name(self) -> &'static str {
+        ["x", "y", "z"][self.index()]
+    }
 }
 
 /// A piecewise-linear force–deflection law.
@@ -312,9 +317,34 @@ pub enum ForceLaw {
         /// The element whose force magnitude is the normal load (never a friction element).
         normal: Option<ForceElementId>,
     },
+    /// Dry friction in the plane of two local axes with one sliding force for every direction
+    /// ([`crate::suspension::planar_friction_law`]). Internal states: the slider's position
+    /// along the two axes; F = −k·(Δ − s) in the plane, |k·(Δ − s)| ≤ F0 = `force` +
+    /// `coefficient`·N.
+    PlanarFriction {
+        /// The two local axes of the plane, in the order of the states.
+        axes: [Axis; 2],
+        /// \[N/m\] stick stiffness, the same in every direction of the plane.
+        stiffness: f64,
+        /// \[N\] constant part of the sliding force.
+        force: f64,
+        /// \[-\] friction coefficient on the normal element's force (0 without one).
+        coefficient: f64,
+        /// The element whose force magnitude is the normal load (never a friction element).
+        normal: Option<ForceElementId>,
+    },
 }
 
 impl ForceLaw {
+    /// Whether the element is a friction element (its sliding force may depend on another
+    /// element's force, which must be evaluated first).
+    pub fn is_friction(&self) -> bool {
+        matches!(
+            self,
+            ForceLaw::Friction { .. } | ForceLaw::PlanarFriction { .. }
+        )
+    }
+
     /// The type's name as written in a vehicle file (`type = "..."`).
     pub fn type_name(&self) -> &'static str {
         match self {
@@ -329,12 +359,16 @@ impl ForceLaw {
             ForceLaw::Friction {
                 rotational: true, ..
             } => "rotational_friction",
+            ForceLaw::PlanarFriction { .. } => "planar_friction",
         }
     }
 
     /// Number of internal states the element carries: 1 for a series spring-damper, a
-    /// friction element and a damper with a series stiffness, else 0.
+    /// friction element and a damper with a series stiffness, 2 for a planar friction, else 0.
     pub fn internal_states(&self) -> usize {
+        if matches!(self, ForceLaw::PlanarFriction { .. }) {
+            return 2;
+        }
         usize::from(matches!(
             self,
             ForceLaw::SeriesSpringDamper { .. }
@@ -607,20 +641,37 @@ impl VehicleModel {
     }
 
     /// The internal states of the force elements (one per series spring-damper, friction
-    /// element and damper with a series stiffness), in element order.
+    /// element and damper with a series stiffness, two per planar friction), in element order.
     pub fn internal_states(&self) -> Vec<InternalState> {
         self.forces
             .iter()
             .enumerate()
-            .filter(|(_, f)| f.law.internal_states() > 0)
-            .map(|(i, f)| InternalState {
-                element: ForceElementId(i),
-                kind: match f.law {
-                    ForceLaw::Friction { .. } => InternalStateKind::FrictionSlip,
-                    _ => InternalStateKind::DamperElongation,
-                },
+            .flat_map(|(i, f)| {
+                let kind = if f.law.is_friction() {
+                    InternalStateKind::FrictionSlip
+                } else {
+                    InternalStateKind::DamperElongation
+                };
+                (0..f.law.internal_states()).map(move |_| InternalState {
+                    element: ForceElementId(i),
+                    kind,
+                })
             })
             .collect()
+    }
+}
+
+/// The keys of a friction element's sliding limit (`Compiler::friction_limit`).
+fn friction_limit_keys(rotational: bool) -> Vec<&'static str> {
+    if rotational {
+        vec![
+            "friction_moment_nm",
+            "friction_coefficient",
+            "normal_element",
+            "friction_radius_m",
+        ]
+    } else {
+        vec!["friction_force_n", "friction_coefficient", "normal_element"]
     }
 }
 
@@ -1239,12 +1290,13 @@ impl Compiler<'_> {
         let label = name
             .as_ref()
             .map_or_else(|| "force".to_owned(), |n| format!("force '{n}'"));
-        const KINDS: [&str; 7] = [
+        const KINDS: [&str; 8] = [
             "bushing",
             "table",
             "series_spring_damper",
             "damper",
             "friction",
+            "planar_friction",
             "rotational_friction",
             "anti_roll_bar",
         ];
@@ -1346,7 +1398,7 @@ impl Compiler<'_> {
     }
 
     fn not_applicable(&mut self, f: &ForceSpec, label: &str, kind: &str, allowed: &[&str]) {
-        let present: [(&str, Option<Range<usize>>); 16] = [
+        let present: [(&str, Option<Range<usize>>); 17] = [
             ("direction", f.direction.as_ref().map(|v| v.span())),
             (
                 "stiffness_n_per_m",
@@ -1383,6 +1435,7 @@ impl Compiler<'_> {
                 "normal_element",
                 f.normal_element.as_ref().map(|v| v.span()),
             ),
+            ("plane", f.plane.as_ref().map(|v| v.span())),
             ("about", f.about.as_ref().map(|v| v.span())),
             (
                 "friction_moment_nm",
@@ -1682,6 +1735,7 @@ impl Compiler<'_> {
             }
             "friction" => self.friction(f, table, label, false),
             "rotational_friction" => self.friction(f, table, label, true),
+            "planar_friction" => self.planar_friction(f, table, label),
             _ => {
                 self.not_applicable(f, label, kind, &["rotational_stiffness_nm_per_rad"]);
                 let k = self.scalar(
@@ -1735,56 +1789,60 @@ impl Compiler<'_> {
         label: &str,
         rotational: bool,
     ) -> Option<ForceLaw> {
-        let (kind, axis_key, stiffness_key, stiffness_unit, constant_key, constant) = if rotational
-        {
+        let (kind, axis_key, stiffness_key, stiffness_value, unit) = if rotational {
             (
                 "rotational_friction",
                 "about",
                 "rotational_stiffness_nm_per_rad",
+                &f.rotational_stiffness_nm_per_rad,
                 "N·m/rad (the stick stiffness)",
-                "friction_moment_nm",
-                &f.friction_moment_nm,
             )
         } else {
             (
                 "friction",
                 "direction",
                 "stiffness_n_per_m",
+                &f.stiffness_n_per_m,
                 "N/m (the stick stiffness)",
-                "friction_force_n",
-                &f.friction_force_n,
             )
         };
-        let mut keys = vec![
-            axis_key,
-            stiffness_key,
-            constant_key,
-            "friction_coefficient",
-            "normal_element",
-        ];
-        if rotational {
-            keys.push("friction_radius_m");
-        }
+        let mut keys = vec![axis_key, stiffness_key];
+        keys.extend(friction_limit_keys(rotational));
         self.not_applicable(f, label, kind, &keys);
         let axis = if rotational {
             self.axis_key(&f.about, "about", table, label)
         } else {
             self.axis(f, table, label)
         };
-        let stiffness_value = if rotational {
-            &f.rotational_stiffness_nm_per_rad
+        let k = self.scalar(stiffness_value, table, label, stiffness_key, unit, true);
+        let limit = self.friction_limit(f, table, label, kind, rotational);
+        let (force, coefficient) = limit?;
+        Some(ForceLaw::Friction {
+            axis: axis?,
+            rotational,
+            stiffness: k?,
+            force,
+            coefficient,
+            normal: None,
+        })
+    }
+
+    /// The sliding limit of a friction element of type `kind`: its constant part
+    /// (`friction_force_n`, or `friction_moment_nm` when `rotational`) and the coefficient on the
+    /// normal element's force (times `friction_radius_m` when rotational), checked together.
+    fn friction_limit(
+        &mut self,
+        f: &ForceSpec,
+        table: &Range<usize>,
+        label: &str,
+        kind: &str,
+        rotational: bool,
+    ) -> Option<(f64, f64)> {
+        let (constant_key, constant, unit) = if rotational {
+            ("friction_moment_nm", &f.friction_moment_nm, "N·m")
         } else {
-            &f.stiffness_n_per_m
+            ("friction_force_n", &f.friction_force_n, "N")
         };
-        let k = self.scalar(
-            stiffness_value,
-            table,
-            label,
-            stiffness_key,
-            stiffness_unit,
-            true,
-        );
-        let unit = if rotational { "N·m" } else { "N" };
         let force = self.non_negative(constant, label, constant_key, unit);
         let mu = self.non_negative(&f.friction_coefficient, label, "friction_coefficient", "");
         match (&f.friction_coefficient, &f.normal_element) {
@@ -1825,12 +1883,69 @@ impl Compiler<'_> {
             }
             (true, None) => Some(0.0),
         };
-        Some(ForceLaw::Friction {
-            axis: axis?,
-            rotational,
+        Some((force?, mu? * radius?))
+    }
+
+    /// A planar friction element: a friction element (of force) in the `plane` of two local
+    /// axes, one stick stiffness and one sliding force for every direction.
+    fn planar_friction(
+        &mut self,
+        f: &ForceSpec,
+        table: &Range<usize>,
+        label: &str,
+    ) -> Option<ForceLaw> {
+        let mut keys = vec!["plane", "stiffness_n_per_m"];
+        keys.extend(friction_limit_keys(false));
+        self.not_applicable(f, label, "planar_friction", &keys);
+        let plane = self.req(
+            &f.plane,
+            table,
+            label,
+            "plane",
+            "two different local axes, e.g. \"xy\"",
+        );
+        let axes = plane.and_then(|p| {
+            let text = p.get_ref().as_str();
+            let axis = |c| match c {
+                'x' => Some(Axis::X),
+                'y' => Some(Axis::Y),
+                'z' => Some(Axis::Z),
+                _ => None,
+            };
+            let mut chars = text.chars();
+            match (
+                chars.next().and_then(axis),
+                chars.next().and_then(axis),
+                chars.next(),
+            ) {
+                (Some(a), Some(b), None) if a != b => Some([a, b]),
+                _ => {
+                    self.err(
+                        &p.span(),
+                        "plane",
+                        format!(
+                            "{label}: plane '{text}' is not two different local axes (expected \"xy\", \"yz\", \"xz\" or one of them reversed)"
+                        ),
+                    );
+                    None
+                }
+            }
+        });
+        let k = self.scalar(
+            &f.stiffness_n_per_m,
+            table,
+            label,
+            "stiffness_n_per_m",
+            "N/m (the stick stiffness)",
+            true,
+        );
+        let limit = self.friction_limit(f, table, label, "planar_friction", false);
+        let (force, coefficient) = limit?;
+        Some(ForceLaw::PlanarFriction {
+            axes: axes?,
             stiffness: k?,
-            force: force?,
-            coefficient: mu? * radius?,
+            force,
+            coefficient,
             normal: None,
         })
     }
@@ -1852,7 +1967,10 @@ impl Compiler<'_> {
             let (Some(normal), Some(kind)) = (&fs.normal_element, &fs.kind) else {
                 continue;
             };
-            if !matches!(kind.get_ref().as_str(), "friction" | "rotational_friction") {
+            if !matches!(
+                kind.get_ref().as_str(),
+                "friction" | "planar_friction" | "rotational_friction"
+            ) {
                 continue;
             }
             let name = fs.name.as_ref().map_or("", |n| n.get_ref().trim());
@@ -1880,7 +1998,10 @@ impl Compiler<'_> {
                     .as_ref()
                     .is_some_and(|n| n.get_ref().trim() == target)
                     && o.kind.as_ref().is_some_and(|k| {
-                        matches!(k.get_ref().as_str(), "friction" | "rotational_friction")
+                        matches!(
+                            k.get_ref().as_str(),
+                            "friction" | "planar_friction" | "rotational_friction"
+                        )
                     })
             }) {
                 format!(
@@ -1891,7 +2012,8 @@ impl Compiler<'_> {
                 // their own problems are reported)
                 let j = forces.iter().position(|e| e.name == target);
                 if let (Some(i), Some(j)) = (forces.iter().position(|e| e.name == name), j)
-                    && let ForceLaw::Friction { normal, .. } = &mut forces[i].law
+                    && let ForceLaw::Friction { normal, .. }
+                    | ForceLaw::PlanarFriction { normal, .. } = &mut forces[i].law
                 {
                     *normal = Some(ForceElementId(j));
                 }

@@ -142,7 +142,7 @@ pub struct ForceSpec {
     #[serde(default)]
     pub name: Option<Spanned<String>>,
     /// `"bushing"`, `"table"`, `"series_spring_damper"`, `"damper"`, `"friction"`,
-    /// `"rotational_friction"` or `"anti_roll_bar"` (required).
+    /// `"planar_friction"`, `"rotational_friction"` or `"anti_roll_bar"` (required).
     #[serde(default, rename = "type")]
     pub kind: Option<Spanned<String>>,
     /// First body (a body or wheelset name, or `"track"`) (required).
@@ -200,6 +200,9 @@ pub struct ForceSpec {
     /// Friction: the force element whose force presses the friction surfaces together.
     #[serde(default)]
     pub normal_element: Option<Spanned<String>>,
+    /// Planar friction: the plane of two local axes it acts in, e.g. `"xy"`.
+    #[serde(default)]
+    pub plane: Option<Spanned<String>>,
     /// Rotational friction: the local axis it acts about, `"x"`, `"y"` or `"z"`.
     #[serde(default)]
     pub about: Option<Spanned<String>>,
@@ -275,6 +278,7 @@ pub const FORCE_KEYS: &[&str] = &[
     "friction_force_n",
     "friction_coefficient",
     "normal_element",
+    "plane",
     "about",
     "friction_moment_nm",
     "friction_radius_m",

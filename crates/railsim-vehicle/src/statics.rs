@@ -257,7 +257,8 @@ fn linear_stiffness(law: &ForceLaw) -> [f64; 6] {
         // dissipative elements start relaxed and carry no static load
         ForceLaw::SeriesSpringDamper { .. }
         | ForceLaw::Damper { .. }
-        | ForceLaw::Friction { .. } => {}
+        | ForceLaw::Friction { .. }
+        | ForceLaw::PlanarFriction { .. } => {}
         ForceLaw::AntiRollBar { stiffness } => k[3] = *stiffness,
     }
     k

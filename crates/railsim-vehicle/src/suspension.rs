@@ -77,6 +77,49 @@ pub fn friction_law(k: f64, f0: f64, delta: f64, delta_rate: f64, s: f64) -> (f6
     (-e, rate)
 }
 
+/// Planar friction element: dry friction in a plane with one sliding force for any direction
+/// (a circular limit |e| ≤ F0, as for a rubbing plate or a link that slides both ways), the two
+/// components along two local axes. The force on body 2 \[N\] and the slider's rates \[m/s\]
+/// for stick stiffness `k` \[N/m\] (isotropic), sliding force `f0` \[N\], deflection `delta`
+/// \[m\], its rate `delta_rate` \[m/s\] and slider position `s` \[m\].
+///
+/// The same law as [`friction_law`] with the associated flow rule of isotropic plasticity (the
+/// slider moves along the tension, by the part of the deflection rate along it): with
+/// `e = k (Δ − s)`,
+///
+/// `ṡ = H(e·Δ̇) · min((|e|/F0)^n, 2) · (e·Δ̇) e / |e|²  +  (e − F0 e/|e|)⁺ / (k τ)`,
+///
+/// the biaxial Bouc–Wen form (Park, Wen & Ang, *Earthquake Eng. Struct. Dyn.* 14, 1986) with
+/// β = γ = 1/2. Along one axis it is [`friction_law`] exactly. Two one-axis elements at right
+/// angles would let the resultant reach √2 F0 when sliding diagonally; this one holds F0.
+pub fn planar_friction_law(
+    k: f64,
+    f0: f64,
+    delta: [f64; 2],
+    delta_rate: [f64; 2],
+    s: [f64; 2],
+) -> ([f64; 2], [f64; 2]) {
+    let e = [k * (delta[0] - s[0]), k * (delta[1] - s[1])];
+    let f0 = f0.max(0.0);
+    let ae = e[0].hypot(e[1]);
+    let mut rate = [0.0; 2];
+    let power = e[0] * delta_rate[0] + e[1] * delta_rate[1];
+    if power > 0.0 {
+        let phi = if ae >= FRICTION_RATE_CAP_RATIO * f0 {
+            FRICTION_RATE_CAP
+        } else {
+            (ae / f0).powi(FRICTION_EXPONENT)
+        };
+        let lambda = phi * power / (ae * ae);
+        rate = [lambda * e[0], lambda * e[1]];
+    }
+    if ae > f0 {
+        let excess = (ae - f0) / (ae * k * FRICTION_RELAXATION_S);
+        rate = [rate[0] + excess * e[0], rate[1] + excess * e[1]];
+    }
+    ([-e[0], -e[1]], rate)
+}
+
 /// A damper's force–velocity law: piecewise linear through the points, extrapolated with the
 /// end slopes; strictly increasing and zero at zero velocity (checked when the vehicle is
 /// compiled), so that it can be inverted.
@@ -220,6 +263,79 @@ mod tests {
         let (fa, ra) = friction_law(k, f0, 1.9e-3, 0.05, 1e-4);
         let (fb, rb) = friction_law(k, f0, -1.9e-3, -0.05, -1e-4);
         assert_eq!((fa, ra), (-fb, -rb));
+    }
+
+    #[test]
+    fn planar_friction_along_one_axis_is_the_friction_law() {
+        let (k, f0) = (5e6, 1e4);
+        for (d, r, s) in [
+            (1.9e-3, 0.05, 1e-4),
+            (-2.5e-3, -0.2, -0.4e-3),
+            (1.5e-3, -0.1, 0.0),
+            (3e-3, 0.0, 0.0),
+        ] {
+            let (f1, r1) = friction_law(k, f0, d, r, s);
+            for (c, sn) in [(1.0, 0.0), (0.0, 1.0), (0.6, -0.8)] {
+                let (f2, r2) =
+                    planar_friction_law(k, f0, [c * d, sn * d], [c * r, sn * r], [c * s, sn * s]);
+                let scale = 1.0 + f1.abs();
+                assert!(
+                    (f2[0] - c * f1).abs() < 1e-9 * scale && (f2[1] - sn * f1).abs() < 1e-9 * scale
+                );
+                assert!(
+                    (r2[0] - c * r1).abs() < 1e-12 && (r2[1] - sn * r1).abs() < 1e-12,
+                    "{r1} {r2:?}"
+                );
+            }
+        }
+    }
+
+    /// Driven round a circle of radius A ≫ F0/k, the slider settles on a circle of radius
+    /// ρ = √(A² − (F0/k)²) with the tension F0 along its path: the element dissipates 2π ρ F0
+    /// per turn and its force never exceeds F0 (two one-axis elements would reach √2 F0).
+    #[test]
+    fn planar_friction_round_a_circle_holds_its_circular_limit() {
+        let (k, f0, a) = (5e6, 1e4, 20e-3);
+        let w = 2.0 * std::f64::consts::PI;
+        let n = 40_000;
+        let h = 1.0 / n as f64;
+        let drive = |t: f64| {
+            let (c, sn) = ((w * t).cos(), (w * t).sin());
+            ([a * c, a * sn], [-a * w * sn, a * w * c])
+        };
+        let rate = |t: f64, s: [f64; 2]| {
+            let (d, dd) = drive(t);
+            planar_friction_law(k, f0, d, dd, s).1
+        };
+        let add = |s: [f64; 2], r: [f64; 2], c: f64| [s[0] + c * r[0], s[1] + c * r[1]];
+        let (mut s, mut work, mut peak) = ([0.0, 0.0], 0.0, 0.0f64);
+        for step in 0..3 * n {
+            let t = step as f64 * h;
+            let k1 = rate(t, s);
+            let k2 = rate(t + 0.5 * h, add(s, k1, 0.5 * h));
+            let k3 = rate(t + 0.5 * h, add(s, k2, 0.5 * h));
+            let k4 = rate(t + h, add(s, k3, h));
+            let s1 = [
+                s[0] + h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]),
+                s[1] + h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]),
+            ];
+            if step >= 2 * n {
+                // the slider's work: tension times the slider's step (midpoint tension)
+                let (d0, _) = drive(t);
+                let (d1, _) = drive(t + h);
+                let e0 = [k * (d0[0] - s[0]), k * (d0[1] - s[1])];
+                let e1 = [k * (d1[0] - s1[0]), k * (d1[1] - s1[1])];
+                let em = [0.5 * (e0[0] + e1[0]), 0.5 * (e0[1] + e1[1])];
+                work += em[0] * (s1[0] - s[0]) + em[1] * (s1[1] - s[1]);
+                peak = peak.max(e1[0].hypot(e1[1]));
+            }
+            s = s1;
+        }
+        let rho = (a * a - (f0 / k).powi(2)).sqrt();
+        let exact = w * rho * f0;
+        eprintln!("per turn {work:.4} J against 2 pi rho F0 = {exact:.4} J; peak {peak:.2} N");
+        assert!((work / exact - 1.0).abs() < 1e-3, "{work} {exact}");
+        assert!(peak <= 1.0005 * f0 && peak > 0.999 * f0, "{peak}");
     }
 
     #[test]

@@ -769,3 +769,56 @@ normal_element = "pivot"
     expect(&p, 19, &["friction_force_n", "does not apply"]);
     expect(&p, 21, &["normal_element names the element itself"]);
 }
+
+#[test]
+fn planar_friction_compiles_with_two_states_and_its_plane_is_checked() {
+    let text = |plane: &str| {
+        format!(
+            r#"{WS}
+[[force]]
+name = "plate"
+type = "planar_friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+plane = "{plane}"
+stiffness_n_per_m = 5e6
+friction_force_n = 2000
+"#
+        )
+    };
+    let v = compile(&text("yx")).unwrap_or_else(|e| panic!("{e}"));
+    let law = &v.forces()[0].law;
+    assert_eq!(law.type_name(), "planar_friction");
+    assert_eq!(law.internal_states(), 2);
+    assert!(matches!(
+        law,
+        ForceLaw::PlanarFriction { axes: [railsim_vehicle::Axis::Y, railsim_vehicle::Axis::X], force, .. } if *force == 2000.0
+    ));
+    let states = v.internal_states();
+    assert_eq!(states.len(), 2);
+    assert!(
+        states
+            .iter()
+            .all(|s| s.kind == InternalStateKind::FrictionSlip)
+    );
+    for bad in ["xx", "x", "xyz", "ab"] {
+        let p = problems(&text(bad));
+        expect(
+            &p,
+            17,
+            &[
+                "force 'plate'",
+                &format!("plane '{bad}'"),
+                "two different local axes",
+            ],
+        );
+    }
+    let p = problems(&text("xy").replace("stiffness_n_per_m = 5e6", "direction = \"x\""));
+    expect(
+        &p,
+        18,
+        &["direction", "does not apply to type 'planar_friction'"],
+    );
+    expect(&p, 11, &["missing key 'stiffness_n_per_m'"]);
+}

@@ -36,8 +36,8 @@ def finite(v):
 
 
 ELEMENT_TYPES = {"bushing", "table", "series_spring_damper", "damper", "friction",
-                 "rotational_friction", "anti_roll_bar"}
-WITH_STATE = {"series_spring_damper", "friction", "rotational_friction"}
+                 "planar_friction", "rotational_friction", "anti_roll_bar"}
+WITH_STATE = {"series_spring_damper", "friction", "planar_friction", "rotational_friction"}
 
 
 def check_element(topic, body):
@@ -57,10 +57,11 @@ def check_element(topic, body):
     if kind != "damper" and (kind in WITH_STATE) != ("state_m" in body):
         out.append(f"{topic}: state_m for a {kind}: {body.get('state_m')!r}")
     for ftype, limit, key in (("friction", "sliding_force_n", "force_n"),
+                              ("planar_friction", "sliding_force_n", "force_n"),
                               ("rotational_friction", "sliding_moment_nm", "moment_nm")):
         if kind == ftype:
             f0 = body.get(limit)
-            if f0 is None or max(abs(x) for x in body[key]) > 1.01 * f0 + 1e-6:
+            if f0 is None or math.hypot(*body[key]) > 1.01 * f0 + 1e-6:
                 out.append(f"{topic}: friction {key} {body[key]} beyond {limit} {f0}")
     return out
 
