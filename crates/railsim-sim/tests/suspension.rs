@@ -23,6 +23,13 @@ fn friction_scene_logging(
 ) -> railsim_sim::Scene {
     let base = root().join("crates/railsim-sim/tests/vehicles/friction_mass.toml");
     let text = std::fs::read_to_string(&base).unwrap() + keys;
+    vehicle_scene(tag, &text, duration, &format!("rate_hz = 2000\n{log_keys}"))
+}
+
+/// A scene for the vehicle `text` (written to a temporary file named after `tag`): straight
+/// ideal track at 36 km/h for `duration` s, `polach`, Radau IIA at rtol 1e-8, and the `[log]`
+/// keys `log_keys`.
+fn vehicle_scene(tag: &str, text: &str, duration: f64, log_keys: &str) -> railsim_sim::Scene {
     let dir = std::env::temp_dir().join(format!("railsim-suspension-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{tag}.toml"));
@@ -40,7 +47,6 @@ fn friction_scene_logging(
         rtol = 1e-8
         atol = 1e-11
         [log]
-        rate_hz = 2000
         {log_keys}
         "#,
         path.display()
@@ -513,27 +519,7 @@ rotational_stiffness_nm_per_rad = {k_f}
 friction_moment_nm = {m0}
 "#
     );
-    let dir = std::env::temp_dir().join(format!("railsim-suspension-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("yaw.toml");
-    std::fs::write(&path, vehicle).unwrap();
-    let s = scene(&format!(
-        r#"
-        vehicle = "{}"
-        track = "tracks/straight.toml"
-        speed_kmh = 36
-        duration_s = 1.5
-        [contact]
-        model = "polach"
-        [integrator]
-        method = "radau5"
-        rtol = 1e-8
-        atol = 1e-11
-        [log]
-        rate_hz = 4000
-        "#,
-        path.display()
-    ));
+    let s = vehicle_scene("yaw", &vehicle, 1.5, "rate_hz = 4000");
     let mut sim = Simulation::new(&s).unwrap();
     let names = sim.model().state_names.clone();
     let iy = names.iter().position(|n| n == "frame.yaw").unwrap();
@@ -590,27 +576,7 @@ fn a_planar_friction_moving_along_one_axis_is_the_one_axis_element() {
         .replace("type = \"friction\"", "type = \"planar_friction\"")
         .replace("direction = \"z\"", "plane = \"zx\"")
         + "friction_force_n = 500\n";
-    let dir = std::env::temp_dir().join(format!("railsim-suspension-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("planar.toml");
-    std::fs::write(&path, text).unwrap();
-    let s = scene(&format!(
-        r#"
-        vehicle = "{}"
-        track = "tracks/straight.toml"
-        speed_kmh = 36
-        duration_s = 1.0
-        [contact]
-        model = "polach"
-        [integrator]
-        method = "radau5"
-        rtol = 1e-8
-        atol = 1e-11
-        [log]
-        rate_hz = 2000
-        "#,
-        path.display()
-    ));
+    let s = vehicle_scene("planar", &text, 1.0, "rate_hz = 2000");
     let names = Simulation::new(&s).unwrap().model().state_names.clone();
     assert!(
         names.iter().any(|n| n == "rubbing friction slip z"),
