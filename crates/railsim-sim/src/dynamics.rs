@@ -111,9 +111,9 @@ pub struct ElementRecord {
     pub force: V3,
     /// \[N·m\] moment on body 2
     pub moment: V3,
-    /// \[m, or rad for a rotational friction\] the internal states, if the element has any
-    /// (the first `states` of the array)
-    pub state: Option<[f64; 2]>,
+    /// \[m, or rad for a rotational friction\] the internal states: the first `states` of
+    /// the array
+    pub state: [f64; 2],
     /// How many internal states the element has (0, 1 or 2)
     pub states: usize,
     /// \[N\] a friction element's sliding force
@@ -556,21 +556,19 @@ impl Dynamics<'_> {
         }
         self.ws.element_force[ei] = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
         if self.ws.record {
+            let states = el.law.internal_states();
+            let mut state = [0.0; 2];
+            if let Some(i) = el.internal {
+                state[..states].copy_from_slice(&x[i..i + states]);
+            }
             self.ws.elements[ei] = ElementRecord {
                 deflection: lin,
                 rate: lin_rate,
                 rotation: rot,
                 force: f,
                 moment: mo,
-                state: el.internal.map(|i| {
-                    let second = if el.law.internal_states() > 1 {
-                        x[i + 1]
-                    } else {
-                        0.0
-                    };
-                    [x[i], second]
-                }),
-                states: el.law.internal_states(),
+                state,
+                states,
                 sliding_force: sliding,
                 sliding_moment,
             };

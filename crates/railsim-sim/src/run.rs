@@ -1289,7 +1289,7 @@ impl Recorder {
                 rotation_rad: e.rotation,
                 force_n: e.force,
                 moment_nm: e.moment,
-                state_m: e.state.map(|v| v[..e.states].to_vec()),
+                state_m: (e.states > 0).then(|| e.state[..e.states].to_vec()),
                 sliding_force_n: e.sliding_force,
                 sliding_moment_nm: e.sliding_moment,
             };

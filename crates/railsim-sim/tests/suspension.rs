@@ -383,13 +383,26 @@ fn element_forces_are_logged_as_sampled() {
     let dir = std::env::temp_dir().join(format!("railsim-elements-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let log = dir.join("elements.mcap");
-    let s = friction_scene_logging(
+    // The friction element listed before its normal element: the right-hand side must still
+    // evaluate the spring first (`SimModel::element_order`), or the sliding force below would be
+    // the spring's force of the previous evaluation.
+    let base = root().join("crates/railsim-sim/tests/vehicles/friction_mass.toml");
+    let text = std::fs::read_to_string(&base).unwrap();
+    let (head, forces) = text.split_at(text.find("[[force]]").unwrap());
+    let (spring, rubbing) = forces.split_at(forces.rfind("[[force]]").unwrap());
+    let text = format!(
+        "{head}{rubbing}friction_coefficient = 0.05\nnormal_element = \"spring\"\n\n{spring}"
+    );
+    let s = vehicle_scene(
         "logged",
-        "friction_coefficient = 0.05\nnormal_element = \"spring\"\n",
+        &text,
         0.3,
-        "topics = [\"bodies\", \"elements\"]",
+        "rate_hz = 2000\ntopics = [\"bodies\", \"elements\"]",
     );
     let mut sim = Simulation::new(&s).unwrap();
+    const RUBBING: usize = 0;
+    const SPRING: usize = 1;
+    assert_eq!(sim.model().elements[RUBBING].name, "rubbing");
     lift_mass(&mut sim, 5e-3);
     let mut samples = Vec::new();
     let opts = RunOptions {
@@ -421,11 +434,11 @@ fn element_forces_are_logged_as_sampled() {
         );
         assert_eq!(sp.t_s, smp.t);
         // read back as sampled
-        assert_eq!(sp.force_n, smp.elements[0].force);
-        assert_eq!(ru.deflection_m, smp.elements[1].deflection);
+        assert_eq!(sp.force_n, smp.elements[SPRING].force);
+        assert_eq!(ru.deflection_m, smp.elements[RUBBING].deflection);
         assert_eq!(
             ru.state_m.as_deref(),
-            smp.elements[1].state.as_ref().map(|v| &v[..1])
+            Some(&smp.elements[RUBBING].state[..1])
         );
         assert_eq!(sp.state_m, None);
         assert_eq!(sp.sliding_force_n, None);

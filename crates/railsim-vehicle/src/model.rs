@@ -231,15 +231,7 @@ impl ForceTable {
         if self.symmetric && d < 0.0 {
             return -self.force(-d);
         }
-        let x = &self.deflection;
-        let f = &self.force;
-        let n = x.len();
-        let i = match x.partition_point(|&xi| xi <= d) {
-            0 => 0,
-            k if k >= n => n - 2,
-            k => k - 1,
-        };
-        f[i] + (f[i + 1] - f[i]) * (d - x[i]) / (x[i + 1] - x[i])
+        crate::suspension::interpolate(&self.deflection, &self.force, d)
     }
 
     /// \[N/m\] slope dF/dd at `d` \[m\] (central difference over 1 µm).

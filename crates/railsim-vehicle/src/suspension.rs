@@ -54,6 +54,16 @@ pub const FRICTION_RATE_CAP_RATIO: f64 = 1.035_264_923_841_377_2;
 /// region of the fixed-step RK4 at 2 ms (|h λ| = 2 < 2.78).
 pub const FRICTION_RELAXATION_S: f64 = 1e-3;
 
+/// The Bouc–Wen factor `min((|e|/F0)^n, 2)` of the slider's rate, for the tension's magnitude
+/// `ae` and the sliding force `f0` (≥ 0; 2 when it is 0).
+fn slip_factor(ae: f64, f0: f64) -> f64 {
+    if ae >= FRICTION_RATE_CAP_RATIO * f0 {
+        FRICTION_RATE_CAP
+    } else {
+        (ae / f0).powi(FRICTION_EXPONENT)
+    }
+}
+
 /// Friction element: the force on body 2 along the axis \[N\] and the slider's rate \[m/s\], for
 /// stick stiffness `k` \[N/m\] (> 0), sliding force `f0` \[N\] (negative values count as 0),
 /// deflection `delta` \[m\], its rate `delta_rate` \[m/s\] and slider position `s` \[m\] (module
@@ -64,12 +74,7 @@ pub fn friction_law(k: f64, f0: f64, delta: f64, delta_rate: f64, s: f64) -> (f6
     let ae = e.abs();
     let mut rate = 0.0;
     if delta_rate * e > 0.0 {
-        let phi = if ae >= FRICTION_RATE_CAP_RATIO * f0 {
-            FRICTION_RATE_CAP
-        } else {
-            (ae / f0).powi(FRICTION_EXPONENT)
-        };
-        rate = delta_rate * phi;
+        rate = delta_rate * slip_factor(ae, f0);
     }
     if ae > f0 {
         rate += (e - f0.copysign(e)) / (k * FRICTION_RELAXATION_S);
@@ -105,12 +110,7 @@ pub fn planar_friction_law(
     let mut rate = [0.0; 2];
     let power = e[0] * delta_rate[0] + e[1] * delta_rate[1];
     if power > 0.0 {
-        let phi = if ae >= FRICTION_RATE_CAP_RATIO * f0 {
-            FRICTION_RATE_CAP
-        } else {
-            (ae / f0).powi(FRICTION_EXPONENT)
-        };
-        let lambda = phi * power / (ae * ae);
+        let lambda = slip_factor(ae, f0) * power / (ae * ae);
         rate = [lambda * e[0], lambda * e[1]];
     }
     if ae > f0 {
@@ -133,8 +133,9 @@ pub struct DamperTable {
     pub symmetric: bool,
 }
 
-/// Linear interpolation of `y(x)` at `t`, extrapolated with the end intervals' slopes.
-fn interpolate(x: &[f64], y: &[f64], t: f64) -> f64 {
+/// Linear interpolation of `y(x)` at `t` (`x` strictly increasing), extrapolated with the end
+/// intervals' slopes; shared with [`crate::model::ForceTable`].
+pub(crate) fn interpolate(x: &[f64], y: &[f64], t: f64) -> f64 {
     let n = x.len();
     let i = match x.partition_point(|&xi| xi <= t) {
         0 => 0,
