@@ -438,6 +438,27 @@ fn print_assessment(a: &Assessment) -> Result<()> {
     Ok(())
 }
 
+/// The energy the dissipative force elements dissipated over the run, largest first.
+fn print_element_energy(s: &RunSummary) -> Result<()> {
+    let mut dissipative: Vec<_> = s.elements.iter().filter(|e| e.dissipates).collect();
+    if dissipative.is_empty() {
+        return Ok(());
+    }
+    dissipative.sort_by(|a, b| b.dissipated.total_cmp(&a.dissipated));
+    outln!("suspension dissipation (dampers and friction, over the samples; mean and peak power):");
+    for e in dissipative {
+        outln!(
+            "  {} ({}): {:.3} kJ, mean {:.1} W, peak {:.1} W",
+            e.name,
+            e.kind,
+            e.dissipated * 1e-3,
+            e.mean_dissipation,
+            e.peak_dissipation
+        );
+    }
+    Ok(())
+}
+
 fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
     outln!(
         "simulated {:.3} s in {:.2} s: real-time factor {:.3}",
@@ -473,6 +494,7 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
             side(vert.2)
         );
     }
+    print_element_energy(s)?;
     let st = &s.stats;
     outln!(
         "integrator: {} steps, {} rejected, {} right-hand sides, {} Jacobians, {} LU",

@@ -326,6 +326,19 @@ pub struct ElementMessage {
     /// \[N m\] a rotational friction element's sliding moment at this instant
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sliding_moment_nm: Option<f64>,
+    /// \[W\] power the element absorbs from the bodies at this instant, −(F·Δ̇ + M·ω)
+    #[serde(default)]
+    pub power_w: f64,
+    /// \[W\] the part of `power_w` it dissipates (never negative; 0 for springs, tables and
+    /// anti-roll bars)
+    #[serde(default)]
+    pub dissipation_w: f64,
+    /// \[J\] work it has absorbed since the first sample (trapezoidal rule over the samples)
+    #[serde(default)]
+    pub work_j: f64,
+    /// \[J\] energy it has dissipated since the first sample (likewise)
+    #[serde(default)]
+    pub dissipated_j: f64,
 }
 
 impl LogMessage for ElementMessage {

@@ -25,8 +25,8 @@ use railsim_vehicle::suspension::{damper_series_law, friction_law, planar_fricti
 use rayon::prelude::*;
 
 use crate::math::{
-    M3, V3, add, cross, mat_mul, mat_t_mul, mul, mul_t, rot_x, rot_y, rot_z, rotation_rpy, scale,
-    small_rotation, sub,
+    M3, V3, add, cross, dot, mat_mul, mat_t_mul, mul, mul_t, rot_x, rot_y, rot_z, rotation_rpy,
+    scale, small_rotation, sub,
 };
 use crate::model::{ElementModel, End, MemberKind, SimModel};
 
@@ -120,6 +120,53 @@ pub struct ElementRecord {
     pub sliding_force: Option<f64>,
     /// \[N·m\] a rotational friction element's sliding moment
     pub sliding_moment: Option<f64>,
+    /// \[W\] power the element absorbs from the bodies, −(F·Δ̇ + M·ω) with F, M its force and
+    /// moment on body 2 and Δ̇, ω body 2's velocity and angular velocity relative to body 1 at
+    /// the attachment (local axes): the rate of its stored energy plus what it dissipates
+    pub power: f64,
+    /// \[W\] the part of `power` the element dissipates (never negative; 0 for springs, tables
+    /// and anti-roll bars): [`dissipation`]
+    pub dissipation: f64,
+}
+
+/// \[W\] the power a force element with law `law` dissipates: its force `f` and moment `mo` on
+/// body 2, the relative rates `lin_rate`, `rot_rate` (local axes) and, for an element with
+/// internal states, their rates `state_rate` (from its first state on). A bushing's dampers
+/// dissipate Σ c v²; an element whose internal state is a damper's elongation or a friction
+/// slider's position dissipates the force it carries times the state's rate, −F·ṡ (the rest
+/// of −F·Δ̇ is the rate of the energy its spring stores, ½ k (Δ − s)²); a damper without a
+/// series stiffness −F·Δ̇.
+fn dissipation(
+    law: &ForceLaw,
+    state_rate: Option<&[f64]>,
+    f: V3,
+    mo: V3,
+    lin_rate: V3,
+    rot_rate: V3,
+) -> f64 {
+    let rate = |k: usize| state_rate.map_or(0.0, |r| r[k]);
+    match law {
+        ForceLaw::Bushing { damping, .. } => (0..3)
+            .map(|k| damping[k] * lin_rate[k].powi(2) + damping[3 + k] * rot_rate[k].powi(2))
+            .sum(),
+        ForceLaw::Table { .. } | ForceLaw::AntiRollBar { .. } => 0.0,
+        ForceLaw::Damper {
+            axis,
+            stiffness: None,
+            ..
+        } => -f[axis.index()] * lin_rate[axis.index()],
+        ForceLaw::SeriesSpringDamper { axis, .. }
+        | ForceLaw::Damper { axis, .. }
+        | ForceLaw::Friction {
+            axis,
+            rotational: false,
+            ..
+        } => -f[axis.index()] * rate(0),
+        ForceLaw::Friction { axis, .. } => -mo[axis.index()] * rate(0),
+        ForceLaw::PlanarFriction { axes, .. } => {
+            -(f[axes[0].index()] * rate(0) + f[axes[1].index()] * rate(1))
+        }
+    }
 }
 
 /// Reusable buffers of the right-hand side: nothing is allocated per evaluation once they have
@@ -571,6 +618,15 @@ impl Dynamics<'_> {
                 states,
                 sliding_force: sliding,
                 sliding_moment,
+                power: -(dot(f, lin_rate) + dot(mo, rot_rate)),
+                dissipation: dissipation(
+                    &el.law,
+                    el.internal.map(|i| &dx[i..]),
+                    f,
+                    mo,
+                    lin_rate,
+                    rot_rate,
+                ),
             };
         }
         let force = mul(&q1, mul(e, f));

@@ -34,7 +34,7 @@ pub mod stability;
 
 pub use error::{Problem, SceneError, SimError, SourceMap};
 pub use model::SimModel;
-pub use run::{RunOptions, RunSummary, Sample, Simulation};
+pub use run::{ElementEnergy, RunOptions, RunSummary, Sample, Simulation};
 pub use scene::{
     InitialDisturbance, LogOptions, RigidWheelbase, RunLength, Scene, SpeedProfile, Topic,
     longest_rigid_wheelbase, required_curve_radius,

@@ -29,6 +29,12 @@ pub fn scale(k: f64, a: V3) -> V3 {
     [k * a[0], k * a[1], k * a[2]]
 }
 
+/// a · b
+#[inline]
+pub fn dot(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
 /// a × b
 #[inline]
 pub fn cross(a: V3, b: V3) -> V3 {

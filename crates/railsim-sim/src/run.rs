@@ -81,6 +81,32 @@ pub struct Sample {
     pub bogie_frames: Vec<[f64; 3]>,
     /// Per force element (the vehicle's order): deflections, forces and state, local axes.
     pub elements: Vec<ElementRecord>,
+    /// \[J\] per force element: the work it has absorbed since the run's first sample and the
+    /// part of it dissipated (the trapezoidal rule on `ElementRecord::power` and
+    /// `ElementRecord::dissipation` over the samples).
+    pub element_work: Vec<[f64; 2]>,
+}
+
+/// What one force element absorbed over a run ([`RunSummary::elements`]).
+#[derive(Debug, Clone)]
+pub struct ElementEnergy {
+    /// The element's name.
+    pub name: String,
+    /// Its type as written in the vehicle file.
+    pub kind: &'static str,
+    /// Whether its law dissipates (`ForceLaw::dissipates`); for the others the work is the
+    /// change of the energy they store.
+    pub dissipates: bool,
+    /// \[J\] work absorbed from the bodies between the first and the last sample: the integral
+    /// of `ElementRecord::power` by the trapezoidal rule over the samples (at the log rate).
+    pub work: f64,
+    /// \[J\] the part of `work` dissipated (the rest is the change of the energy it stores):
+    /// the integral of `ElementRecord::dissipation`, likewise.
+    pub dissipated: f64,
+    /// \[W\] the dissipated energy over the time between the first and the last sample.
+    pub mean_dissipation: f64,
+    /// \[W\] the largest dissipation at a sample.
+    pub peak_dissipation: f64,
 }
 
 /// What a finished run reports.
@@ -121,6 +147,9 @@ pub struct RunSummary {
     pub logging: f64,
     /// The log, if one was written.
     pub log: Option<LogStats>,
+    /// Per force element (the vehicle's order): the work it absorbed and the energy it dissipated
+    /// over the run, the mean and largest dissipation.
+    pub elements: Vec<ElementEnergy>,
 }
 
 impl RunSummary {
@@ -514,6 +543,7 @@ impl Simulation {
             axle_loads[pair[0].wheelset_number as usize] = q[0] + q[1];
         }
         let assessment = assess(&state.series, &axle_loads, &scene.assessment);
+        let elements = element_energy(&self.model, &state);
         Ok(RunSummary {
             t_end: self.integ.t(),
             wall: wall.elapsed().as_secs_f64(),
@@ -529,8 +559,30 @@ impl Simulation {
             contact_searches,
             logging,
             log,
+            elements,
         })
     }
+}
+
+/// Per force element of `model`: the work absorbed and the energy dissipated over the samples of
+/// `state`, the mean and largest dissipation.
+fn element_energy(model: &SimModel, state: &LoopState) -> Vec<ElementEnergy> {
+    let span = state.sampled.map_or(0.0, |[first, last]| last - first);
+    model
+        .elements
+        .iter()
+        .zip(&state.sample.element_work)
+        .zip(&state.peak_dissipation)
+        .map(|((el, &[work, dissipated]), &peak)| ElementEnergy {
+            name: el.name.clone(),
+            kind: el.law.type_name(),
+            dissipates: el.law.dissipates(),
+            work,
+            dissipated,
+            mean_dissipation: if span > 0.0 { dissipated / span } else { 0.0 },
+            peak_dissipation: peak,
+        })
+        .collect()
 }
 
 /// A recording right-hand side of `x` at time `t_rhs` (the patch records and accelerometers
@@ -846,6 +898,10 @@ struct LoopState {
     digest: u64,
     /// The current sample, updated in place.
     sample: Sample,
+    /// \[s\] times of the first and the last sample so far
+    sampled: Option<[f64; 2]>,
+    /// \[W\] per force element: the largest dissipation at a sample
+    peak_dissipation: Vec<f64>,
 }
 
 impl LoopState {
@@ -931,7 +987,10 @@ impl LoopState {
                 carbody: Vec::new(),
                 bogie_frames: vec![[0.0; 3]; model.bogies.iter().map(|b| b.points.len()).sum()],
                 elements: vec![ElementRecord::default(); model.elements.len()],
+                element_work: vec![[0.0; 2]; model.elements.len()],
             },
+            sampled: None,
+            peak_dissipation: vec![0.0; model.elements.len()],
         };
         if let Some((_, points)) = &model.comfort {
             state.series.comfort = points
@@ -958,6 +1017,20 @@ impl LoopState {
         smp.t = t;
         smp.t_ns = t_ns;
         smp.x.copy_from_slice(x);
+        // the work absorbed since the last sample, by the trapezoidal rule
+        let dt = self.sampled.map_or(0.0, |[_, last]| t - last);
+        for (((w, old), new), peak) in smp
+            .element_work
+            .iter_mut()
+            .zip(&smp.elements)
+            .zip(&ws.elements)
+            .zip(&mut self.peak_dissipation)
+        {
+            w[0] += 0.5 * dt * (old.power + new.power);
+            w[1] += 0.5 * dt * (old.dissipation + new.dissipation);
+            *peak = peak.max(new.dissipation);
+        }
+        self.sampled = Some([self.sampled.map_or(t, |[first, _]| first), t]);
         smp.elements.copy_from_slice(&ws.elements);
         self.series.distance.push(dist);
         if let Some((cb, points)) = &model.comfort {
@@ -1279,7 +1352,9 @@ impl Recorder {
             };
             self.writer.write(channel, t_ns, &msg)?;
         }
-        for ((channel, name, kind), e) in self.elements.iter().zip(&s.elements) {
+        for (((channel, name, kind), e), work) in
+            self.elements.iter().zip(&s.elements).zip(&s.element_work)
+        {
             let msg = ElementMessage {
                 t_s: s.t,
                 element: name.clone(),
@@ -1292,6 +1367,10 @@ impl Recorder {
                 state_m: (e.states > 0).then(|| e.state[..e.states].to_vec()),
                 sliding_force_n: e.sliding_force,
                 sliding_moment_nm: e.sliding_moment,
+                power_w: e.power,
+                dissipation_w: e.dissipation,
+                work_j: work[0],
+                dissipated_j: work[1],
             };
             self.writer.write(channel, t_ns, &msg)?;
         }

@@ -337,6 +337,20 @@ impl ForceLaw {
         )
     }
 
+    /// Whether the element dissipates energy: a bushing with some damping, a series
+    /// spring-damper, a damper, a friction element. The others (springs, force tables, anti-roll
+    /// bars) are conservative: the work they absorb is the change of the energy they store.
+    pub fn dissipates(&self) -> bool {
+        match self {
+            ForceLaw::Bushing { damping, .. } => damping.iter().any(|c| *c != 0.0),
+            ForceLaw::Table { .. } | ForceLaw::AntiRollBar { .. } => false,
+            ForceLaw::SeriesSpringDamper { .. }
+            | ForceLaw::Damper { .. }
+            | ForceLaw::Friction { .. }
+            | ForceLaw::PlanarFriction { .. } => true,
+        }
+    }
+
     /// The type's name as written in a vehicle file (`type = "..."`).
     pub fn type_name(&self) -> &'static str {
         match self {

@@ -10,7 +10,9 @@ read, that the six kinds of topics are there (/bodies/*, /bogie_frames/*, /carbo
 every message decodes as JSON with its own time equal to the log time, that no number is NaN or
 infinite, and that the `scene` and `railsim_result` metadata (with the state digest) are present.
 Messages on /elements/* (force elements) must name their element, carry a known type, the
-vectors of three numbers and the state exactly where the type has one, and a friction element's
+vectors of three numbers and the state exactly where the type has one, a dissipation_w never
+negative, cumulative work_j and dissipated_j equal to the trapezoidal integrals of power_w and
+dissipation_w over the messages so far, and a friction element's
 force must stay within its sliding force.
 With --rails (a run on an elastic rail support, logging bodies, carbody, contact, elements and
 wheelsets): /tf and /bogie_frames are not required, /elements/* is, and every /wheelsets message
@@ -66,6 +68,28 @@ def check_element(topic, body):
     return out
 
 
+def check_work(topic, body, work):
+    """An element's cumulative work_j and dissipated_j are the trapezoidal integrals of its
+    power_w and dissipation_w over the messages so far (recomputed here; `work` keeps per topic
+    the last time, powers and sums), and it never dissipates a negative power."""
+    keys = ("power_w", "dissipation_w", "work_j", "dissipated_j")
+    v = [body.get(k) for k in keys]
+    if not all(isinstance(x, (int, float)) for x in v):
+        return [f"{topic}: {dict(zip(keys, v))!r}"]
+    p, d, w, e = v
+    t = body["t_s"]
+    t0, p0, d0, w0, e0 = work.get(topic, (t, p, d, 0.0, 0.0))
+    acc = (w0 + 0.5 * (t - t0) * (p0 + p), e0 + 0.5 * (t - t0) * (d0 + d))
+    work[topic] = (t, p, d) + acc
+    out = []
+    if d < 0.0:
+        out.append(f"{topic}: dissipation_w {d} at {t} s")
+    for name, logged, ours in (("work_j", w, acc[0]), ("dissipated_j", e, acc[1])):
+        if abs(ours - logged) > 1e-9 * max(1.0, abs(ours)):
+            out.append(f"{topic}: {name} {logged} at {t} s, the trapezoidal integral {ours}")
+    return out
+
+
 def main():
     rails = sys.argv[2:] == ["--rails"]
     if len(sys.argv) != 2 and not rails:
@@ -73,6 +97,7 @@ def main():
         return 2
     failures = []
     counts = {}
+    work = {}
     vertical = []
     frames = []
     with open(sys.argv[1], "rb") as f:
@@ -96,6 +121,7 @@ def main():
                 frames.append(body["vertical_m_s2"])
             if channel.topic.startswith("/elements/"):
                 failures.extend(check_element(channel.topic, body))
+                failures.extend(check_work(channel.topic, body, work))
             if schema.name == "foxglove.FrameTransform":
                 st = body["timestamp"]
                 ok = st["sec"] * 1_000_000_000 + st["nsec"] == message.log_time
