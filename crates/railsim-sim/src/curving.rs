@@ -237,6 +237,8 @@ pub(crate) fn smooth_track(
         .parse()
         .map_err(|e| format!("{name}: not a TOML table: {e}"))?;
     table.remove("irregularities");
+    // (the track's first rails throughout: the smoothed track is another length)
+    table.remove("rail_section");
     table.insert(
         "name".into(),
         toml::Value::String(format!("{what} ({name})")),

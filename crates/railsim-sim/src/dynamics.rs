@@ -248,6 +248,8 @@ struct WheelInput {
     vel: WheelsetVelocity,
     rail: RailFrame,
     r: V3,
+    /// the track's rail section under the wheel (`WheelModel::contacts`)
+    section: usize,
 }
 
 /// Where one rail is, moved by the track irregularities and an elastic support's displacement:
@@ -681,17 +683,29 @@ impl Dynamics<'_> {
                 yaw_rate: omega_l[2] + k.qd[5],
                 spin: omega_l[1] + k.qd[4],
             };
+            let s_wheel = s + mm.p0[0] + k.q[0];
             let rail = rail_frame(
                 m,
                 wheel.side,
-                s + mm.p0[0] + k.q[0],
+                s_wheel,
                 v,
                 radius,
                 m.rail_state(wi, x),
                 &mut pose,
                 &mut vel,
             );
-            self.ws.wheel_input[wi] = WheelInput { pose, vel, rail, r };
+            // Other rails under the wheel: the warm start describes the other pair.
+            let section = m.track.rail_section_at(s_wheel);
+            if section != self.ws.wheel_input[wi].section {
+                self.ws.warm[wi].invalidate();
+            }
+            self.ws.wheel_input[wi] = WheelInput {
+                pose,
+                vel,
+                rail,
+                r,
+                section,
+            };
         }
         let timer = self.ws.timing.then(Instant::now);
         let inputs = &self.ws.wheel_input;
@@ -703,12 +717,11 @@ impl Dynamics<'_> {
             ),
         )| {
             let (wheel, inp) = (&m.wheels[wi], &inputs[wi]);
+            let contact = &wheel.contacts[inp.section];
             let res = if m.warm_start {
-                wheel
-                    .contact
-                    .evaluate_warm(wheel.side, &inp.pose, &inp.vel, warm, cws)
+                contact.evaluate_warm(wheel.side, &inp.pose, &inp.vel, warm, cws)
             } else {
-                wheel.contact.evaluate(wheel.side, &inp.pose, &inp.vel, cws)
+                contact.evaluate(wheel.side, &inp.pose, &inp.vel, cws)
             };
             *error = res.err();
         };

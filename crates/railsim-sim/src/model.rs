@@ -11,7 +11,7 @@ use railsim_contact::{
 };
 use railsim_elastic::Material;
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
-use railsim_track::{RailProfile, RailSupport, TrackModel};
+use railsim_track::{RailProfile, RailSection, RailSupport, TrackModel};
 use railsim_vehicle::model::{Endpoint, ForceLaw, Member, WheelProfile, Wheelset};
 use railsim_vehicle::{DofKind, VehicleModel};
 
@@ -116,8 +116,9 @@ pub struct WheelModel {
     pub wheelset_number: u32,
     /// Left or right.
     pub side: Side,
-    /// Wheel profile on rail profile, evaluated with the scene's contact model.
-    pub contact: WheelRailContact,
+    /// Wheel profile on the rail profile of each of the track's rail sections
+    /// (`TrackModel::rail_sections`, the same order), evaluated with the scene's contact model.
+    pub contacts: Vec<WheelRailContact>,
     /// Index of the first of the four states of the rail under this wheel on an elastic rail
     /// support (lateral and vertical displacement, then their rates); `None` on rigid rails.
     pub rail: Option<usize>,
@@ -224,32 +225,37 @@ impl SimModel {
         // Wheels with the same profiles and wheelset geometry share one pair, built once (the
         // profiles' splines and arc-length curves are most of the cost of a model: 85 % of a
         // modal analysis of the Manchester vehicle when each of its eight wheels built its own).
-        type PairKey = (WheelProfile, f64, RailProfile, f64, f64);
+        type PairKey = (WheelProfile, f64, RailProfile, f64, f64, f64);
         let mut built: Vec<(PairKey, WheelRailContact)> = Vec::new();
         for (i, w) in v.wheelsets().iter().enumerate() {
             let first_wheel = wheels.len();
             for side in [Side::Left, Side::Right] {
                 let k = usize::from(side == Side::Right);
-                let key: PairKey = (
-                    w.profiles[k].clone(),
-                    w.running_circle_from_back,
-                    scene.track.rail_profiles()[k].clone(),
-                    w.nominal_radius,
-                    w.back_to_back,
-                );
-                let contact = match built.iter().find(|(q, _)| *q == key) {
-                    Some((_, contact)) => contact.clone(),
-                    None => {
-                        let contact = build_contact(scene, w, k, side, material, options)?;
-                        built.push((key, contact.clone()));
-                        contact
-                    }
-                };
+                let mut contacts = Vec::new();
+                for section in scene.track.rail_sections() {
+                    let key: PairKey = (
+                        w.profiles[k].clone(),
+                        w.running_circle_from_back,
+                        section.profiles[k].clone(),
+                        section.inclination,
+                        w.nominal_radius,
+                        w.back_to_back,
+                    );
+                    contacts.push(match built.iter().find(|(q, _)| *q == key) {
+                        Some((_, contact)) => contact.clone(),
+                        None => {
+                            let contact =
+                                build_contact(scene, w, k, side, section, material, options)?;
+                            built.push((key, contact.clone()));
+                            contact
+                        }
+                    });
+                }
                 wheels.push(WheelModel {
                     member: MemberIx(nb + i),
                     wheelset_number: number[i],
                     side,
-                    contact,
+                    contacts,
                     rail: None,
                 });
             }
@@ -502,18 +508,19 @@ impl SimModel {
 }
 
 /// The contact pair of wheel `k` (0 left, 1 right) of wheelset `w`: its wheel profile on the
-/// track's rail profile, evaluated with the scene's contact options.
+/// rail profile of the track's rail `section`, evaluated with the scene's contact options.
 fn build_contact(
     scene: &Scene,
     w: &Wheelset,
     k: usize,
     side: Side,
+    section: &RailSection,
     material: Material,
     options: ContactOptions,
 ) -> Result<WheelRailContact, SimError> {
     let wheel = wheel_profile(&w.profiles[k], w.running_circle_from_back)?;
-    let rail = rail_profile(&scene.track.rail_profiles()[k])?;
-    let inclination = scene.track.rail_inclination();
+    let rail = rail_profile(&section.profiles[k])?;
+    let inclination = section.inclination;
     let pair = WheelRailPair::new(&PairSpec {
         wheel,
         rail,

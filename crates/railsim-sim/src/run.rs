@@ -803,8 +803,7 @@ fn settle(
             let rail = rail_frame(
                 model, wheel.side, s, vel.vx, radius, support[k], &mut pr, &mut vr,
             );
-            let sol = wheel
-                .contact
+            let sol = wheel.contacts[model.track.rail_section_at(s)]
                 .evaluate_with_load(wheel.side, &pr, &vr, 0.5 * load, 1e-10, &mut ws.contact)
                 .map_err(|e| e.to_string())?;
             let (sd, cd) = rail.sin_cos();

@@ -24,5 +24,9 @@ pub mod spec;
 pub use alignment::{Segment, SegmentId, SegmentKind, TrackFrame};
 pub use error::{SourceMap, TrackError, TrackErrors};
 pub use irregularity::{Channel, Irregularity, IrregularitySeries, Spectrum};
-pub use model::{CompileOptions, HARD_MIN_RADIUS_M, RailProfile, RailSupport, TrackModel};
-pub use spec::{IrregularitySpec, RailProfileSpec, RailSupportSpec, SegmentSpec, TrackSpec};
+pub use model::{
+    CompileOptions, HARD_MIN_RADIUS_M, RailProfile, RailSection, RailSupport, TrackModel,
+};
+pub use spec::{
+    IrregularitySpec, RailProfileSpec, RailSectionSpec, RailSupportSpec, SegmentSpec, TrackSpec,
+};

@@ -11,7 +11,7 @@ use crate::error::{Sink, TrackError, TrackErrors};
 use crate::irregularity::{
     self, Irregularity, IrregularitySeries, Spectrum, SyntheticParams, default_components,
 };
-use crate::spec::{IrregularitySpec, SegmentSpec, TrackSpec};
+use crate::spec::{IrregularitySpec, RailProfileSpec, SegmentSpec, TrackSpec};
 
 /// \[m\] hard lower limit of a curve radius.
 pub const HARD_MIN_RADIUS_M: f64 = 50.0;
@@ -72,8 +72,8 @@ pub struct TrackModel {
     name: String,
     source: String,
     gauge: f64,
-    rail_inclination: f64,
-    rail_profiles: [RailProfile; 2],
+    /// From s = 0 (the top-level keys), then the `[[rail_section]]`s in track order.
+    rail_sections: Vec<RailSection>,
     alignment: Alignment,
     irregularities: Option<IrregularitySeries>,
     rail_support: Option<RailSupport>,
@@ -165,54 +165,9 @@ impl TrackModel {
                 ),
             );
         }
-        // Rail inclination.
-        let incl = parse_inclination(spec.rail_inclination.get_ref());
-        if incl.is_none() {
-            sink.invalid(
-                &span_of(&spec.rail_inclination),
-                "rail_inclination",
-                format!(
-                    "rail_inclination = {:?} must be \"1:N\" with 5 ≤ N ≤ 1000 (e.g. \"1:40\") or \"none\"",
-                    spec.rail_inclination.get_ref()
-                ),
-            );
-        }
-        // Rail profiles.
-        let mut profiles = [RailProfile::Uic60, RailProfile::Uic60];
-        let rp = spec.rail_profile.get_ref();
-        for (i, (side, v)) in [("left", &rp.left), ("right", &rp.right)]
-            .into_iter()
-            .enumerate()
-        {
-            let name = v.get_ref().trim();
-            let lower = name.to_ascii_lowercase();
-            if lower == "uic60" {
-                profiles[i] = RailProfile::Uic60;
-            } else if name.contains('/') || name.contains('\\') || name.contains('.') {
-                let path = dir.join(name);
-                if path.is_file() {
-                    profiles[i] = RailProfile::File(path);
-                } else {
-                    sink.invalid(
-                        &span_of(v),
-                        &format!("rail_profile.{side}"),
-                        format!(
-                            "rail_profile.{side} = {name:?}: file {} not found (paths are relative to the track file)",
-                            path.display()
-                        ),
-                    );
-                }
-            } else {
-                sink.invalid(
-                    &span_of(v),
-                    &format!("rail_profile.{side}"),
-                    format!(
-                        "rail_profile.{side} = {name:?} is not a built-in profile (expected one of {:?} or a file path)",
-                        BUILTIN_RAIL_PROFILES
-                    ),
-                );
-            }
-        }
+        // Rail inclination and profiles, from s = 0 and in every rail section.
+        let incl = check_inclination(&mut sink, &spec.rail_inclination, "");
+        let profiles = check_rail_profiles(&mut sink, &spec.rail_profile, &dir, "");
         // Cant base.
         let cant_base_mm = match &spec.cant_base_mm {
             Some(v) => {
@@ -345,6 +300,18 @@ impl TrackModel {
             irregularities = check_irregularities(&mut sink, irr, &dir, track_length);
         }
 
+        let rail_sections = check_rail_sections(
+            &mut sink,
+            spec,
+            &dir,
+            RailSection {
+                start: 0.0,
+                profiles,
+                inclination: incl.unwrap_or(0.0),
+            },
+            track_length,
+        );
+
         let rail_support = spec
             .rail_support
             .as_ref()
@@ -360,8 +327,7 @@ impl TrackModel {
             name,
             source: source_name.to_owned(),
             gauge: gauge_mm * 1e-3,
-            rail_inclination: incl.unwrap_or(0.0),
-            rail_profiles: profiles,
+            rail_sections,
             alignment,
             irregularities,
             rail_support,
@@ -411,14 +377,32 @@ impl TrackModel {
         self.alignment.cant_base
     }
 
-    /// \[rad\] rail inclination (atan(1/40) for 1:40), toward the track centre.
+    /// \[rad\] rail inclination (atan(1/40) for 1:40), toward the track centre, from s = 0 to the
+    /// first rail section (the whole track without sections).
     pub fn rail_inclination(&self) -> f64 {
-        self.rail_inclination
+        self.rail_sections[0].inclination
     }
 
-    /// Rail profile of the left (`[0]`) and right (`[1]`) rail.
+    /// Rail profile of the left (`[0]`) and right (`[1]`) rail from s = 0 to the first rail
+    /// section (the whole track without sections).
     pub fn rail_profiles(&self) -> &[RailProfile; 2] {
-        &self.rail_profiles
+        &self.rail_sections[0].profiles
+    }
+
+    /// The rails along the track: the first from s = 0, each of the others from its start to
+    /// the next one's (the last to the end and beyond).
+    pub fn rail_sections(&self) -> &[RailSection] {
+        &self.rail_sections
+    }
+
+    /// The index of the rail section at s \[m\] (0 before the track's start).
+    #[inline]
+    pub fn rail_section_at(&self, s: f64) -> usize {
+        // (few sections: a linear scan from the end)
+        self.rail_sections
+            .iter()
+            .rposition(|r| r.start <= s)
+            .unwrap_or(0)
     }
 
     /// The compiled segments.
@@ -435,6 +419,134 @@ impl TrackModel {
     pub fn rail_support(&self) -> Option<&RailSupport> {
         self.rail_support.as_ref()
     }
+}
+
+/// The rails of a stretch of track: both rails' profiles and their inclination.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RailSection {
+    /// \[m\] track position where the section begins (0 for the first).
+    pub start: f64,
+    /// Rail profile of the left (`[0]`) and right (`[1]`) rail.
+    pub profiles: [RailProfile; 2],
+    /// \[rad\] rail inclination toward the track centre.
+    pub inclination: f64,
+}
+
+/// Parse a `rail_inclination` value (`prefix` names where it is, e.g. `rail_section 2: `);
+/// `None` (reported) if bad.
+fn check_inclination(sink: &mut Sink, v: &Spanned<String>, prefix: &str) -> Option<f64> {
+    let incl = parse_inclination(v.get_ref());
+    if incl.is_none() {
+        sink.invalid(
+            &span_of(v),
+            "rail_inclination",
+            format!(
+                "{prefix}rail_inclination = {:?} must be \"1:N\" with 5 ≤ N ≤ 1000 (e.g. \"1:40\") or \"none\"",
+                v.get_ref()
+            ),
+        );
+    }
+    incl
+}
+
+/// Resolve a `rail_profile` table (`prefix` names where it is, e.g. `rail_section 2: `): a
+/// built-in name or a file relative to the track file; bad names are reported (and read as
+/// UIC60 so that checking goes on).
+fn check_rail_profiles(
+    sink: &mut Sink,
+    rp: &Spanned<RailProfileSpec>,
+    dir: &Path,
+    prefix: &str,
+) -> [RailProfile; 2] {
+    let mut profiles = [RailProfile::Uic60, RailProfile::Uic60];
+    let rp = rp.get_ref();
+    for (i, (side, v)) in [("left", &rp.left), ("right", &rp.right)]
+        .into_iter()
+        .enumerate()
+    {
+        let name = v.get_ref().trim();
+        let lower = name.to_ascii_lowercase();
+        if lower == "uic60" {
+            profiles[i] = RailProfile::Uic60;
+        } else if name.contains('/') || name.contains('\\') || name.contains('.') {
+            let path = dir.join(name);
+            if path.is_file() {
+                profiles[i] = RailProfile::File(path);
+            } else {
+                sink.invalid(
+                    &span_of(v),
+                    &format!("rail_profile.{side}"),
+                    format!(
+                        "{prefix}rail_profile.{side} = {name:?}: file {} not found (paths are relative to the track file)",
+                        path.display()
+                    ),
+                );
+            }
+        } else {
+            sink.invalid(
+                &span_of(v),
+                &format!("rail_profile.{side}"),
+                format!(
+                    "{prefix}rail_profile.{side} = {name:?} is not a built-in profile (expected one of {:?} or a file path)",
+                    BUILTIN_RAIL_PROFILES
+                ),
+            );
+        }
+    }
+    profiles
+}
+
+/// The rail sections: `first` from s = 0, then each `[[rail_section]]`, whose start must lie
+/// inside the track (0 < start < `length`) and after the one before, and whose keys left out
+/// keep the section before's values.
+fn check_rail_sections(
+    sink: &mut Sink,
+    spec: &TrackSpec,
+    dir: &Path,
+    first: RailSection,
+    length: f64,
+) -> Vec<RailSection> {
+    let mut out = vec![first];
+    for (i, sec) in spec.rail_section.iter().enumerate() {
+        let sec = sec.get_ref();
+        let prev = out[out.len() - 1].clone();
+        let start = *sec.start_m.get_ref();
+        let what = format!("rail_section {}: ", i + 1);
+        if !(start.is_finite() && start > prev.start && start < length) {
+            sink.invalid(
+                &span_of(&sec.start_m),
+                "start_m",
+                format!(
+                    "{what}start_m = {} must lie after the previous section's start ({} m) and before the track's end ({} m)",
+                    short_number(start),
+                    short_number(prev.start),
+                    short_number(length)
+                ),
+            );
+            continue;
+        }
+        if sec.rail_profile.is_none() && sec.rail_inclination.is_none() {
+            sink.invalid(
+                &span_of(&sec.start_m),
+                "rail_section",
+                format!(
+                    "{what}changes nothing: give rail_profile = {{ left = ..., right = ... }} and/or rail_inclination"
+                ),
+            );
+        }
+        let profiles = sec.rail_profile.as_ref().map_or(prev.profiles, |rp| {
+            check_rail_profiles(sink, rp, dir, &what)
+        });
+        let inclination = sec.rail_inclination.as_ref().map_or(prev.inclination, |v| {
+            check_inclination(sink, v, &what).unwrap_or(prev.inclination)
+        });
+        out.push(RailSection {
+            start,
+            profiles,
+            inclination,
+        });
+    }
+    out
 }
 
 /// Check the `[rail_support]` table and convert it to SI (each value is reported on its own).

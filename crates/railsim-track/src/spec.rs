@@ -48,6 +48,11 @@ pub struct TrackSpec {
     /// Elastic rail support (a moving rail mass under each wheel); rigid rails when absent.
     #[serde(default)]
     pub rail_support: Option<Spanned<RailSupportSpec>>,
+    /// Sections with other rails, in track order: from `start_m` on (to the next section or
+    /// the end) the rails have the section's profile and inclination; the top-level
+    /// `rail_profile` and `rail_inclination` hold from s = 0 to the first section.
+    #[serde(default)]
+    pub rail_section: Vec<Spanned<RailSectionSpec>>,
     /// Line index of the text this spec was read from (empty when built in code).
     #[serde(skip)]
     pub source: SourceMap,
@@ -61,6 +66,21 @@ pub struct RailProfileSpec {
     pub left: Spanned<String>,
     /// Profile of the right rail.
     pub right: Spanned<String>,
+}
+
+/// A `[[rail_section]]`: where other rails begin, and what they are (a key left out keeps the
+/// value of the section before).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RailSectionSpec {
+    /// \[m\] track position where the section begins.
+    pub start_m: Spanned<f64>,
+    /// Rail profile per side from here on.
+    #[serde(default)]
+    pub rail_profile: Option<Spanned<RailProfileSpec>>,
+    /// Rail inclination from here on, `"1:N"` or `"none"`.
+    #[serde(default)]
+    pub rail_inclination: Option<Spanned<String>>,
 }
 
 /// The `[rail_support]` table: under each wheel a rail mass that moves with the wheelset, held

@@ -663,3 +663,92 @@ fn bad_rail_support_values_are_located() {
         "{msgs:#?}"
     );
 }
+
+#[test]
+fn rail_sections_change_the_rails_from_their_start_and_inherit_the_rest() {
+    use railsim_track::RailProfile;
+    let t = track(
+        "[[segment]]\ntype = \"tangent\"\nlength_m = 300\n\
+         [[rail_section]]\nstart_m = 100\nrail_inclination = \"1:20\"\n\
+         [[rail_section]]\nstart_m = 200\n\
+         rail_profile = { left = \"../../tracks/profiles/MBench_UIC60_v3.prr\", right = \"uic60\" }\n",
+    );
+    let r = t.rail_sections();
+    assert_eq!(r.len(), 3);
+    let (i40, i20) = ((1.0f64 / 40.0).atan(), (1.0f64 / 20.0).atan());
+    assert_eq!((r[0].start, r[0].inclination), (0.0, i40));
+    assert_eq!(r[0].profiles, [RailProfile::Uic60, RailProfile::Uic60]);
+    // the second changes the inclination only, the third the left profile only
+    assert_eq!((r[1].start, r[1].inclination), (100.0, i20));
+    assert_eq!(r[1].profiles, r[0].profiles);
+    assert_eq!((r[2].start, r[2].inclination), (200.0, i20));
+    assert!(
+        matches!(&r[2].profiles[0], RailProfile::File(p) if p.ends_with("MBench_UIC60_v3.prr"))
+    );
+    assert_eq!(r[2].profiles[1], RailProfile::Uic60);
+    // the section under a point: the first before 100 m (and before the start), from a
+    // section's start on that section
+    for (s, want) in [
+        (-5.0, 0),
+        (0.0, 0),
+        (99.999, 0),
+        (100.0, 1),
+        (199.9, 1),
+        (200.0, 2),
+        (400.0, 2),
+    ] {
+        assert_eq!(t.rail_section_at(s), want, "at {s} m");
+    }
+    // the whole-track accessors are the first section's
+    assert_eq!(t.rail_inclination(), i40);
+    // without sections: one, the top-level rails
+    let plain = track("[[segment]]\ntype = \"tangent\"\nlength_m = 300\n");
+    assert_eq!(plain.rail_sections().len(), 1);
+    assert_eq!(plain.rail_section_at(150.0), 0);
+}
+
+#[test]
+fn bad_rail_sections_are_located() {
+    let seg = "[[segment]]\ntype = \"tangent\"\nlength_m = 300\n";
+    let msgs = errors(&format!(
+        "{HEAD}{seg}\
+         [[rail_section]]\nstart_m = 150\nrail_inclination = \"1:3\"\n\
+         [[rail_section]]\nstart_m = 120\nrail_inclination = \"1:20\"\n\
+         [[rail_section]]\nstart_m = 400\nrail_inclination = \"1:20\"\n\
+         [[rail_section]]\nstart_m = 250\n\
+         [[rail_section]]\nstart_m = 280\nrail_profile = {{ left = \"uic61\", right = \"uic60\" }}\n"
+    ));
+    // line 9: the first section's inclination; 11: a start before the previous one; 14: beyond
+    // the end; 17: a section that changes nothing; 20: an unknown profile
+    has(
+        &msgs,
+        "mem.toml:9:20:",
+        "rail_section 1: rail_inclination = \"1:3\"",
+    );
+    has(
+        &msgs,
+        "mem.toml:11:11:",
+        "rail_section 2: start_m = 120 must lie after",
+    );
+    has(
+        &msgs,
+        "mem.toml:14:11:",
+        "rail_section 3: start_m = 400 must lie after",
+    );
+    has(&msgs, "mem.toml:17:11:", "rail_section 4: changes nothing");
+    has(
+        &msgs,
+        "mem.toml:20:25:",
+        "rail_section 5: rail_profile.left = \"uic61\"",
+    );
+    assert_eq!(msgs.len(), 5, "{msgs:#?}");
+    // an unknown key
+    let msgs = errors(&format!(
+        "{HEAD}{seg}[[rail_section]]\nstart_m = 100\nrail_inclinaton = \"1:20\"\n"
+    ));
+    assert!(
+        msgs.iter()
+            .any(|m| m.starts_with("mem.toml:") && m.contains("rail_inclinaton")),
+        "{msgs:#?}"
+    );
+}

@@ -62,7 +62,7 @@ pub fn centred_contact(sim: &Simulation, load: f64, v: f64) -> (f64, f64) {
         spin: v / 0.46,
         ..Default::default()
     };
-    w.contact
+    w.contacts[0]
         .evaluate_with_load(
             Side::Left,
             &WheelsetPose::default(),

@@ -1,0 +1,117 @@
+//! Rails that change along the track (`[[rail_section]]` in the track file): each wheel is
+//! evaluated on the rails under it, so a vehicle crossing a change of rail inclination takes
+//! it wheelset by wheelset, and runs on like a vehicle on the new rails throughout.
+mod common;
+
+use common::{manchester_polach, run};
+use railsim_sim::Sample;
+
+/// A straight ideal track of 300 m at the inclination `incl`, with `sections` appended,
+/// written to a temporary file named after `tag`; its path.
+fn track(tag: &str, incl: &str, sections: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("railsim-rail-sections-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{tag}.toml"));
+    std::fs::write(
+        &path,
+        format!(
+            "gauge_mm = 1435\nrail_inclination = \"{incl}\"\n\
+             rail_profile = {{ left = \"uic60\", right = \"uic60\" }}\n\
+             [[segment]]\ntype = \"tangent\"\nlength_m = 300\n{sections}"
+        ),
+    )
+    .unwrap();
+    path.display().to_string()
+}
+
+/// \[m\] where the rails change in the sectioned track
+const CHANGE: f64 = 100.0;
+/// \[m/s\]
+const SPEED: f64 = 20.0;
+/// \[m\] track position of the vehicle reference at t = 0
+const START: f64 = 80.0;
+/// \[m\] the wheelsets' x in the vehicle (front first)
+const WHEELSETS: [f64; 4] = [10.78, 8.22, -8.22, -10.78];
+
+/// The samples of the Manchester vehicle (`polach`) running 85 m at 20 m/s from s = 80 m on
+/// `track_file`.
+fn samples(track_file: &str) -> Vec<Sample> {
+    let s = manchester_polach(&format!(
+        "track = \"{track_file}\"\nspeed_kmh = {}\nstart_m = {START}\ndistance_m = 85\n\
+         [log]\nrate_hz = 1000",
+        SPEED * 3.6
+    ));
+    run(&s).1
+}
+
+/// Wheelset `n`'s (front first) vertical position at every sample.
+fn heights(samples: &[Sample], index: usize) -> Vec<f64> {
+    samples.iter().map(|s| s.x[index]).collect()
+}
+
+#[test]
+fn each_wheelset_takes_the_new_rails_where_it_reaches_them() {
+    let at_40 = track("at_1_40", "1:40", "");
+    let at_20 = track("at_1_20", "1:20", "");
+    let changed = track(
+        "changed",
+        "1:40",
+        &format!("[[rail_section]]\nstart_m = {CHANGE}\nrail_inclination = \"1:20\"\n"),
+    );
+    let (a, b, c) = (samples(&at_40), samples(&at_20), samples(&changed));
+    assert_eq!(a.len(), c.len());
+    let sim = railsim_sim::Simulation::new(&manchester_polach(&format!(
+        "track = \"{changed}\"\nspeed_kmh = 72\nstart_m = {START}\ndistance_m = 45"
+    )))
+    .unwrap();
+    assert_eq!(sim.model().track.rail_sections().len(), 2);
+    let names = &sim.model().state_names;
+    for (n, x) in WHEELSETS.iter().enumerate() {
+        let iz = names
+            .iter()
+            .position(|s| *s == format!("ws{}.z", n + 1))
+            .unwrap();
+        let (za, zb, zc) = (heights(&a, iz), heights(&b, iz), heights(&c, iz));
+        // the time this wheelset reaches the change, the first sample where it differs from
+        // the run on the old rails at all, and where by more than 30 µm (its own jump is about
+        // 90 µm, what the others pass on through the bogie and the carbody a few µm)
+        let t_cross = (CHANGE - START - x) / SPEED;
+        let differs = |by: f64| {
+            let k = zc.iter().zip(&za).position(|(c, a)| (c - a).abs() > by);
+            c[k.unwrap()].t
+        };
+        let (t_first, t_jump) = (differs(1e-9), differs(30e-6));
+        // the heights on the two inclinations and on the changed track, means over the last
+        // 2 s (on 1:20 the height keeps a small oscillation, ±3.5 µm, with this contact model)
+        let late = |z: &[f64]| {
+            let k = z.len() - 2000;
+            z[k..].iter().sum::<f64>() / (z.len() - k) as f64
+        };
+        let (z40, z20, end) = (late(&za), late(&zb), late(&zc));
+        eprintln!(
+            "ws{}: reaches the change at {t_cross:.4} s, first differs at {t_first:.4} s, by 30 µm at {t_jump:.4} s; \
+             height {:.4} mm on 1:40, {:.4} mm on 1:20, {:.4} mm on the changed track (means \
+             over the last 2 s)",
+            n + 1,
+            z40 * 1e3,
+            z20 * 1e3,
+            end * 1e3
+        );
+        // nothing changes before the front wheelset reaches the change; each wheelset's height
+        // jumps as it reaches it (within 4 ms: 8 cm)
+        let t_front = (CHANGE - START - WHEELSETS[0]) / SPEED;
+        assert!(t_first >= t_front - 1e-3, "{t_first} vs {t_front}");
+        assert!(
+            (0.0..4e-3).contains(&(t_jump - t_cross)),
+            "{t_jump} vs {t_cross}"
+        );
+        // the inclination moves the contact and with it the wheelset's height
+        assert!((z40 - z20).abs() > 1e-5, "{z40} {z20}");
+        // at the end (all wheelsets 12 m or more past the change, as the last 2 s begin) the
+        // run is the one on 1:20
+        assert!(
+            (end - z20).abs() < 0.02 * (z40 - z20).abs(),
+            "{end} vs {z20} (1:40: {z40})"
+        );
+    }
+}
