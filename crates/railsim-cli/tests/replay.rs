@@ -60,6 +60,7 @@ fn write_log(path: &Path, options: WriterOptions) {
                 fy_n: 3000.0 + y * 1e6,
                 mz_nm: 1.0,
                 wear_number_n: 0.5,
+                weight: None,
             };
             log.write(&left, t_ns, &message).unwrap();
         }

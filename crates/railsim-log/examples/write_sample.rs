@@ -81,6 +81,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     fy_n,
                     mz_nm: 1.5,
                     wear_number_n: wear_number(fx_n, fy_n, &creepages),
+                    weight: None,
                 };
                 log.write(channel, t_ns, &message)?;
             }

@@ -162,6 +162,11 @@ pub struct PatchMessage {
     pub mz_nm: f64,
     /// \[N\] wear number Tγ, see [`wear_number`]
     pub wear_number_n: f64,
+    /// \[-\] in a rail transition, the share the wheel carries of this patch (on one of the
+    /// two rails it passes between): the forces and the wear number above are that share;
+    /// absent elsewhere (a share of 1)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weight: Option<f64>,
 }
 
 impl LogMessage for PatchMessage {

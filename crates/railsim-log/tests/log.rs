@@ -65,6 +65,7 @@ fn patch(step: u64, side: Side, patch: u32) -> PatchMessage {
         fy_n,
         mz_nm: 1.5e-2,
         wear_number_n: wear_number(fx_n, fy_n, &creepages),
+        weight: None,
     }
 }
 

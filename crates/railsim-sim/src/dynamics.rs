@@ -81,8 +81,11 @@ pub struct PatchRecord {
     pub wheel: usize,
     /// The contact crate's result (in the rail's frame when the track has irregularities).
     pub result: PatchResult,
-    /// \[N\] force on the wheel in the wheelset's track frame.
+    /// \[N\] force on the wheel in the wheelset's track frame (its share: times `weight`).
     pub force_frame: V3,
+    /// \[-\] the share of the patch's forces the wheel carries: 1, but in a rail transition
+    /// (`TrackModel::rail_blend_at`) its rails' weight; `result` holds the whole forces.
+    pub weight: f64,
 }
 
 /// Time spent per stage, accumulated over evaluations.
@@ -190,6 +193,9 @@ pub struct Workspace {
     wheel_error: Vec<Option<ContactError>>,
     /// Per wheel: the warm start of its contact search (used when the model asks for it).
     pub warm: Vec<WarmStart>,
+    /// Per wheel: the evaluation on the section before's rails while the wheel is in a rail
+    /// transition (`TrackModel::rail_blend_at`; unused elsewhere).
+    partner: Vec<Partner>,
     /// Patches of the last evaluation, filled only when `record` is set.
     pub patches: Vec<PatchRecord>,
     /// \[N\] per wheel: force on the wheel in its wheelset's track frame, summed over patches.
@@ -227,6 +233,9 @@ impl Workspace {
             wheel_input: vec![WheelInput::default(); model.wheels.len()],
             wheel_error: vec![None; model.wheels.len()],
             warm: vec![WarmStart::new(); model.wheels.len()],
+            partner: (0..model.wheels.len())
+                .map(|_| Partner::default())
+                .collect(),
             patches: Vec::with_capacity(4 * model.wheels.len()),
             wheel_force: vec![[0.0; 3]; model.wheels.len()],
             record: false,
@@ -249,6 +258,28 @@ struct WheelInput {
     rail: RailFrame,
     r: V3,
     /// the track's rail section under the wheel (`WheelModel::contacts`)
+    section: usize,
+    /// its weight: below 1 in its transition, where section − 1 carries the rest (`Partner`)
+    weight: f64,
+}
+
+/// One wheel's buffers of the contact stage, as the stage zips them: workspace, warm start,
+/// error, partner.
+type WheelSlots<'a> = (
+    (
+        (&'a mut ContactWorkspace, &'a mut WarmStart),
+        &'a mut Option<ContactError>,
+    ),
+    &'a mut Partner,
+);
+
+/// One wheel's second evaluation in a rail transition: on the section before's rails.
+#[derive(Default)]
+struct Partner {
+    contact: ContactWorkspace,
+    warm: WarmStart,
+    error: Option<ContactError>,
+    /// the section it was last evaluated on
     section: usize,
 }
 
@@ -694,10 +725,17 @@ impl Dynamics<'_> {
                 &mut pose,
                 &mut vel,
             );
-            // Other rails under the wheel: the warm start describes the other pair.
-            let section = m.track.rail_section_at(s_wheel);
+            // Other rails under the wheel: the warm start describes the other pair. In a
+            // transition the section before's rails are evaluated too (`Partner`).
+            let blend = m.track.rail_blend_at(s_wheel);
+            let section = blend.section;
             if section != self.ws.wheel_input[wi].section {
                 self.ws.warm[wi].invalidate();
+            }
+            let partner = &mut self.ws.partner[wi];
+            if blend.weight < 1.0 && partner.section != section - 1 {
+                partner.warm.invalidate();
+                partner.section = section - 1;
             }
             self.ws.wheel_input[wi] = WheelInput {
                 pose,
@@ -705,25 +743,27 @@ impl Dynamics<'_> {
                 rail,
                 r,
                 section,
+                weight: blend.weight,
             };
         }
         let timer = self.ws.timing.then(Instant::now);
         let inputs = &self.ws.wheel_input;
-        let evaluate = |(wi, ((cws, warm), error)): (
-            usize,
-            (
-                (&mut ContactWorkspace, &mut WarmStart),
-                &mut Option<ContactError>,
-            ),
-        )| {
+        let evaluate = |(wi, (((cws, warm), error), partner)): (usize, WheelSlots)| {
             let (wheel, inp) = (&m.wheels[wi], &inputs[wi]);
-            let contact = &wheel.contacts[inp.section];
-            let res = if m.warm_start {
-                contact.evaluate_warm(wheel.side, &inp.pose, &inp.vel, warm, cws)
-            } else {
-                contact.evaluate(wheel.side, &inp.pose, &inp.vel, cws)
+            let one = |section: usize, warm: &mut WarmStart, cws: &mut ContactWorkspace| {
+                let contact = &wheel.contacts[section];
+                if m.warm_start {
+                    contact.evaluate_warm(wheel.side, &inp.pose, &inp.vel, warm, cws)
+                } else {
+                    contact.evaluate(wheel.side, &inp.pose, &inp.vel, cws)
+                }
             };
-            *error = res.err();
+            *error = one(inp.section, warm, cws).err();
+            partner.error = if inp.weight < 1.0 {
+                one(inp.section - 1, &mut partner.warm, &mut partner.contact).err()
+            } else {
+                None
+            };
         };
         // In parallel only on a thread of a rayon pool (the CLI runs its commands in one): the
         // calling thread then takes a share and the others steal the rest. From any other
@@ -735,6 +775,7 @@ impl Dynamics<'_> {
                 .par_iter_mut()
                 .zip(self.ws.warm.par_iter_mut())
                 .zip(self.ws.wheel_error.par_iter_mut())
+                .zip(self.ws.partner.par_iter_mut())
                 .enumerate()
                 .for_each(evaluate);
         } else {
@@ -743,6 +784,7 @@ impl Dynamics<'_> {
                 .iter_mut()
                 .zip(self.ws.warm.iter_mut())
                 .zip(self.ws.wheel_error.iter_mut())
+                .zip(self.ws.partner.iter_mut())
                 .enumerate()
                 .for_each(evaluate);
         }
@@ -751,7 +793,8 @@ impl Dynamics<'_> {
         }
         for (wi, wheel) in m.wheels.iter().enumerate() {
             let mi = wheel.member.0;
-            if let Some(e) = self.ws.wheel_error[wi].take() {
+            let error = self.ws.wheel_error[wi].take();
+            if let Some(e) = error.or_else(|| self.ws.partner[wi].error.take()) {
                 let body = format!(
                     "wheelset '{}', {} wheel",
                     m.members[mi].name,
@@ -762,17 +805,31 @@ impl Dynamics<'_> {
                 self.ws.failure = Some((body, quantity));
                 return Err(RhsError(message));
             }
-            let WheelInput { rail, r, .. } = self.ws.wheel_input[wi];
+            let WheelInput {
+                rail, r, weight, ..
+            } = self.ws.wheel_input[wi];
             let frame = self.ws.kin[mi].frame;
             let o = rail.origin;
             let back = |p: [f64; 3]| rail.to_track(p);
             let mut total = [0.0; 3];
             let mut force_g = [0.0; 3];
             let mut moment_g = [0.0; 3];
-            for p in &self.ws.wheel_contact[wi].patches {
+            // in a rail transition the patches on both rails, each with its weight
+            let partner = &self.ws.partner[wi].contact.patches;
+            let both = self.ws.wheel_contact[wi]
+                .patches
+                .iter()
+                .map(|p| (p, weight))
+                .chain(
+                    partner
+                        .iter()
+                        .filter(|_| weight < 1.0)
+                        .map(|p| (p, 1.0 - weight)),
+                );
+            for (p, w) in both {
                 let pt = add(back(p.point_track), [0.0, o[0], o[1]]);
-                let f = back(p.force_track);
-                let mo = back(p.moment_track);
+                let f = scale(w, back(p.force_track));
+                let mo = scale(w, back(p.moment_track));
                 let arm = [pt[0], pt[1] - r[1], pt[2] - r[2]];
                 total = add(total, f);
                 force_g = add(force_g, mul(&frame, f));
@@ -782,6 +839,7 @@ impl Dynamics<'_> {
                         wheel: wi,
                         result: *p,
                         force_frame: f,
+                        weight: w,
                     });
                 }
             }

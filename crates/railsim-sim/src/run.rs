@@ -1071,7 +1071,7 @@ impl LoopState {
                 ws.patches
                     .iter()
                     .filter(|p| p.wheel == wheel)
-                    .map(|p| patch_wear(&p.result))
+                    .map(|p| p.weight * patch_wear(&p.result))
                     .sum()
             };
             let msg = WheelsetMessage {
@@ -1321,11 +1321,12 @@ impl Recorder {
                     contact_angle_rad: r.contact_angle,
                     penetration_m: r.penetration,
                     creepages: c,
-                    fn_n: r.forces.fn_,
-                    fx_n: r.forces.fx,
-                    fy_n: r.forces.fs,
-                    mz_nm: r.forces.mz,
-                    wear_number_n: patch_wear(r),
+                    fn_n: p.weight * r.forces.fn_,
+                    fx_n: p.weight * r.forces.fx,
+                    fy_n: p.weight * r.forces.fs,
+                    mz_nm: p.weight * r.forces.mz,
+                    wear_number_n: p.weight * patch_wear(r),
+                    weight: (p.weight < 1.0).then_some(p.weight),
                 };
                 count[p.wheel] += 1;
                 self.writer.write(&self.contact[p.wheel], t_ns, &msg)?;

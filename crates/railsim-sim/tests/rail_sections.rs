@@ -115,3 +115,93 @@ fn each_wheelset_takes_the_new_rails_where_it_reaches_them() {
         );
     }
 }
+
+/// The largest change of any wheel's vertical force Q from its value at the start.
+fn q_swing(samples: &[Sample]) -> f64 {
+    let q = |s: &Sample| -> Vec<f64> {
+        s.wheelsets
+            .iter()
+            .flat_map(|w| [w.q_left_n, w.q_right_n])
+            .collect()
+    };
+    let q0 = q(&samples[0]);
+    samples
+        .iter()
+        .flat_map(|s| q(s).into_iter().zip(q0.clone()).map(|(a, b)| (a - b).abs()))
+        .fold(0.0, f64::max)
+}
+
+/// Over a transition (`transition_m`) the wheel's forces pass linearly from the old rails' to
+/// the new ones': the front wheelset's height moves between the two rails' heights while it
+/// crosses, and the step the wheels take at an abrupt change (an impact) is gone.
+#[test]
+fn a_transition_spreads_the_change_of_rails() {
+    let length = 5.0;
+    let abrupt = track(
+        "abrupt",
+        "1:40",
+        &format!("[[rail_section]]\nstart_m = {CHANGE}\nrail_inclination = \"1:20\"\n"),
+    );
+    let spread = track(
+        "spread",
+        "1:40",
+        &format!(
+            "[[rail_section]]\nstart_m = {CHANGE}\nrail_inclination = \"1:20\"\n\
+             transition_m = {length}\n"
+        ),
+    );
+    let (a, c) = (samples(&abrupt), samples(&spread));
+    let sim = railsim_sim::Simulation::new(&manchester_polach(&format!(
+        "track = \"{spread}\"\nspeed_kmh = 72\nstart_m = {START}\ndistance_m = 45"
+    )))
+    .unwrap();
+    assert_eq!(sim.model().track.rail_sections()[1].transition, length);
+    let iz = sim
+        .model()
+        .state_names
+        .iter()
+        .position(|s| s == "ws1.z")
+        .unwrap();
+    let z_at = |run: &[Sample], t: f64| {
+        run.iter()
+            .min_by(|p, q| (p.t - t).abs().total_cmp(&(q.t - t).abs()))
+            .unwrap()
+            .x[iz]
+    };
+    let t_in = (CHANGE - START - WHEELSETS[0]) / SPEED;
+    let t_out = t_in + length / SPEED;
+    // before the transition and after it, the two runs agree (1:40; then 1:20, means over the
+    // last 2 s as in the test above)
+    let late = |run: &[Sample]| {
+        let k = run.len() - 2000;
+        run[k..].iter().map(|s| s.x[iz]).sum::<f64>() / (run.len() - k) as f64
+    };
+    let (z40, z20) = (z_at(&a, t_in - 0.01), late(&a));
+    assert!((z_at(&c, t_in - 0.01) - z40).abs() < 1e-9);
+    assert!((late(&c) - z20).abs() < 0.02 * (z40 - z20).abs());
+    // inside, the height is between the two and passes them in order
+    let quarter = |f: f64| z_at(&c, t_in + f * (t_out - t_in));
+    let (q1, q2, q3) = (quarter(0.25), quarter(0.5), quarter(0.75));
+    eprintln!(
+        "ws1 height: 1:40 {:.4} mm; in the transition {:.4} / {:.4} / {:.4} mm; 1:20 {:.4} mm",
+        z40 * 1e3,
+        q1 * 1e3,
+        q2 * 1e3,
+        q3 * 1e3,
+        z20 * 1e3
+    );
+    let (lo, hi) = (z40.min(z20), z40.max(z20));
+    for q in [q1, q2, q3] {
+        assert!(q > lo && q < hi, "{q} outside {lo} .. {hi}");
+    }
+    assert!((q1 - z40).abs() < (q2 - z40).abs() && (q2 - z40).abs() < (q3 - z40).abs());
+    // the wheels' vertical forces: an abrupt change is a step in the rails, a transition
+    // spreads it over 5 m
+    let (swing_a, swing_c) = (q_swing(&a), q_swing(&c));
+    eprintln!(
+        "largest change of a wheel's Q: {:.1} kN abrupt, {:.1} kN over {length} m",
+        swing_a * 1e-3,
+        swing_c * 1e-3
+    );
+    assert!(swing_c < 0.2 * swing_a, "{swing_c} vs {swing_a}");
+}

@@ -25,7 +25,7 @@ pub use alignment::{Segment, SegmentId, SegmentKind, TrackFrame};
 pub use error::{SourceMap, TrackError, TrackErrors};
 pub use irregularity::{Channel, Irregularity, IrregularitySeries, Spectrum};
 pub use model::{
-    CompileOptions, HARD_MIN_RADIUS_M, RailProfile, RailSection, RailSupport, TrackModel,
+    CompileOptions, HARD_MIN_RADIUS_M, RailBlend, RailProfile, RailSection, RailSupport, TrackModel,
 };
 pub use spec::{
     IrregularitySpec, RailProfileSpec, RailSectionSpec, RailSupportSpec, SegmentSpec, TrackSpec,

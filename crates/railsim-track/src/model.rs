@@ -308,6 +308,7 @@ impl TrackModel {
                 start: 0.0,
                 profiles,
                 inclination: incl.unwrap_or(0.0),
+                transition: 0.0,
             },
             track_length,
         );
@@ -395,7 +396,8 @@ impl TrackModel {
         &self.rail_sections
     }
 
-    /// The index of the rail section at s \[m\] (0 before the track's start).
+    /// The index of the rail section at s \[m\] (0 before the track's start): the last that
+    /// begins at or before s.
     #[inline]
     pub fn rail_section_at(&self, s: f64) -> usize {
         // (few sections: a linear scan from the end)
@@ -403,6 +405,21 @@ impl TrackModel {
             .iter()
             .rposition(|r| r.start <= s)
             .unwrap_or(0)
+    }
+
+    /// The rails at s \[m\]: the section of [`rail_section_at`](Self::rail_section_at), with
+    /// weight (s − start)/transition inside its transition (the section before the rest), else 1.
+    #[inline]
+    pub fn rail_blend_at(&self, s: f64) -> RailBlend {
+        let section = self.rail_section_at(s);
+        let r = &self.rail_sections[section];
+        let along = s - r.start;
+        let weight = if along < r.transition {
+            along / r.transition
+        } else {
+            1.0
+        };
+        RailBlend { section, weight }
     }
 
     /// The compiled segments.
@@ -430,6 +447,19 @@ pub struct RailSection {
     pub profiles: [RailProfile; 2],
     /// \[rad\] rail inclination toward the track centre.
     pub inclination: f64,
+    /// \[m\] from `start` over this length a wheel's contact forces pass linearly from the
+    /// section before's rails to these ([`TrackModel::rail_blend_at`]); 0: at once.
+    pub transition: f64,
+}
+
+/// The rails under a point of the track ([`TrackModel::rail_blend_at`]): a section and its
+/// weight; in a transition the section before carries the rest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RailBlend {
+    /// Index into [`TrackModel::rail_sections`].
+    pub section: usize,
+    /// \[-\] its weight, in [0, 1]; below 1 (in its transition) section − 1 weighs 1 − weight.
+    pub weight: f64,
 }
 
 /// Parse a `rail_inclination` value (`prefix` names where it is, e.g. `rail_section 2: `);
@@ -540,10 +570,46 @@ fn check_rail_sections(
         let inclination = sec.rail_inclination.as_ref().map_or(prev.inclination, |v| {
             check_inclination(sink, v, &what).unwrap_or(prev.inclination)
         });
+        let transition = match &sec.transition_m {
+            None => 0.0,
+            Some(v) => {
+                let l = *v.get_ref();
+                if !(l.is_finite() && l >= 0.0 && start + l <= length) {
+                    sink.invalid(
+                        &span_of(v),
+                        "transition_m",
+                        format!(
+                            "{what}transition_m = {} must be at least 0 and end on the track (start_m + transition_m ≤ {} m)",
+                            short_number(l),
+                            short_number(length)
+                        ),
+                    );
+                    0.0
+                } else {
+                    l
+                }
+            }
+        };
+        // (a transition ends before the next section begins: checked against the next one)
+        if let Some(last) = out.last()
+            && out.len() > 1
+            && last.start + last.transition > start
+        {
+            sink.invalid(
+                &span_of(&sec.start_m),
+                "start_m",
+                format!(
+                    "{what}start_m = {} lies inside the transition of the section before (to {} m)",
+                    short_number(start),
+                    short_number(last.start + last.transition)
+                ),
+            );
+        }
         out.push(RailSection {
             start,
             profiles,
             inclination,
+            transition,
         });
     }
     out

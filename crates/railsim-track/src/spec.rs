@@ -81,6 +81,10 @@ pub struct RailSectionSpec {
     /// Rail inclination from here on, `"1:N"` or `"none"`.
     #[serde(default)]
     pub rail_inclination: Option<Spanned<String>>,
+    /// \[m\] length over which the rails change from the section before's to these (from
+    /// `start_m` on); 0 (the default): at once.
+    #[serde(default)]
+    pub transition_m: Option<Spanned<f64>>,
 }
 
 /// The `[rail_support]` table: under each wheel a rail mass that moves with the wheelset, held

@@ -752,3 +752,49 @@ fn bad_rail_sections_are_located() {
         "{msgs:#?}"
     );
 }
+
+#[test]
+fn rail_transitions_blend_linearly_and_bad_ones_are_located() {
+    let seg = "[[segment]]\ntype = \"tangent\"\nlength_m = 300\n";
+    let t = track(&format!(
+        "{seg}[[rail_section]]\nstart_m = 100\nrail_inclination = \"1:20\"\ntransition_m = 10\n\
+         [[rail_section]]\nstart_m = 110\nrail_inclination = \"1:30\"\n"
+    ));
+    assert_eq!(t.rail_sections()[1].transition, 10.0);
+    assert_eq!(t.rail_sections()[2].transition, 0.0);
+    for (s, section, weight) in [
+        (99.0, 0, 1.0),
+        (100.0, 1, 0.0),
+        (102.5, 1, 0.25),
+        (109.0, 1, 0.9),
+        (110.0, 2, 1.0),
+        (250.0, 2, 1.0),
+    ] {
+        let b = t.rail_blend_at(s);
+        assert_eq!(b.section, section, "at {s} m");
+        assert!((b.weight - weight).abs() < 1e-12, "at {s} m: {}", b.weight);
+    }
+    let msgs = errors(&format!(
+        "{HEAD}{seg}\
+         [[rail_section]]\nstart_m = 100\nrail_inclination = \"1:20\"\ntransition_m = -1\n\
+         [[rail_section]]\nstart_m = 150\nrail_inclination = \"1:30\"\ntransition_m = 20\n\
+         [[rail_section]]\nstart_m = 160\nrail_inclination = \"1:40\"\n\
+         [[rail_section]]\nstart_m = 290\nrail_inclination = \"1:20\"\ntransition_m = 20\n"
+    ));
+    has(
+        &msgs,
+        "mem.toml:10:16:",
+        "rail_section 1: transition_m = -1 must be at least 0",
+    );
+    has(
+        &msgs,
+        "mem.toml:16:11:",
+        "rail_section 3: start_m = 160 lies inside the transition of the section before (to 170 m)",
+    );
+    has(
+        &msgs,
+        "mem.toml:21:16:",
+        "rail_section 4: transition_m = 20 must be at least 0 and end on the track",
+    );
+    assert_eq!(msgs.len(), 3, "{msgs:#?}");
+}
