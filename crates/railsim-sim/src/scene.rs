@@ -1829,6 +1829,30 @@ impl Compiler<'_> {
                 ok = false;
             }
         }
+        // The static equilibrium at the start takes each wheelset on the rails of its section;
+        // in a rail transition the dynamics blend two rails' forces, which it does not.
+        if ok {
+            let (a, b) = (start + x_min, start + x_max);
+            let over = track
+                .rail_sections()
+                .iter()
+                .find(|r| r.transition > 0.0 && r.start < b && r.start + r.transition > a);
+            if let Some(r) = over {
+                self.err(
+                    &start_span,
+                    "start_m",
+                    format!(
+                        "start_m = {start} m puts the wheelsets of vehicle '{}' at s = {a:.2} .. {b:.2} m, over the rail \
+                         transition at s = {:.2} .. {:.2} m; the initial state is a static equilibrium on one rail \
+                         section: expected a start with every wheelset before or after the transition",
+                        vehicle.name(),
+                        r.start,
+                        r.start + r.transition
+                    ),
+                );
+                ok = false;
+            }
+        }
         let d = match (length, speed) {
             (Some(RunLength::Distance(d)), _) => d,
             (Some(RunLength::Duration(t)), Some(p)) => p.distance_at(t),

@@ -205,3 +205,43 @@ fn a_transition_spreads_the_change_of_rails() {
     );
     assert!(swing_c < 0.2 * swing_a, "{swing_c} vs {swing_a}");
 }
+
+/// A start with a wheelset over a rail transition is refused (the static equilibrium at the
+/// start is on one section's rails), naming the key, the vehicle's extent and the transition;
+/// a start over an abrupt change is fine (each wheelset settles on its own rails).
+#[test]
+fn a_start_over_a_rail_transition_is_refused() {
+    let spread = track(
+        "start_over",
+        "1:40",
+        "[[rail_section]]\nstart_m = 100\nrail_inclination = \"1:20\"\ntransition_m = 5\n",
+    );
+    let text = |start: f64| {
+        format!(
+            "vehicle = \"vehicles/manchester_vehicle1.toml\"\ntrack = \"{spread}\"\n\
+             speed_kmh = 72\nstart_m = {start}\ndistance_m = 10\n"
+        )
+    };
+    let err = railsim_sim::Scene::from_toml_str(&text(95.0), "over.toml", &common::root())
+        .err()
+        .expect("a start over the transition is an error")
+        .to_string();
+    assert!(
+        err.contains("over.toml:4:")
+            && err.contains("start_m = 95 m")
+            && err.contains("over the rail transition at s = 100.00 .. 105.00 m"),
+        "{err}"
+    );
+    // the whole vehicle before it, or over an abrupt change: accepted
+    assert!(railsim_sim::Scene::from_toml_str(&text(80.0), "before.toml", &common::root()).is_ok());
+    let abrupt = track(
+        "start_abrupt",
+        "1:40",
+        "[[rail_section]]\nstart_m = 100\nrail_inclination = \"1:20\"\n",
+    );
+    let text = format!(
+        "vehicle = \"vehicles/manchester_vehicle1.toml\"\ntrack = \"{abrupt}\"\n\
+         speed_kmh = 72\nstart_m = 95\ndistance_m = 10\n"
+    );
+    assert!(railsim_sim::Scene::from_toml_str(&text, "abrupt.toml", &common::root()).is_ok());
+}
