@@ -115,6 +115,15 @@ fn turning_points(z: &[f64], floor: f64) -> Vec<f64> {
     out
 }
 
+/// The index of the force element `name` of `sim`'s vehicle.
+fn element(sim: &Simulation, name: &str) -> usize {
+    sim.model()
+        .elements
+        .iter()
+        .position(|e| e.name == name)
+        .unwrap()
+}
+
 const K_SPRING: f64 = 1e6;
 const K_STICK: f64 = 1e7;
 const MASS: f64 = 1000.0;
@@ -552,18 +561,7 @@ friction_moment_nm = {m0}
         ..Default::default()
     };
     let ir = names.iter().position(|n| n == "d/dt frame.yaw").unwrap();
-    let ib = sim
-        .model()
-        .elements
-        .iter()
-        .position(|e| e.name == "side_bearers")
-        .unwrap();
-    let it = sim
-        .model()
-        .elements
-        .iter()
-        .position(|e| e.name == "torsion")
-        .unwrap();
+    let (ib, it) = (element(&sim, "side_bearers"), element(&sim, "torsion"));
     // the oscillation's energy (the torsion spring on its own measure of the rotation, the
     // frame's yaw, the stick stiffness)
     let energy = |smp: &railsim_sim::Sample| {
@@ -662,14 +660,7 @@ fn the_elements_work_balances_the_mechanical_energy() {
     let (iz, z0) = lift_mass(&mut sim, lift);
     let names = sim.model().state_names.clone();
     let iv = names.iter().position(|n| n == "d/dt mass.z").unwrap();
-    let el = |n: &str| {
-        sim.model()
-            .elements
-            .iter()
-            .position(|e| e.name == n)
-            .unwrap()
-    };
-    let (spring, rubbing) = (el("spring"), el("rubbing"));
+    let (spring, rubbing) = (element(&sim, "spring"), element(&sim, "rubbing"));
     let opts = RunOptions {
         no_log: true,
         ..Default::default()
