@@ -128,7 +128,7 @@ pub struct ElementRecord {
     /// the attachment (local axes): the rate of its stored energy plus what it dissipates
     pub power: f64,
     /// \[W\] the part of `power` the element dissipates (never negative; 0 for springs, tables
-    /// and anti-roll bars): [`dissipation`]
+    /// and anti-roll bars; see the function `dissipation` of this module)
     pub dissipation: f64,
 }
 
