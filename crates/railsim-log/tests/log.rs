@@ -619,8 +619,10 @@ fn damaged_logs_read_or_fail_cleanly() {
             }
         }
     }
+    // both outcomes, each in at least a tenth of the copies (how many open depends on how much
+    // of the file is schema and index, which the reader refuses when damaged)
     assert!(
-        opened > 50 && failed > 50,
+        opened >= 30 && failed >= 30,
         "{opened} opened, {failed} failed"
     );
 }
