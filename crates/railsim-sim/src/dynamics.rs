@@ -733,7 +733,9 @@ impl Dynamics<'_> {
                 self.ws.warm[wi].invalidate();
             }
             let partner = &mut self.ws.partner[wi];
-            if blend.weight < 1.0 && partner.section != section - 1 {
+            // (`rail_blend_at` gives a weight below 1 only from the second section on)
+            let blended = blend.weight < 1.0 && section > 0;
+            if blended && partner.section != section - 1 {
                 partner.warm.invalidate();
                 partner.section = section - 1;
             }
@@ -743,7 +745,7 @@ impl Dynamics<'_> {
                 rail,
                 r,
                 section,
-                weight: blend.weight,
+                weight: if blended { blend.weight } else { 1.0 },
             };
         }
         let timer = self.ws.timing.then(Instant::now);

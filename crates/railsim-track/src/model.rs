@@ -413,8 +413,9 @@ impl TrackModel {
     pub fn rail_blend_at(&self, s: f64) -> RailBlend {
         let section = self.rail_section_at(s);
         let r = &self.rail_sections[section];
+        // (the first section has no transition, and before the track's start s - start < 0)
         let along = s - r.start;
-        let weight = if along < r.transition {
+        let weight = if section > 0 && along < r.transition {
             along / r.transition
         } else {
             1.0

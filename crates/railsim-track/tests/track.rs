@@ -763,6 +763,8 @@ fn rail_transitions_blend_linearly_and_bad_ones_are_located() {
     assert_eq!(t.rail_sections()[1].transition, 10.0);
     assert_eq!(t.rail_sections()[2].transition, 0.0);
     for (s, section, weight) in [
+        (-5.0, 0, 1.0),
+        (f64::NAN, 0, 1.0),
         (99.0, 0, 1.0),
         (100.0, 1, 0.0),
         (102.5, 1, 0.25),
