@@ -497,8 +497,10 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
     print_element_energy(s)?;
     let st = &s.stats;
     outln!(
-        "integrator: {} steps, {} rejected, {} right-hand sides, {} Jacobians, {} LU",
+        "integrator: {} steps ({} limited by stability), {} rejected, {} right-hand sides, {} \
+         Jacobians, {} LU",
         st.steps,
+        st.stability_limited,
         st.rejected,
         st.rhs_evals,
         st.jacobians,
@@ -509,6 +511,15 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
             "integrator: {} step attempts rejected because the model could not be evaluated at a \
              trial state (e.g. a contact beyond its limits), retried shorter",
             st.trial_failures
+        );
+    }
+    if let Some(t) = st.stiff_from {
+        outln!(
+            "integrator: the steps were limited by stability, not accuracy ({} of {} steps; \
+             stiff from t = {t:.3} s): a weakly damped stiff mode can keep an oscillation of the \
+             order of atol; radau5 or a smaller atol removes it (docs/models/ode.md)",
+            st.stability_limited,
+            st.steps
         );
     }
     let (warm, cold) = s.contact_searches;

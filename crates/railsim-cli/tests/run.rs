@@ -212,3 +212,32 @@ fn threads_do_not_change_the_run() {
     };
     assert_eq!(digest("1"), digest("2"));
 }
+
+/// A vehicle on ideal straight track gives DOPRI5 nothing to resolve: its steps are held by
+/// stability, and the summary says so and names the remedy.
+#[test]
+fn a_stability_limited_run_is_reported() {
+    let dir = temp_dir("stiff");
+    let scene = dir.join("stiff.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "vehicle = \"{}\"\ntrack = \"{}\"\nspeed_kmh = 72\nduration_s = 0.3\n\
+             freeze = [\"carbody.x\"]\n[contact]\nmodel = \"polach\"\n\
+             [integrator]\nmethod = \"dopri5\"\nrtol = 1e-4\natol = 1e-6\n",
+            root().join("vehicles/manchester_vehicle1.toml").display(),
+            root().join("tracks/straight.toml").display()
+        ),
+    )
+    .unwrap();
+    let (code, out, err) = railsim(&["run", scene.to_str().unwrap(), "--no-log"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("limited by stability), ")
+            && out.contains("integrator: the steps were limited by stability, not accuracy (")
+            && out.contains("stiff from t = 0.0")
+            && out.contains("radau5 or a smaller atol"),
+        "{out}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

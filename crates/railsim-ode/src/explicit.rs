@@ -16,6 +16,33 @@ const FAC_MAX: f64 = 10.0;
 /// Integral-part exponent of the PI controller (Gustafsson; Hairer uses 0.04 for DOPRI5).
 const BETA: f64 = 0.04;
 
+/// Consecutive stability-limited steps after which a run is reported stiff (Hairer's DOPRI5
+/// code: 15).
+const STIFF_RUN: usize = 15;
+
+/// Whether the accepted step with stage derivatives `k` was limited by stability:
+/// the last two stages are both at t + h, at the states x_{s−1} and x_s, so
+/// h ‖k_s − k_{s−1}‖ / ‖x_s − x_{s−1}‖ estimates h·|λ| of the eigenvalue that dominates
+/// their difference (Hairer & Wanner, *Solving ODEs II*, §IV.2). The state difference is
+/// h Σ_j (a_{s,j} − a_{s−1,j}) k_j, so no stage state need be kept.
+fn stability_limited(tab: &ButcherTableau, k: &[Vec<f64>], limit: f64) -> bool {
+    let s = tab.stages();
+    let (last, before) = (tab.a[s - 1], tab.a[s - 2]);
+    let (mut num, mut den) = (0.0, 0.0);
+    for m in 0..k[0].len() {
+        let df = k[s - 1][m] - k[s - 2][m];
+        let mut dx = 0.0;
+        for (j, kj) in k.iter().enumerate().take(s - 1) {
+            let aj = last[j] - before.get(j).copied().unwrap_or(0.0);
+            dx += aj * kj[m];
+        }
+        num += df * df;
+        den += dx * dx;
+    }
+    // h·|λ| ≈ h ‖Δf‖ / ‖h Δx'‖ = ‖Δf‖ / ‖Δx'‖ with Δx' = Σ_j (a_{s,j} − a_{s−1,j}) k_j
+    den > 0.0 && num > limit * limit * den
+}
+
 pub(crate) struct ErkWork {
     tab: &'static ButcherTableau,
     dense_d: Option<&'static [f64; 7]>,
@@ -31,6 +58,8 @@ pub(crate) struct ErkWork {
     /// Controller memory: error norm of the last accepted step.
     facold: f64,
     reject: bool,
+    /// Consecutive accepted steps limited by stability (see [`crate::Stats::stiff_from`]).
+    stiff_run: usize,
 }
 
 impl ErkWork {
@@ -47,6 +76,7 @@ impl ErkWork {
             dense5: vec![0.0; if dense_d.is_some() { n } else { 0 }],
             facold: 1e-4,
             reject: false,
+            stiff_run: 0,
         }
     }
 
@@ -67,6 +97,7 @@ impl ErkWork {
     pub(crate) fn reset(&mut self) {
         self.facold = 1e-4;
         self.reject = false;
+        self.stiff_run = 0;
     }
 
     pub(crate) fn dense(
@@ -228,6 +259,17 @@ impl Integrator {
                         acc += dj * w.k[j][m];
                     }
                     w.dense5[m] = h * acc;
+                }
+            }
+            if let (true, Some(limit)) = (w.adaptive, tab.stiffness_limit) {
+                if stability_limited(tab, &w.k, limit) {
+                    self.stats.stability_limited += 1;
+                    w.stiff_run += 1;
+                    if w.stiff_run == STIFF_RUN && self.stats.stiff_from.is_none() {
+                        self.stats.stiff_from = Some(t + h);
+                    }
+                } else {
+                    w.stiff_run = 0;
                 }
             }
             self.t_prev = t;

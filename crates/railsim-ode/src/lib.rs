@@ -218,7 +218,7 @@ impl Method {
 }
 
 /// Counters of one run (reset by [`Integrator::start`]).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Stats {
     /// \[-\] accepted steps.
     pub steps: usize,
@@ -237,6 +237,16 @@ pub struct Stats {
     /// \[-\] step attempts abandoned because the right-hand side failed or was not finite at
     /// a trial state (adaptive methods; see [`OdeSystem::rhs`]).
     pub trial_failures: usize,
+    /// \[-\] accepted steps of an adaptive explicit method that were limited by stability
+    /// rather than accuracy: the estimate h·|λ| of the dominant eigenvalue exceeded the
+    /// method's [`tableau::ButcherTableau::stiffness_limit`] (DOPRI5 only). Such steps keep a stiff
+    /// component on the edge of the stability region, where a weakly damped mode can hold an
+    /// oscillation of the order of the absolute tolerance.
+    pub stability_limited: usize,
+    /// \[s\] time at the end of the 15th consecutive stability-limited step, the first time
+    /// this happened in the run (Hairer's criterion for "the problem seems to be stiff");
+    /// `None` if it never did.
+    pub stiff_from: Option<f64>,
 }
 
 /// Why a run stopped. Every variant except [`StopReason::Reached`] leaves the state at

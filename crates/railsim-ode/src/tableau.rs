@@ -31,6 +31,13 @@ pub struct ButcherTableau {
     /// "First same as last": the last stage is evaluated at (t + h, x_new), so it is
     /// f at the start of the next step.
     pub fsal: bool,
+    /// \[-\] for methods whose last two stages are both evaluated at t + h (DOPRI5): the
+    /// value of the estimate h·|λ| = h ‖k_s − k_{s−1}‖ / ‖x_s − x_{s−1}‖ of the dominant
+    /// eigenvalue beyond which a step counts as limited by stability rather than by accuracy
+    /// (about where the stability region ends on the negative real axis); `None`: no test.
+    /// Hairer & Wanner, *Solving ODEs II*, §IV.2 ("Stiffness detection"), and the stiffness
+    /// test of their DOPRI5 code (3.25).
+    pub stiffness_limit: Option<f64>,
 }
 
 impl ButcherTableau {
@@ -55,6 +62,7 @@ pub const RK4: ButcherTableau = ButcherTableau {
     e: None,
     dense: None,
     fsal: false,
+    stiffness_limit: None,
 };
 
 /// Bogacki–Shampine 3(2), four stages with FSAL (three evaluations per step), third-order
@@ -85,6 +93,7 @@ pub const BS3: ButcherTableau = ButcherTableau {
     ]),
     dense: None,
     fsal: true,
+    stiffness_limit: None,
 };
 
 /// Dormand–Prince 5(4), seven stages with FSAL, fifth-order solution (local extrapolation).
@@ -144,6 +153,7 @@ pub const DOPRI5: ButcherTableau = ButcherTableau {
     ]),
     dense: Some(&DOPRI5_DENSE),
     fsal: true,
+    stiffness_limit: Some(3.25),
 };
 
 /// \[-\] Coefficients d of the fourth-order continuous extension of [`DOPRI5`]

@@ -458,6 +458,9 @@ fn stiff_van_der_pol_needs_far_more_explicit_steps() {
         sd.steps,
         sr.steps
     );
+    // and DOPRI5 says why: its steps are held by stability, from the first fraction of a second
+    assert!(sd.stiff_from.is_some_and(|t| t < 1.0), "{sd:?}");
+    assert!(sd.stability_limited > sd.steps * 99 / 100, "{sd:?}");
 }
 
 #[test]
@@ -966,5 +969,92 @@ fn a_failure_at_a_trial_state_rejects_the_step() {
             .integrate(&mut sys, 0.0, &mut x, 0.2, &mut go)
             .unwrap();
         assert!(matches!(r, StopReason::RhsFailed { .. }), "{m:?}: {r:?}");
+    }
+}
+
+// ---------------------------------------------------------------- stiffness detection
+
+/// y' = λ (y − cos t) − sin t, y(0) = 1: y = cos t for every λ; with λ ≪ 0 an explicit
+/// method's step is held by stability at h ≈ 3.3 / |λ| (DOPRI5) although the solution is smooth.
+struct StiffCosine {
+    lambda: f64,
+}
+
+impl OdeSystem for StiffCosine {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&mut self, t: f64, y: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+        d[0] = self.lambda * (y[0] - t.cos()) - t.sin();
+        Ok(())
+    }
+}
+
+/// The run's statistics and its accepted step sizes (from the observer's times).
+fn steps_of(method: Method, sys: &mut impl OdeSystem, x0: &[f64], t_end: f64) -> (Stats, Vec<f64>) {
+    let mut integ = Integrator::new(method, sys.dim()).unwrap();
+    let mut x = x0.to_vec();
+    let mut times = vec![];
+    let (r, s) = integ
+        .integrate(sys, 0.0, &mut x, t_end, &mut |t, _| {
+            times.push(t);
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert_eq!(r, StopReason::Reached);
+    (s, times.windows(2).map(|w| w[1] - w[0]).collect())
+}
+
+#[test]
+fn dopri5_counts_exactly_the_steps_beyond_its_stability_limit() {
+    // On a linear scalar problem the two last stages differ by λ times their states' difference,
+    // so the estimate h|λ| is exact: the stability-limited steps are those with h > 3.25/|λ|.
+    let lambda = -1000.0;
+    let (s, h) = steps_of(
+        Method::dormand_prince(1e-4, 1e-6),
+        &mut StiffCosine { lambda },
+        &[1.0],
+        2.0,
+    );
+    let beyond = h.iter().filter(|&&h| h * lambda.abs() > 3.25).count();
+    let mut sorted = h.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    eprintln!(
+        "stiff cosine, DOPRI5: {s:?}; median h|λ| {:.3}; {beyond} steps beyond 3.25",
+        median * lambda.abs()
+    );
+    assert_eq!(s.stability_limited, beyond);
+    // the step hovers at the stability boundary (about 3.3 on the negative real axis; Hairer &
+    // Wanner, Solving ODEs II, §IV.2) ...
+    assert!(
+        (3.2..3.4).contains(&(median * lambda.abs())),
+        "median h {median}"
+    );
+    // ... from early on, which the run reports as stiff
+    let from = s.stiff_from.expect("reported stiff");
+    assert!(from < 0.1, "stiff from {from}");
+    assert!(s.stability_limited > s.steps / 4, "{s:?}");
+}
+
+#[test]
+fn non_stiff_runs_and_other_methods_report_no_stability_limit() {
+    // the oscillator's steps are set by accuracy: h|λ| = 2h stays far below 3.25
+    let (_, s) = osc_error(Method::dormand_prince(1e-6, 1e-9), 20.0);
+    assert_eq!((s.stability_limited, s.stiff_from), (0, None), "{s:?}");
+    // methods without the test report nothing, even on a stiff problem
+    for method in [
+        Method::AdaptiveExplicit {
+            tableau: &BS3,
+            rtol: 1e-6,
+            atol: 1e-9,
+            h0: None,
+            h_max: f64::INFINITY,
+        },
+        Method::radau5(1e-6, 1e-9),
+        Method::Rk4 { h: 1e-3 },
+    ] {
+        let (s, _) = steps_of(method, &mut StiffCosine { lambda: -1000.0 }, &[1.0], 0.5);
+        assert_eq!((s.stability_limited, s.stiff_from), (0, None), "{method:?}");
     }
 }

@@ -50,7 +50,8 @@ fn heights(samples: &[Sample], index: usize) -> Vec<f64> {
 }
 
 /// The mean of `z` over its last 2000 samples (2 s at 1 kHz): on 1:20 the height keeps a small
-/// oscillation (±4 µm with `polach`, docs/models/track.md).
+/// oscillation (±4 µm with `polach`: DOPRI5 at atol 1e-6 on the edge of its stability region,
+/// docs/models/track.md and `tests/stiffness.rs`).
 fn late(z: &[f64]) -> f64 {
     let k = z.len() - 2000;
     z[k..].iter().sum::<f64>() / (z.len() - k) as f64
