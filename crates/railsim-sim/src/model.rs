@@ -225,7 +225,7 @@ impl SimModel {
         // Wheels with the same profiles and wheelset geometry share one pair, built once (the
         // profiles' splines and arc-length curves are most of the cost of a model: 85 % of a
         // modal analysis of the Manchester vehicle when each of its eight wheels built its own).
-        type PairKey = (WheelProfile, f64, RailProfile, f64, f64, f64);
+        type PairKey = (WheelProfile, f64, RailProfile, f64, f64, f64, f64);
         let mut built: Vec<(PairKey, WheelRailContact)> = Vec::new();
         for (i, w) in v.wheelsets().iter().enumerate() {
             let first_wheel = wheels.len();
@@ -238,6 +238,7 @@ impl SimModel {
                         w.running_circle_from_back,
                         section.profiles[k].clone(),
                         section.inclination,
+                        section.gauge,
                         w.nominal_radius,
                         w.back_to_back,
                     );
@@ -527,7 +528,7 @@ fn build_contact(
         r0: w.nominal_radius,
         flange_back_distance: w.back_to_back,
         flange_back_y: -w.running_circle_from_back,
-        gauge: scene.track.gauge(),
+        gauge: section.gauge,
         gauge_depth: 0.014,
         inclination,
         material,

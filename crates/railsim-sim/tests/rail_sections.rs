@@ -9,13 +9,18 @@ use railsim_sim::Sample;
 /// A straight ideal track of 300 m at the inclination `incl`, with `sections` appended,
 /// written to a temporary file named after `tag`; its path.
 fn track(tag: &str, incl: &str, sections: &str) -> String {
+    track_with_gauge(tag, 1435.0, incl, sections)
+}
+
+/// As [`track`], with the gauge `gauge_mm`.
+fn track_with_gauge(tag: &str, gauge_mm: f64, incl: &str, sections: &str) -> String {
     let dir = std::env::temp_dir().join(format!("railsim-rail-sections-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{tag}.toml"));
     std::fs::write(
         &path,
         format!(
-            "gauge_mm = 1435\nrail_inclination = \"{incl}\"\n\
+            "gauge_mm = {gauge_mm}\nrail_inclination = \"{incl}\"\n\
              rail_profile = {{ left = \"uic60\", right = \"uic60\" }}\n\
              [[segment]]\ntype = \"tangent\"\nlength_m = 300\n{sections}"
         ),
@@ -115,6 +120,61 @@ fn each_wheelset_takes_the_new_rails_where_it_reaches_them() {
         assert!(
             (end - z20).abs() < 0.02 * (z40 - z20).abs(),
             "{end} vs {z20} (1:40: {z40})"
+        );
+    }
+}
+
+/// A section that widens the gauge (1435 to 1450 mm, as in a tight curve) moves each rail
+/// 7.5 mm outward under the wheels that reach it: their contact moves toward the field side and
+/// the wheelsets run on as on a track of 1450 mm throughout.
+#[test]
+fn a_section_widens_the_gauge_under_the_wheelsets_that_reach_it() {
+    let narrow = track("gauge_1435", "1:40", "");
+    let wide = track_with_gauge("gauge_1450", 1450.0, "1:40", "");
+    let widened = track(
+        "widened",
+        "1:40",
+        &format!("[[rail_section]]\nstart_m = {CHANGE}\ngauge_mm = 1450\n"),
+    );
+    let (a, b, c) = (samples(&narrow), samples(&wide), samples(&widened));
+    assert_eq!(a.len(), c.len());
+    let sim = railsim_sim::Simulation::new(&manchester_polach(&format!(
+        "track = \"{widened}\"\nspeed_kmh = 72\nstart_m = {START}\ndistance_m = 45"
+    )))
+    .unwrap();
+    let names = &sim.model().state_names;
+    for n in 0..WHEELSETS.len() {
+        let iz = names
+            .iter()
+            .position(|s| *s == format!("ws{}.z", n + 1))
+            .unwrap();
+        let (za, zb, zc) = (heights(&a, iz), heights(&b, iz), heights(&c, iz));
+        let (z35, z50, end) = (late(&za), late(&zb), late(&zc));
+        eprintln!(
+            "ws{}: height {:.4} mm at 1435 mm, {:.4} mm at 1450 mm, {:.4} mm widened at {CHANGE} m \
+             (means over the last 2 s)",
+            n + 1,
+            z35 * 1e3,
+            z50 * 1e3,
+            end * 1e3
+        );
+        // the wider gauge lowers the wheelsets (a smaller rolling radius on the field side) ...
+        assert!(z50 < z35 - 1e-5, "{z35} {z50}");
+        // ... and past the change the run is the one on the wide gauge
+        assert!(
+            (end - z50).abs() < 0.02 * (z35 - z50),
+            "{end} vs {z50} (1435 mm: {z35})"
+        );
+        // before the leading wheelset reaches it, nothing changes
+        let t_front = (CHANGE - START - WHEELSETS[0]) / SPEED;
+        let k = a.iter().position(|s| s.t >= t_front - 1e-3).unwrap();
+        assert!(
+            za[..k]
+                .iter()
+                .zip(&zc[..k])
+                .all(|(x, y)| (x - y).abs() < 1e-9),
+            "ws{} changed before {t_front} s",
+            n + 1
         );
     }
 }

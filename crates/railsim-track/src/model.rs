@@ -155,16 +155,7 @@ impl TrackModel {
 
         // Gauge.
         let gauge_mm = *spec.gauge_mm.get_ref();
-        if !(gauge_mm.is_finite() && (600.0..=2000.0).contains(&gauge_mm)) {
-            sink.invalid(
-                &span_of(&spec.gauge_mm),
-                "gauge_mm",
-                format!(
-                    "gauge_mm = {} must be between 600 and 2000 (a plausible track gauge in mm)",
-                    short_number(gauge_mm)
-                ),
-            );
-        }
+        check_gauge(&mut sink, &spec.gauge_mm, "", None);
         // Rail inclination and profiles, from s = 0 and in every rail section.
         let incl = check_inclination(&mut sink, &spec.rail_inclination, "");
         let profiles = check_rail_profiles(&mut sink, &spec.rail_profile, &dir, "");
@@ -308,6 +299,7 @@ impl TrackModel {
                 start: 0.0,
                 profiles,
                 inclination: incl.unwrap_or(0.0),
+                gauge: gauge_mm * 1e-3,
                 transition: 0.0,
             },
             track_length,
@@ -368,7 +360,8 @@ impl TrackModel {
         self.alignment.length
     }
 
-    /// \[m\] nominal gauge.
+    /// \[m\] nominal gauge at the track's start (`gauge_mm`; a rail section may change it,
+    /// [`RailSection::gauge`]).
     pub fn gauge(&self) -> f64 {
         self.gauge
     }
@@ -448,6 +441,9 @@ pub struct RailSection {
     pub profiles: [RailProfile; 2],
     /// \[rad\] rail inclination toward the track centre.
     pub inclination: f64,
+    /// \[m\] nominal gauge (the first section's is the track's `gauge_mm`); the gauge
+    /// irregularity adds to it.
+    pub gauge: f64,
     /// \[m\] from `start` over this length a wheel's contact forces pass linearly from the
     /// section before's rails to these ([`TrackModel::rail_blend_at`]); 0: at once.
     pub transition: f64,
@@ -461,6 +457,43 @@ pub struct RailBlend {
     pub section: usize,
     /// \[-\] its weight, in [0, 1]; below 1 (in its transition) section − 1 weighs 1 − weight.
     pub weight: f64,
+}
+
+/// \[mm\] Most a rail section's gauge may differ from the track's `gauge_mm` (gauge widening in
+/// tight curves is at most some 20–30 mm; more is taken for a slip of the pen).
+const SECTION_GAUGE_RANGE_MM: f64 = 50.0;
+
+/// Check a `gauge_mm` value (`prefix` names where it is); with `track` (the track's gauge, mm)
+/// also that it lies within [`SECTION_GAUGE_RANGE_MM`] of it. `None` (reported) if bad.
+fn check_gauge(sink: &mut Sink, v: &Spanned<f64>, prefix: &str, track: Option<f64>) -> Option<f64> {
+    let g = *v.get_ref();
+    if !(g.is_finite() && (600.0..=2000.0).contains(&g)) {
+        sink.invalid(
+            &span_of(v),
+            "gauge_mm",
+            format!(
+                "{prefix}gauge_mm = {} must be between 600 and 2000 (a plausible track gauge in mm)",
+                short_number(g)
+            ),
+        );
+        return None;
+    }
+    if let Some(t) = track
+        && (g - t).abs() > SECTION_GAUGE_RANGE_MM
+    {
+        sink.invalid(
+            &span_of(v),
+            "gauge_mm",
+            format!(
+                "{prefix}gauge_mm = {} must lie within {} mm of the track's gauge_mm = {}",
+                short_number(g),
+                short_number(SECTION_GAUGE_RANGE_MM),
+                short_number(t)
+            ),
+        );
+        return None;
+    }
+    Some(g)
 }
 
 /// Parse a `rail_inclination` value (`prefix` names where it is, e.g. `rail_section 2: `);
@@ -537,6 +570,7 @@ fn check_rail_sections(
     first: RailSection,
     length: f64,
 ) -> Vec<RailSection> {
+    let first_gauge = first.gauge * 1e3;
     let mut out = vec![first];
     for (i, sec) in spec.rail_section.iter().enumerate() {
         let sec = sec.get_ref();
@@ -556,12 +590,12 @@ fn check_rail_sections(
             );
             continue;
         }
-        if sec.rail_profile.is_none() && sec.rail_inclination.is_none() {
+        if sec.rail_profile.is_none() && sec.rail_inclination.is_none() && sec.gauge_mm.is_none() {
             sink.invalid(
                 &span_of(&sec.start_m),
                 "rail_section",
                 format!(
-                    "{what}changes nothing: give rail_profile = {{ left = ..., right = ... }} and/or rail_inclination"
+                    "{what}changes nothing: give one or more of rail_profile = {{ left = ..., right = ... }}, rail_inclination and gauge_mm"
                 ),
             );
         }
@@ -570,6 +604,9 @@ fn check_rail_sections(
         });
         let inclination = sec.rail_inclination.as_ref().map_or(prev.inclination, |v| {
             check_inclination(sink, v, &what).unwrap_or(prev.inclination)
+        });
+        let gauge = sec.gauge_mm.as_ref().map_or(prev.gauge, |v| {
+            check_gauge(sink, v, &what, Some(first_gauge)).map_or(prev.gauge, |g| g * 1e-3)
         });
         let transition = match &sec.transition_m {
             None => 0.0,
@@ -610,6 +647,7 @@ fn check_rail_sections(
             start,
             profiles,
             inclination,
+            gauge,
             transition,
         });
     }

@@ -81,6 +81,9 @@ pub struct RailSectionSpec {
     /// Rail inclination from here on, `"1:N"` or `"none"`.
     #[serde(default)]
     pub rail_inclination: Option<Spanned<String>>,
+    /// \[mm\] track gauge from here on (e.g. widened in a tight curve).
+    #[serde(default)]
+    pub gauge_mm: Option<Spanned<f64>>,
     /// \[m\] length over which the rails change from the section before's to these (from
     /// `start_m` on); 0 (the default): at once.
     #[serde(default)]

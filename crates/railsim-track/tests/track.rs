@@ -753,6 +753,46 @@ fn bad_rail_sections_are_located() {
     );
 }
 
+/// A section may change the gauge (widening in a tight curve); like the other keys it is
+/// inherited, and a value far from the track's gauge is refused as a slip.
+#[test]
+fn rail_sections_change_the_gauge() {
+    let seg = "[[segment]]\ntype = \"tangent\"\nlength_m = 300\n";
+    let t = track(&format!(
+        "{seg}[[rail_section]]\nstart_m = 100\ngauge_mm = 1450\ntransition_m = 10\n\
+         [[rail_section]]\nstart_m = 200\nrail_inclination = \"1:20\"\n"
+    ));
+    let g: Vec<f64> = t.rail_sections().iter().map(|r| r.gauge).collect();
+    assert_eq!(g, [1.435, 1.45, 1.45]);
+    assert_eq!(t.gauge(), 1.435);
+    assert_eq!(
+        t.rail_sections()[1].inclination,
+        t.rail_sections()[0].inclination
+    );
+    let msgs = errors(&format!(
+        "{HEAD}{seg}\
+         [[rail_section]]\nstart_m = 100\ngauge_mm = 1500\n\
+         [[rail_section]]\nstart_m = 150\ngauge_mm = nan\n\
+         [[rail_section]]\nstart_m = 200\ngauge_mm = 1.445\n"
+    ));
+    has(
+        &msgs,
+        "mem.toml:9:12:",
+        "rail_section 1: gauge_mm = 1500 must lie within 50 mm of the track's gauge_mm = 1435",
+    );
+    has(
+        &msgs,
+        "mem.toml:12:12:",
+        "rail_section 2: gauge_mm = NaN must be between 600 and 2000",
+    );
+    has(
+        &msgs,
+        "mem.toml:15:12:",
+        "rail_section 3: gauge_mm = 1.445 must be between 600 and 2000",
+    );
+    assert_eq!(msgs.len(), 3, "{msgs:#?}");
+}
+
 #[test]
 fn rail_transitions_blend_linearly_and_bad_ones_are_located() {
     let seg = "[[segment]]\ntype = \"tangent\"\nlength_m = 300\n";
