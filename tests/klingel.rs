@@ -123,7 +123,7 @@ fn pair_on_uic60(wheel: Profile) -> WheelRailPair {
         gauge_depth: 0.014,
         inclination: (1.0f64 / 40.0).atan(),
         material: Material::new(82e9, 0.28).unwrap(),
-        mu: 0.3,
+        friction: railsim_contact::Friction::Constant(0.3),
         curve_ds: 5e-5,
         smoothing: 0.0,
     })

@@ -13,4 +13,5 @@ mod stripes_curved;
 mod stripes_hertz;
 mod travel;
 mod two_point;
+mod varfric;
 mod warm_start;

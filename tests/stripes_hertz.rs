@@ -45,7 +45,7 @@ fn circle_pair(rw: f64, rr: f64) -> WheelRailPair {
         gauge_depth: depth,
         inclination: 0.0,
         material: Material::new(82e9, 0.28).unwrap(),
-        mu: 0.3,
+        friction: railsim_contact::Friction::Constant(0.3),
         curve_ds: 2e-5,
         smoothing: 0.0,
     })

@@ -53,7 +53,7 @@ pub fn standard_spec() -> PairSpec {
         gauge_depth: 0.014,
         inclination: 1.0f64.atan2(40.0),
         material: railsim_elastic::Material::new(82e9, 0.28).unwrap(),
-        mu: 0.3,
+        friction: railsim_contact::Friction::Constant(0.3),
         curve_ds: 5e-5,
         smoothing: 0.0,
     }

@@ -10,9 +10,9 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use railsim_contact::contact_format::{ContactRow, parse_cases_csv, solve_case};
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, LOAD_RESIDUAL_NOTICE,
-    PairSpec, PatchResult, Side, Tangential, WheelRailContact, WheelRailPair, WheelsetPose,
-    WheelsetVelocity,
+    ContactModelKind, ContactOptions, ContactWorkspace, Friction, HertzSearch,
+    LOAD_RESIDUAL_NOTICE, PairSpec, PatchResult, Side, Tangential, WheelRailContact, WheelRailPair,
+    WheelsetPose, WheelsetVelocity,
 };
 use railsim_elastic::Material;
 use railsim_profile::conicity::{
@@ -173,6 +173,12 @@ struct PairArgs {
     /// Coulomb friction coefficient.
     #[arg(long, default_value_t = 0.3)]
     mu: f64,
+    /// Friction varying with the contact angle instead of `--mu`: `angle_deg:mu` pairs,
+    /// angles increasing, linear in between and constant beyond the ends (railsim's contact
+    /// angle, positive toward the flange; CONTACT's VARFRC with α = −angle on the right rail),
+    /// e.g. `10:0.3,20:0.2` for a gauge face lubricated to 0.2.
+    #[arg(long, value_name = "ANGLE_DEG:MU,...")]
+    friction_by_angle: Option<String>,
 }
 
 #[derive(Args)]
@@ -372,11 +378,37 @@ fn build_pair(a: &PairArgs) -> Result<WheelRailPair> {
         gauge_depth: 0.014,
         inclination: parse_inclination(&a.inclination)?,
         material,
-        mu: a.mu,
+        friction: match &a.friction_by_angle {
+            None => Friction::Constant(a.mu),
+            Some(text) => parse_friction_by_angle(text)?,
+        },
         curve_ds: 5e-5,
         smoothing: 0.0,
     };
     Ok(WheelRailPair::new(&spec)?)
+}
+
+/// `--friction-by-angle`: `angle_deg:mu` pairs separated by commas.
+fn parse_friction_by_angle(text: &str) -> Result<Friction> {
+    let (mut angle, mut mu) = (Vec::new(), Vec::new());
+    for (i, item) in text.split(',').enumerate() {
+        let parsed = item.split_once(':').and_then(|(a, m)| {
+            Some((a.trim().parse::<f64>().ok()?, m.trim().parse::<f64>().ok()?))
+        });
+        let Some((a, m)) = parsed else {
+            bail!(
+                "--friction-by-angle: item {} is {:?}; expected angle_deg:mu, e.g. 10:0.3",
+                i + 1,
+                item
+            );
+        };
+        angle.push(a.to_radians());
+        mu.push(m);
+    }
+    let f = Friction::ByContactAngle { angle, mu };
+    f.check()
+        .map_err(|e| anyhow!("--friction-by-angle {text:?}: {e}"))?;
+    Ok(f)
 }
 
 fn run_contact(a: &ContactArgs) -> Result<ExitCode> {

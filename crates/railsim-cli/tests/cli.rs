@@ -596,3 +596,59 @@ fn modes_in_a_curve_are_listed_and_bad_curves_rejected() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("only the linear method"), "{err}");
 }
+
+/// `--friction-by-angle` lowers the friction on the flange (a lubricated gauge face): the
+/// right wheel's flange patch at y = 6.5 mm, in full slip, carries |Ft| = 0.2 Fn instead of
+/// 0.3 Fn; a malformed table is refused with the item it could not read.
+#[test]
+fn friction_by_angle_lubricates_the_flange() {
+    let dir = common::temp_dir("cli", "varfric");
+    let cases = dir.join("cases.csv");
+    std::fs::write(
+        &cases,
+        "case,side,y_ws_mm,yaw_ws_rad,roll_ws_rad,vpitch_rad_s,fz_target_N\n\
+         b,right,6.5,0.0156,-0.004376,-4.3293718,10000\n",
+    )
+    .unwrap();
+    // |Ft| / Fn of the patch with the steepest contact angle
+    let flange_ratio = |extra: &[&str]| -> f64 {
+        let out = dir.join("out.csv");
+        let mut args = vec![
+            "contact",
+            "--cases",
+            cases.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (code, _, err) = railsim(&args);
+        assert_eq!(code, 0, "{err}");
+        let text = std::fs::read_to_string(&out).unwrap();
+        let f = |l: &str, i: usize| -> f64 { l.split(',').nth(i).unwrap().parse().unwrap() };
+        // columns: case,side,icp,z_ws_mm,ycp_r_mm,delttr_rad,pen_mm,fn_N,fx_N,fs_N
+        let flange = text
+            .lines()
+            .skip(1)
+            .max_by(|a, b| f(a, 5).abs().total_cmp(&f(b, 5).abs()))
+            .unwrap()
+            .to_owned();
+        assert!(f(&flange, 5).abs() > 20f64.to_radians(), "{flange}");
+        f(&flange, 8).hypot(f(&flange, 9)) / f(&flange, 7)
+    };
+    let dry = flange_ratio(&[]);
+    let lubricated = flange_ratio(&["--friction-by-angle", "10:0.3,20:0.2"]);
+    // (1 % above μ allowed: the strips' tangential forces, each in its own plane, add a little
+    // to the patch's normal force and the patch's plane differs from theirs; 0.30026 measured)
+    assert!((0.25..=0.303).contains(&dry), "{dry}");
+    assert!((0.15..=0.202).contains(&lubricated), "{lubricated}");
+    let (code, _, err) = railsim(&["contact", "--friction-by-angle", "10:0.3,20"]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--friction-by-angle: item 2 is \"20\"; expected angle_deg:mu"),
+        "{err}"
+    );
+    let (code, _, err) = railsim(&["contact", "--friction-by-angle", "20:0.3,10:0.2"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("strictly increasing contact angles"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -303,7 +303,7 @@ pub fn manchester_benchmark_spec(
         gauge_depth: 0.014,
         inclination: 0.0,
         material: railsim_elastic::Material { g: 82e9, nu: 0.28 },
-        mu: 0.3,
+        friction: crate::Friction::Constant(0.3),
         curve_ds: 5e-5,
         smoothing: 0.0,
     }

@@ -20,6 +20,7 @@
 pub mod broad;
 pub mod contact_format;
 pub mod error;
+pub mod friction;
 pub mod geometry;
 pub mod model;
 pub mod pair;
@@ -31,6 +32,7 @@ pub mod warm;
 pub mod wells;
 
 pub use error::ContactError;
+pub use friction::Friction;
 pub use geometry::{IsoPair, TravelOptions, TravelStats};
 pub use model::{
     ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, LOAD_RESIDUAL_NOTICE,

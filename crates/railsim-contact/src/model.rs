@@ -871,6 +871,7 @@ impl WheelRailContact {
     ) -> Result<PatchForces, ContactError> {
         let fr = &input.frame;
         let mat = &self.pair.material;
+        let mu = self.pair.friction.at(fr.contact_angle);
         let hz = hertz_from_approach(fr.a_curv, fr.b_curv, fr.delta0, mat)?;
         let tang = if kind == HertzTangential::Linear {
             match self.opts.linear_creep {
@@ -890,18 +891,18 @@ impl WheelRailContact {
                 hz.n,
                 &input.creep,
                 input.kin.v_ref,
-                &PolachParams::coulomb(self.pair.mu),
+                &PolachParams::coulomb(mu),
                 mat,
             )?
         } else {
-            let flex = blended_flexibilities(hz.a, hz.b, hz.n, self.pair.mu, &input.creep, mat)?;
+            let flex = blended_flexibilities(hz.a, hz.b, hz.n, mu, &input.creep, mat)?;
             fastsim_ellipse(
                 hz.a,
                 hz.b,
                 hz.n,
                 &input.creep,
                 &flex,
-                self.pair.mu,
+                mu,
                 self.opts.bound,
                 self.opts.fastsim_ny,
                 self.opts.fastsim_nx,
@@ -1104,8 +1105,17 @@ fn solve_halfspace(
         f.length = xmx - xmn + dx;
     }
     if opts.tangential == Tangential::Exact {
-        // Kalker's exact solution on the half-space grid itself, with its pressure.
+        // Kalker's exact solution on the half-space grid itself, with its pressure and, for a
+        // varying friction, each row's coefficient at its pair's normal.
         exact.prepare_with(grid, &input.pair.material, pr)?;
+        if !input.pair.friction.is_constant() {
+            let mut cursor = lo;
+            for iy in 0..ny {
+                let (j, t) = bracket(&mut cursor, grid.y0 + iy as f64 * dy);
+                let p = crate::patch::lerp_pair(&pairs[j], &pairs[(j + 1).min(hi)], t);
+                exact.mu_row.push(input.pair.friction.at_normal(p.n));
+            }
+        }
         stripes::solve_exact(input, grid, exact, &mut f)?;
         return Ok(f);
     }
@@ -1118,7 +1128,7 @@ fn solve_halfspace(
             a_eq,
             b_eq,
             f.fn_,
-            input.pair.mu,
+            input.pair.friction.at(fr.contact_angle),
             &input.creep,
             &input.pair.material,
         )?
@@ -1152,7 +1162,7 @@ fn solve_halfspace(
             opts.bound,
             &creep,
             &flex,
-            input.pair.mu,
+            input.pair.friction.at_normal(p.n),
             opts.fastsim_nx,
         );
         f.fx += st.fx;

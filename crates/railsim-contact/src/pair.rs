@@ -6,6 +6,7 @@ use railsim_profile::{ArcCurve, Profile, RailPlacement, place_rail};
 
 use crate::broad::ArcTree;
 use crate::error::ContactError;
+use crate::friction::Friction;
 
 /// What a [`WheelRailPair`] is built from. Lengths in metres.
 #[derive(Clone, Debug)]
@@ -30,8 +31,8 @@ pub struct PairSpec {
     pub inclination: f64,
     /// Combined elastic constants of wheel and rail.
     pub material: Material,
-    /// \[-\] Coulomb friction coefficient
-    pub mu: f64,
+    /// Coulomb friction coefficient, constant or varying with the contact angle
+    pub friction: Friction,
     /// \[m\] sampling step of the arc-length curves built from the profiles
     pub curve_ds: f64,
     /// \[-\] smoothing parameter of the profile splines (0 = interpolating)
@@ -57,8 +58,8 @@ pub struct WheelRailPair {
     pub wheel_s_tip: f64,
     /// Combined elastic constants.
     pub material: Material,
-    /// \[-\] Coulomb friction coefficient
-    pub mu: f64,
+    /// Coulomb friction coefficient, constant or varying with the contact angle
+    pub friction: Friction,
     /// \[1/m\] largest |curvature| of the wheel curve within [`KAPPA_WINDOW`] ahead of each node
     /// (index `floor(s / ds)`), for the far-field step control of the travelling
     pub wheel_kappa_ahead: Vec<f64>,
@@ -259,13 +260,7 @@ impl WheelRailPair {
                 });
             }
         }
-        if !(spec.mu.is_finite() && spec.mu > 0.0 && spec.mu < 2.0) {
-            return Err(ContactError::BadOption {
-                key: "mu",
-                value: railsim_profile::short_number(spec.mu),
-                expected: "a friction coefficient in (0, 2)".into(),
-            });
-        }
+        spec.friction.check()?;
         let wheel = ArcCurve::from_profile(&spec.wheel, spec.smoothing, spec.curve_ds)?;
         let (placed, rail_placement) =
             place_rail(&spec.rail, spec.inclination, spec.gauge, spec.gauge_depth)?;
@@ -307,7 +302,7 @@ impl WheelRailPair {
             r0: spec.r0,
             wheel_s_tip: s_tip,
             material: spec.material,
-            mu: spec.mu,
+            friction: spec.friction.clone(),
             wheel_kappa_ahead,
             rail_kappa_ahead,
             wheel_inv_ds,

@@ -62,6 +62,9 @@ pub struct ExactScratch {
     pn: Vec<f64>,
     wx: Vec<f64>,
     wy: Vec<f64>,
+    /// \[-\] a varying friction's coefficient per grid row (cleared by `prepare`); empty for a
+    /// constant one
+    pub(crate) mu_row: Vec<f64>,
 }
 
 impl ExactScratch {
@@ -75,6 +78,7 @@ impl ExactScratch {
             v.clear();
             v.resize(grid.len(), 0.0);
         }
+        self.mu_row.clear();
         match &mut self.solver {
             Some(s) => {
                 if *s.grid() != grid {
@@ -131,18 +135,27 @@ pub(crate) fn solve_exact(
         }
     }
     let ExactScratch {
-        solver, pn, wx, wy, ..
-    } = scratch;
-    let solver = solver.as_mut().expect("prepared");
-    let sol = solver.solve(
+        solver,
         pn,
         wx,
         wy,
-        input.pair.mu,
-        EXACT_TOL,
-        EXACT_MAX_SWEEPS,
-        false,
-    )?;
+        mu_row,
+    } = scratch;
+    // The tangential problem sees the pressure only through the traction bound μ·p (and where
+    // it is positive): a varying friction enters as the rows' pressures scaled by their μ, with
+    // μ = 1 for the solver.
+    let mu = if mu_row.len() == ny {
+        for (iy, m) in mu_row.iter().enumerate() {
+            for v in &mut pn[nx * iy..nx * (iy + 1)] {
+                *v *= m;
+            }
+        }
+        1.0
+    } else {
+        input.pair.friction.max()
+    };
+    let solver = solver.as_mut().expect("prepared");
+    let sol = solver.solve(pn, wx, wy, mu, EXACT_TOL, EXACT_MAX_SWEEPS, false)?;
     f.fx = sol.fx;
     f.fs = sol.fy;
     f.mz = sol.mz;
@@ -236,6 +249,18 @@ fn exact_on_strips(
     let scale = f.fn_ / total;
     for v in scratch.pn.iter_mut() {
         *v *= scale;
+    }
+    if !input.pair.friction.is_constant() {
+        // each row's coefficient: that of the strip nearest to it
+        for iy in 0..ny {
+            let l = grid.y(iy);
+            let near = strips
+                .iter()
+                .min_by(|a, b| (a.l - l).abs().total_cmp(&(b.l - l).abs()))
+                .expect("strips is not empty");
+            let n = input.pairs[near.pair].n;
+            scratch.mu_row.push(input.pair.friction.at_normal(n));
+        }
     }
     solve_exact(input, grid, scratch, f)
 }
@@ -542,7 +567,13 @@ pub fn solve(
     // creepages: with the reference point's, a wide patch's flexibilities jumped when its deepest
     // pair moved from one well to the other (with the strips solved about the reference point,
     // Fx jumped by 85 % on a flange-root zone; docs/models/contact.md §6).
-    let blend = FlexibilityBlend::new(a_eq, b_eq, load, input.pair.mu, &mat)?;
+    let blend = FlexibilityBlend::new(
+        a_eq,
+        b_eq,
+        load,
+        input.pair.friction.at(fr.contact_angle),
+        &mat,
+    )?;
     let fastrip = match tangential {
         Tangential::Fastrip => {
             let c = kalker_coeffs(a_eq, b_eq, mat.nu)?;
@@ -567,7 +598,7 @@ pub fn solve(
         // the strip's own lateral axis (toward the field side, like the frame's)
         let t = [p.n[1], -p.n[0]];
         let creep: Creepages = input.kin.creepages([p.x, p.a[0], p.a[1]], t, p.n);
-        let mu = input.pair.mu;
+        let mu = input.pair.friction.at_normal(p.n);
         let flex = blend.at(&creep);
         let st = match &fastrip {
             Some(patch) => {

@@ -532,7 +532,7 @@ fn build_contact(
         gauge_depth: 0.014,
         inclination,
         material,
-        mu: scene.friction,
+        friction: scene.friction.clone(),
         curve_ds: 5e-5,
         smoothing: 0.0,
     })

@@ -3,7 +3,7 @@
 use std::ops::Range;
 use std::path::{Component, Path, PathBuf};
 
-use railsim_contact::{ContactModelKind, ContactOptions, HertzSearch, Tangential};
+use railsim_contact::{ContactModelKind, ContactOptions, Friction, HertzSearch, Tangential};
 use railsim_ode::Method;
 use railsim_track::{SegmentKind, TrackError, TrackModel, TrackSpec};
 use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel, WheelsetId};
@@ -12,7 +12,8 @@ use toml::Spanned;
 use crate::assess::{AssessOptions, ComfortPoint, STABILITY_HALF_BAND, stability_band};
 use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::spec::{
-    AssessmentSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec, SpeedProfileSpec,
+    AssessmentSpec, ContactSpec, FrictionSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec,
+    SpeedProfileSpec,
 };
 
 /// \[-\] a rigid wheelbase `a` needs curves of radius R ≥ this × a (see
@@ -380,8 +381,9 @@ pub struct Scene {
     pub length: RunLength,
     /// Contact model and options for every wheel.
     pub contact: ContactOptions,
-    /// \[-\] Coulomb friction coefficient of every wheel/rail pair.
-    pub friction: f64,
+    /// Coulomb friction coefficient of every wheel/rail pair, constant or varying with the
+    /// contact angle.
+    pub friction: Friction,
     /// Warm-start each wheel's contact search from its previous evaluation (same patches and
     /// forces as a cold search to within the search's angle tolerance; docs/models/contact.md).
     pub warm_start: bool,
@@ -647,6 +649,67 @@ impl Compiler<'_> {
                 format!("{key} must lie in {lb}{lo:e}, {hi:e}] {unit}, found {x}"),
             );
             None
+        }
+    }
+
+    /// `[contact] friction`: a number in [`FRICTION_RANGE`], or a table of coefficients (each
+    /// in that range) at strictly increasing contact angles within ±90°.
+    fn friction(&mut self, f: &Spanned<FrictionSpec>) -> Option<Friction> {
+        let (lo, hi) = FRICTION_RANGE;
+        match f.get_ref() {
+            FrictionSpec::Constant(x) => self
+                .range(
+                    &Spanned::new(f.span(), *x),
+                    "friction",
+                    "-",
+                    FRICTION_RANGE,
+                    false,
+                )
+                .map(Friction::Constant),
+            FrictionSpec::ByContactAngle {
+                contact_angle_deg,
+                coefficient,
+            } => {
+                let problem = if contact_angle_deg.len() < 2
+                    || contact_angle_deg.len() != coefficient.len()
+                {
+                    Some(format!(
+                        "friction: {} contact angles and {} coefficients; expected as many \
+                         coefficients as angles, at least two",
+                        contact_angle_deg.len(),
+                        coefficient.len()
+                    ))
+                } else if let Some(x) = coefficient
+                    .iter()
+                    .find(|x| !(x.is_finite() && (lo..=hi).contains(*x)))
+                {
+                    Some(format!(
+                        "friction.coefficient must lie in [{lo:e}, {hi:e}], found {x}"
+                    ))
+                } else if let Some(a) = contact_angle_deg
+                    .iter()
+                    .find(|a| !(a.is_finite() && a.abs() <= 90.0))
+                {
+                    Some(format!(
+                        "friction.contact_angle_deg must lie in [-90, 90] deg, found {a}"
+                    ))
+                } else {
+                    contact_angle_deg.windows(2).find(|w| w[1] <= w[0]).map(|w| {
+                        format!(
+                            "friction.contact_angle_deg must increase strictly, found {} after {}",
+                            w[1], w[0]
+                        )
+                    })
+                };
+                if let Some(message) = problem {
+                    self.err(&f.span(), "friction", message);
+                    return None;
+                }
+                Some(Friction::ByContactAngle {
+                    angle: contact_angle_deg.iter().map(|a| a.to_radians()).collect(),
+                    mu: coefficient.clone(),
+                })
+            }
         }
     }
 
@@ -1192,12 +1255,15 @@ impl Compiler<'_> {
         }
     }
 
-    fn contact(&mut self, c: Option<&Spanned<ContactSpec>>) -> Option<(ContactOptions, f64, bool)> {
+    fn contact(
+        &mut self,
+        c: Option<&Spanned<ContactSpec>>,
+    ) -> Option<(ContactOptions, Friction, bool)> {
         let mut opts = ContactOptions::default();
         let Some(c) = c else {
             return (!self.unreadable.iter().any(|t| t == "contact")).then_some((
                 opts,
-                DEFAULT_FRICTION,
+                Friction::Constant(DEFAULT_FRICTION),
                 true,
             ));
         };
@@ -1228,9 +1294,9 @@ impl Compiler<'_> {
                 None => ok = false,
             }
         }
-        let mut friction = DEFAULT_FRICTION;
+        let mut friction = Friction::Constant(DEFAULT_FRICTION);
         if let Some(f) = &c.friction {
-            match self.range(f, "friction", "-", FRICTION_RANGE, false) {
+            match self.friction(f) {
                 Some(x) => friction = x,
                 None => ok = false,
             }

@@ -94,6 +94,36 @@ pub struct SpeedProfileSpec {
     pub speed_kmh: Option<Spanned<Vec<Spanned<f64>>>>,
 }
 
+/// `[contact] friction`: one coefficient, or coefficients at contact angles.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum FrictionSpec {
+    /// \[-\] the same everywhere.
+    Constant(f64),
+    /// Varying with the contact angle (railsim's, positive toward the flange), linear between
+    /// the points and constant beyond them.
+    ByContactAngle {
+        /// \[deg\] contact angles, increasing.
+        contact_angle_deg: Vec<f64>,
+        /// \[-\] the coefficient at each angle.
+        coefficient: Vec<f64>,
+    },
+}
+
+/// What a `friction` value of neither form is told (the untagged enum's own message names
+/// no form).
+const FRICTION_FORMS: &str =
+    "friction must be a number or a table { contact_angle_deg = [..], coefficient = [..] }";
+
+/// Replace serde's message for a `friction` of neither form by one that names both.
+fn friction_message(message: &str) -> String {
+    if message.contains("untagged enum FrictionSpec") {
+        FRICTION_FORMS.to_owned()
+    } else {
+        message.to_owned()
+    }
+}
+
 /// `[contact]`.
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -104,9 +134,10 @@ pub struct ContactSpec {
     /// \[mm\] arc-length step of the contact search near contact; default 1.0.
     #[serde(default)]
     pub step_mm: Option<Spanned<f64>>,
-    /// \[-\] Coulomb friction coefficient of every wheel/rail pair; default 0.3.
+    /// Coulomb friction coefficient of every wheel/rail pair: a number (default 0.3) or a
+    /// table varying with the contact angle.
     #[serde(default)]
-    pub friction: Option<Spanned<f64>>,
+    pub friction: Option<Spanned<FrictionSpec>>,
     /// \[N\] `linear` model only: constant creep coefficient f11 = f22 (no spin terms); without
     /// it the `linear` model uses Kalker's coefficients.
     #[serde(default)]
@@ -360,6 +391,9 @@ impl SceneSpec {
             // Read the subtable into `spec.$field`; false when it could not be read.
             macro_rules! read_into {
                 ($field:ident) => {
+                    read_into!($field, as_is)
+                };
+                ($field:ident, $rewrite:expr) => {
                     read_table(
                         t,
                         span.clone(),
@@ -367,7 +401,7 @@ impl SceneSpec {
                         &label,
                         &mut sink,
                         &mut dropped,
-                        as_is,
+                        $rewrite,
                     )
                     .map(|v| spec.$field = Some(Spanned::new(span.clone(), v)))
                     .is_some()
@@ -375,7 +409,7 @@ impl SceneSpec {
             }
             let ok = match name {
                 "speed_profile" => read_into!(speed_profile),
-                "contact" => read_into!(contact),
+                "contact" => read_into!(contact, friction_message),
                 "integrator" => read_into!(integrator),
                 "log" => read_into!(log),
                 "initial" => read_into!(initial),

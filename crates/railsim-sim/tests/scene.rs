@@ -663,3 +663,51 @@ fn comfort_points_are_read_and_checked() {
         &["the vehicle has no rigid body (carbody) to carry them"],
     );
 }
+
+/// `[contact] friction` is a number or a table of coefficients at contact angles (a lubricated
+/// gauge face); bad tables are located at the key.
+#[test]
+fn friction_is_a_number_or_a_table_by_contact_angle() {
+    use railsim_contact::Friction;
+    let s = compile(&format!("{GOOD}[contact]\nfriction = 0.4\n")).unwrap();
+    assert_eq!(s.friction, Friction::Constant(0.4));
+    let s = compile(&format!(
+        "{GOOD}[contact]\nfriction = {{ contact_angle_deg = [10, 20], coefficient = [0.3, 0.15] }}\n"
+    ))
+    .unwrap();
+    match &s.friction {
+        Friction::ByContactAngle { angle, mu } => {
+            assert_eq!(mu, &[0.3, 0.15]);
+            assert!((angle[1] - 20f64.to_radians()).abs() < 1e-15);
+        }
+        f => panic!("{f:?}"),
+    }
+    // GOOD has four lines: the friction is on line 6
+    for (value, needles) in [
+        ("1.5", &["friction must lie in"][..]),
+        ("\"dry\"", &["friction must be a number or a table"][..]),
+        (
+            "{ contact_angle_deg = [10], coefficient = [0.3] }",
+            &["1 contact angles and 1 coefficients", "at least two"][..],
+        ),
+        (
+            "{ contact_angle_deg = [10, 20], coefficient = [0.3, 0] }",
+            &["friction.coefficient must lie in", "found 0"][..],
+        ),
+        (
+            "{ contact_angle_deg = [20, 10], coefficient = [0.3, 0.2] }",
+            &["must increase strictly, found 10 after 20"][..],
+        ),
+        (
+            "{ contact_angle_deg = [10, 95], coefficient = [0.3, 0.2] }",
+            &["contact_angle_deg must lie in [-90, 90] deg, found 95"][..],
+        ),
+        (
+            "{ angle = [10, 20], coefficient = [0.3, 0.2] }",
+            &["friction must be a number or a table"][..],
+        ),
+    ] {
+        let p = problems(&format!("{GOOD}[contact]\nfriction = {value}\n"));
+        expect(&p, 6, needles);
+    }
+}
