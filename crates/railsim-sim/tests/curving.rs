@@ -280,3 +280,56 @@ fn the_quasi_static_solution_continues_in_curvature_and_reports_curves_without_a
         "{e}"
     );
 }
+
+/// A lubricated gauge face (`friction` by contact angle: 0.3 up to 15°, 0.1 from 25° on) in the
+/// R = 150 m curve at 40 km/h (`polach`, quasi-static): the leading outer wheel, in flange
+/// contact, dissipates far less (its wear number Tγ falls with the flange's μ), while the
+/// leading inner wheel, on its tread below 15°, is unchanged and the wheel loads still carry
+/// the vehicle's weight.
+#[test]
+fn a_lubricated_gauge_face_relieves_the_flanging_wheel() {
+    let solve = |friction: &str| {
+        let s = common::scene(&format!(
+            "vehicle = \"vehicles/manchester_vehicle1.toml\"\nfreeze = [\"carbody.x\"]\n\
+             track = \"tracks/straight.toml\"\nspeed_kmh = 40\nduration_s = 1\n\
+             [contact]\nmodel = \"polach\"\nfriction = {friction}\n"
+        ));
+        let c = CurveCase {
+            radius: 150.0,
+            cant: 0.1,
+            left: true,
+            speed: 40.0 / 3.6,
+        };
+        let r = quasi_static_curving(&s, &c, &CurvingRun::default(), &QuasiStatic::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        print(&r);
+        r
+    };
+    let dry = solve("0.3");
+    let lub = solve("{ contact_angle_deg = [15, 25], coefficient = [0.3, 0.1] }");
+    // a left curve: the leading wheelset runs out to the right (outer) rail
+    let (d, l) = (&dry.wheelsets[0], &lub.wheelsets[0]);
+    assert!(d.lateral < -5e-3 && l.lateral < -5e-3, "{d:?} {l:?}");
+    let (outer_d, outer_l) = (d.wheels[1].wear, l.wheels[1].wear);
+    let (inner_d, inner_l) = (d.wheels[0].wear, l.wheels[0].wear);
+    println!(
+        "leading wheelset Tγ: outer {outer_d:.1} → {outer_l:.1} N, inner {inner_d:.1} → {inner_l:.1} N"
+    );
+    assert!(outer_l < 0.4 * outer_d, "{outer_d} → {outer_l}");
+    assert!(
+        (inner_l / inner_d - 1.0).abs() < 0.05,
+        "{inner_d} → {inner_l}"
+    );
+    let q = |r: &SteadyCurving| -> f64 {
+        r.wheelsets
+            .iter()
+            .flat_map(|w| w.wheels.iter().map(|k| k.q))
+            .sum()
+    };
+    assert!(
+        (q(&lub) / q(&dry) - 1.0).abs() < 1e-3,
+        "{} {}",
+        q(&dry),
+        q(&lub)
+    );
+}
