@@ -3,7 +3,7 @@
 //! it wheelset by wheelset, and runs on like a vehicle on the new rails throughout.
 mod common;
 
-use common::{manchester_polach, run};
+use common::{manchester_polach, run, state_index};
 use railsim_sim::Sample;
 
 /// A straight ideal track of 300 m at the inclination `incl`, with `sections` appended,
@@ -78,12 +78,8 @@ fn each_wheelset_takes_the_new_rails_where_it_reaches_them() {
     )))
     .unwrap();
     assert_eq!(sim.model().track.rail_sections().len(), 2);
-    let names = &sim.model().state_names;
     for (n, x) in WHEELSETS.iter().enumerate() {
-        let iz = names
-            .iter()
-            .position(|s| *s == format!("ws{}.z", n + 1))
-            .unwrap();
+        let iz = state_index(&sim, &format!("ws{}.z", n + 1));
         let (za, zb, zc) = (heights(&a, iz), heights(&b, iz), heights(&c, iz));
         // the time this wheelset reaches the change, the first sample where it differs from
         // the run on the old rails at all, and where by more than 30 µm (its own jump is about
@@ -142,12 +138,8 @@ fn a_section_widens_the_gauge_under_the_wheelsets_that_reach_it() {
         "track = \"{widened}\"\nspeed_kmh = 72\nstart_m = {START}\ndistance_m = 45"
     )))
     .unwrap();
-    let names = &sim.model().state_names;
     for n in 0..WHEELSETS.len() {
-        let iz = names
-            .iter()
-            .position(|s| *s == format!("ws{}.z", n + 1))
-            .unwrap();
+        let iz = state_index(&sim, &format!("ws{}.z", n + 1));
         let (za, zb, zc) = (heights(&a, iz), heights(&b, iz), heights(&c, iz));
         let (z35, z50, end) = (late(&za), late(&zb), late(&zc));
         eprintln!(
@@ -219,12 +211,7 @@ fn a_transition_spreads_the_change_of_rails() {
     )))
     .unwrap();
     assert_eq!(sim.model().track.rail_sections()[1].transition, length);
-    let iz = sim
-        .model()
-        .state_names
-        .iter()
-        .position(|s| s == "ws1.z")
-        .unwrap();
+    let iz = state_index(&sim, "ws1.z");
     let z_at = |run: &[Sample], t: f64| {
         run.iter()
             .min_by(|p, q| (p.t - t).abs().total_cmp(&(q.t - t).abs()))

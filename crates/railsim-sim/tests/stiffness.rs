@@ -4,7 +4,7 @@
 //! (docs/models/ode.md, "Stiffness detection"; validation §14).
 mod common;
 
-use common::{run, scene};
+use common::{run, scene, state_index};
 use railsim_sim::{RunSummary, Sample};
 
 /// A straight ideal track of 300 m with UIC60 rails at 1:20, written to a temporary file; its
@@ -32,12 +32,7 @@ fn heights(track: &str, integrator: &str) -> (RunSummary, Vec<f64>) {
          [log]\nrate_hz = 1000\n[contact]\nmodel = \"polach\"\n[integrator]\n{integrator}\n"
     ));
     let (sim, samples, summary) = run(&s);
-    let iz = sim
-        .model()
-        .state_names
-        .iter()
-        .position(|n| n == "ws1.z")
-        .unwrap();
+    let iz = state_index(&sim, "ws1.z");
     (summary, samples.iter().map(|s: &Sample| s.x[iz]).collect())
 }
 

@@ -16,6 +16,16 @@ pub fn scene(text: &str) -> Scene {
     Scene::from_toml_str(text, "test.toml", &root()).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The index of the state variable `name` (e.g. `"ws1.z"`) of a simulation.
+#[allow(dead_code)]
+pub fn state_index(sim: &Simulation, name: &str) -> usize {
+    let names = &sim.model().state_names;
+    names
+        .iter()
+        .position(|s| s == name)
+        .unwrap_or_else(|| panic!("no state {name} in {names:?}"))
+}
+
 /// Run a scene without a log; return the simulation, the samples and the summary.
 pub fn run(scene: &Scene) -> (Simulation, Vec<Sample>, RunSummary) {
     let mut sim = Simulation::new(scene).unwrap();
