@@ -18,7 +18,8 @@ use railsim_vehicle::{DofKind, VehicleModel};
 use crate::assess::ComfortPoint;
 use crate::error::SimError;
 use crate::math::{M3, V3, inverse};
-use crate::scene::{Scene, SpeedProfile};
+use crate::scene::{Scene, SpeedProfile, friction_model};
+use crate::spec::FrictionSpec;
 
 /// \[Pa\] combined shear modulus of wheel and rail steel (CONTACT's benchmark value).
 pub const STEEL_SHEAR_MODULUS: f64 = 82e9;
@@ -225,7 +226,16 @@ impl SimModel {
         // Wheels with the same profiles and wheelset geometry share one pair, built once (the
         // profiles' splines and arc-length curves are most of the cost of a model: 85 % of a
         // modal analysis of the Manchester vehicle when each of its eight wheels built its own).
-        type PairKey = (WheelProfile, f64, RailProfile, f64, f64, f64, f64);
+        type PairKey = (
+            WheelProfile,
+            f64,
+            RailProfile,
+            f64,
+            f64,
+            Option<FrictionSpec>,
+            f64,
+            f64,
+        );
         let mut built: Vec<(PairKey, WheelRailContact)> = Vec::new();
         for (i, w) in v.wheelsets().iter().enumerate() {
             let first_wheel = wheels.len();
@@ -239,6 +249,7 @@ impl SimModel {
                         section.profiles[k].clone(),
                         section.inclination,
                         section.gauge,
+                        section.friction.clone(),
                         w.nominal_radius,
                         w.back_to_back,
                     );
@@ -532,7 +543,10 @@ fn build_contact(
         gauge_depth: 0.014,
         inclination,
         material,
-        friction: scene.friction.clone(),
+        friction: section
+            .friction
+            .as_ref()
+            .map_or_else(|| scene.friction.clone(), friction_model),
         curve_ds: 5e-5,
         smoothing: 0.0,
     })

@@ -37,8 +37,6 @@ pub const DEFAULT_RTOL: f64 = 1e-6;
 pub const DEFAULT_ATOL: f64 = 1e-8;
 /// \[-\] friction coefficient when the scene gives none.
 pub const DEFAULT_FRICTION: f64 = 0.3;
-/// \[-\] accepted friction coefficients.
-const FRICTION_RANGE: (f64, f64) = (0.01, 1.0);
 /// \[N\] accepted constant creep coefficients of the `linear` model.
 const CREEP_COEFFICIENT_RANGE_N: (f64, f64) = (1e4, 1e10);
 /// \[mm\] range of the contact search step `step_mm` (that of the contact crate).
@@ -652,65 +650,13 @@ impl Compiler<'_> {
         }
     }
 
-    /// `[contact] friction`: a number in [`FRICTION_RANGE`], or a table of coefficients (each
-    /// in that range) at strictly increasing contact angles within ±90°.
+    /// `[contact] friction` (checked by [`FrictionSpec::problem`]).
     fn friction(&mut self, f: &Spanned<FrictionSpec>) -> Option<Friction> {
-        let (lo, hi) = FRICTION_RANGE;
-        match f.get_ref() {
-            FrictionSpec::Constant(x) => self
-                .range(
-                    &Spanned::new(f.span(), *x),
-                    "friction",
-                    "-",
-                    FRICTION_RANGE,
-                    false,
-                )
-                .map(Friction::Constant),
-            FrictionSpec::ByContactAngle {
-                contact_angle_deg,
-                coefficient,
-            } => {
-                let problem = if contact_angle_deg.len() < 2
-                    || contact_angle_deg.len() != coefficient.len()
-                {
-                    Some(format!(
-                        "friction: {} contact angles and {} coefficients; expected as many \
-                         coefficients as angles, at least two",
-                        contact_angle_deg.len(),
-                        coefficient.len()
-                    ))
-                } else if let Some(x) = coefficient
-                    .iter()
-                    .find(|x| !(x.is_finite() && (lo..=hi).contains(*x)))
-                {
-                    Some(format!(
-                        "friction.coefficient must lie in [{lo:e}, {hi:e}], found {x}"
-                    ))
-                } else if let Some(a) = contact_angle_deg
-                    .iter()
-                    .find(|a| !(a.is_finite() && a.abs() <= 90.0))
-                {
-                    Some(format!(
-                        "friction.contact_angle_deg must lie in [-90, 90] deg, found {a}"
-                    ))
-                } else {
-                    contact_angle_deg.windows(2).find(|w| w[1] <= w[0]).map(|w| {
-                        format!(
-                            "friction.contact_angle_deg must increase strictly, found {} after {}",
-                            w[1], w[0]
-                        )
-                    })
-                };
-                if let Some(message) = problem {
-                    self.err(&f.span(), "friction", message);
-                    return None;
-                }
-                Some(Friction::ByContactAngle {
-                    angle: contact_angle_deg.iter().map(|a| a.to_radians()).collect(),
-                    mu: coefficient.clone(),
-                })
-            }
+        if let Some(message) = f.get_ref().problem("friction") {
+            self.err(&f.span(), "friction", message);
+            return None;
         }
+        Some(friction_model(f.get_ref()))
     }
 
     fn compile(&mut self, spec: &SceneSpec, source_name: &str, base_dir: &Path) -> Option<Scene> {
@@ -1968,6 +1914,20 @@ impl MinByStart for Range<usize> {
         } else {
             other.clone()
         }
+    }
+}
+
+/// The contact crate's friction of a checked [`FrictionSpec`] (angles to radians).
+pub fn friction_model(f: &FrictionSpec) -> Friction {
+    match f {
+        FrictionSpec::Constant(x) => Friction::Constant(*x),
+        FrictionSpec::ByContactAngle {
+            contact_angle_deg,
+            coefficient,
+        } => Friction::ByContactAngle {
+            angle: contact_angle_deg.iter().map(|a| a.to_radians()).collect(),
+            mu: coefficient.clone(),
+        },
     }
 }
 

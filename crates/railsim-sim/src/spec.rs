@@ -16,7 +16,8 @@ use serde::Deserialize;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
-use railsim_spec::{as_is, read_table};
+pub use railsim_spec::FrictionSpec;
+use railsim_spec::{as_is, friction_message, read_table};
 
 use crate::error::{Problem, SceneError, Sink, SourceMap};
 
@@ -92,36 +93,6 @@ pub struct SpeedProfileSpec {
     /// \[km/h\] speed at each distance, positive (required).
     #[serde(default)]
     pub speed_kmh: Option<Spanned<Vec<Spanned<f64>>>>,
-}
-
-/// `[contact] friction`: one coefficient, or coefficients at contact angles.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
-pub enum FrictionSpec {
-    /// \[-\] the same everywhere.
-    Constant(f64),
-    /// Varying with the contact angle (railsim's, positive toward the flange), linear between
-    /// the points and constant beyond them.
-    ByContactAngle {
-        /// \[deg\] contact angles, increasing.
-        contact_angle_deg: Vec<f64>,
-        /// \[-\] the coefficient at each angle.
-        coefficient: Vec<f64>,
-    },
-}
-
-/// What a `friction` value of neither form is told (the untagged enum's own message names
-/// no form).
-const FRICTION_FORMS: &str =
-    "friction must be a number or a table { contact_angle_deg = [..], coefficient = [..] }";
-
-/// Replace serde's message for a `friction` of neither form by one that names both.
-fn friction_message(message: &str) -> String {
-    if message.contains("untagged enum FrictionSpec") {
-        FRICTION_FORMS.to_owned()
-    } else {
-        message.to_owned()
-    }
 }
 
 /// `[contact]`.

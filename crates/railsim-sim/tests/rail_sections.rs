@@ -291,3 +291,65 @@ fn a_start_over_a_rail_transition_is_refused() {
     );
     assert!(railsim_sim::Scene::from_toml_str(&text, "abrupt.toml", &common::root()).is_ok());
 }
+
+/// A lubricated stretch inside the R = 150 m curve (`friction` by contact angle in a rail
+/// section from s = 160 m: 0.3 up to 15°, 0.1 from 25° on): nothing changes until the leading
+/// wheelset reaches it; then its outer wheel, in flange contact, dissipates far less.
+#[test]
+fn a_lubricated_section_relieves_the_flanging_wheel_from_its_start() {
+    let curve = std::fs::read_to_string(common::root().join("tracks/curve_r150.toml")).unwrap();
+    let dir = std::env::temp_dir().join(format!("railsim-rail-sections-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |tag: &str, extra: &str| {
+        let path = dir.join(format!("{tag}.toml"));
+        std::fs::write(&path, format!("{curve}\n{extra}")).unwrap();
+        path.display().to_string()
+    };
+    let dry = write("r150_dry", "");
+    let lubricated = write(
+        "r150_lubricated",
+        "[[rail_section]]\nstart_m = 160\n\
+         friction = { contact_angle_deg = [15, 25], coefficient = [0.3, 0.1] }\n",
+    );
+    let (start, speed) = (39.0, 40.0 / 3.6);
+    let run_on = |track: &str| {
+        run(&manchester_polach(&format!(
+            "track = \"{track}\"\nspeed_kmh = 40\nstart_m = {start}\nduration_s = 12\n\
+             [log]\nrate_hz = 100"
+        )))
+        .1
+    };
+    let (a, b) = (run_on(&dry), run_on(&lubricated));
+    assert_eq!(a.len(), b.len());
+    // a left curve: the leading wheelset's outer wheel is its right one
+    let wear = |s: &Sample| s.wheelsets[0].wear_number_right_n;
+    let mean = |run: &[Sample], t0: f64, t1: f64| {
+        let w: Vec<f64> = run
+            .iter()
+            .filter(|s| s.t >= t0 && s.t < t1)
+            .map(wear)
+            .collect();
+        w.iter().sum::<f64>() / w.len() as f64
+    };
+    let t_reach = (160.0 - start - WHEELSETS[0]) / speed;
+    let first = a
+        .iter()
+        .zip(&b)
+        .position(|(p, q)| (p.x[0] - q.x[0]).abs() > 0.0 || wear(p) != wear(q))
+        .map(|k| a[k].t);
+    let (before, dry_after, after) = (
+        mean(&a, t_reach - 1.5, t_reach - 0.5),
+        mean(&a, t_reach + 1.0, 12.0),
+        mean(&b, t_reach + 1.0, 12.0),
+    );
+    eprintln!(
+        "leading wheelset reaches the section at {t_reach:.2} s, the runs first differ at {first:?} s; \
+         outer wheel's Tγ {before:.1} N before, {dry_after:.1} N dry and {after:.1} N lubricated after"
+    );
+    assert!(first.is_some_and(|t| t >= t_reach - 0.01), "{first:?}");
+    assert!(after < 0.4 * dry_after, "{after} vs {dry_after}");
+    assert!(
+        (dry_after / before - 1.0).abs() < 0.1,
+        "{before} {dry_after}"
+    );
+}

@@ -304,3 +304,83 @@ mod tests {
         assert_eq!(key_at(&v, 0).as_deref(), Some("a"));
     }
 }
+
+/// A Coulomb friction coefficient as the scene (`[contact] friction`) and the track
+/// (`[[rail_section]] friction`) give it: one number, or coefficients at contact angles
+/// (railsim's contact angle, positive toward the flange), linear in between and constant beyond
+/// the ends (`railsim_contact::Friction`).
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+#[serde(untagged)]
+pub enum FrictionSpec {
+    /// \[-\] the same everywhere.
+    Constant(f64),
+    /// Varying with the contact angle.
+    ByContactAngle {
+        /// \[deg\] contact angles, strictly increasing.
+        contact_angle_deg: Vec<f64>,
+        /// \[-\] the coefficient at each angle.
+        coefficient: Vec<f64>,
+    },
+}
+
+/// \[-\] the friction coefficients the files accept.
+pub const FRICTION_RANGE: (f64, f64) = (0.01, 1.0);
+
+/// What a `friction` value of neither form is told (serde's message for the untagged enum names
+/// no form): see [`friction_message`].
+pub const FRICTION_FORMS: &str =
+    "friction must be a number or a table { contact_angle_deg = [..], coefficient = [..] }";
+
+/// A deserialisation message with serde's words for a `friction` of neither form replaced by
+/// [`FRICTION_FORMS`]; other messages as they are (a `rewrite` for [`read_table`]).
+pub fn friction_message(message: &str) -> String {
+    if message.contains("untagged enum FrictionSpec") {
+        FRICTION_FORMS.to_owned()
+    } else {
+        message.to_owned()
+    }
+}
+
+impl FrictionSpec {
+    /// What is wrong with the value, as a message about `key` (e.g. `friction`); `None` when
+    /// every coefficient lies in [`FRICTION_RANGE`] and a table has at least two points, as many
+    /// coefficients as angles, and angles strictly increasing within ±90°.
+    pub fn problem(&self, key: &str) -> Option<String> {
+        let (lo, hi) = FRICTION_RANGE;
+        let ok = |x: f64| x.is_finite() && (lo..=hi).contains(&x);
+        match self {
+            FrictionSpec::Constant(x) => {
+                (!ok(*x)).then(|| format!("{key} must lie in [{lo:e}, {hi:e}] -, found {x}"))
+            }
+            FrictionSpec::ByContactAngle {
+                contact_angle_deg: a,
+                coefficient: c,
+            } => {
+                if a.len() < 2 || a.len() != c.len() {
+                    return Some(format!(
+                        "{key}: {} contact angles and {} coefficients; expected as many \
+                         coefficients as angles, at least two",
+                        a.len(),
+                        c.len()
+                    ));
+                }
+                if let Some(x) = c.iter().find(|x| !ok(**x)) {
+                    return Some(format!(
+                        "{key}.coefficient must lie in [{lo:e}, {hi:e}], found {x}"
+                    ));
+                }
+                if let Some(x) = a.iter().find(|x| !(x.is_finite() && x.abs() <= 90.0)) {
+                    return Some(format!(
+                        "{key}.contact_angle_deg must lie in [-90, 90] deg, found {x}"
+                    ));
+                }
+                a.windows(2).find(|w| w[1] <= w[0]).map(|w| {
+                    format!(
+                        "{key}.contact_angle_deg must increase strictly, found {} after {}",
+                        w[1], w[0]
+                    )
+                })
+            }
+        }
+    }
+}

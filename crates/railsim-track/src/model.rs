@@ -300,6 +300,7 @@ impl TrackModel {
                 profiles,
                 inclination: incl.unwrap_or(0.0),
                 gauge: gauge_mm * 1e-3,
+                friction: None,
                 transition: 0.0,
             },
             track_length,
@@ -444,6 +445,8 @@ pub struct RailSection {
     /// \[m\] nominal gauge (the first section's is the track's `gauge_mm`); the gauge
     /// irregularity adds to it.
     pub gauge: f64,
+    /// Wheel/rail friction on this section (checked); `None`: the scene's.
+    pub friction: Option<railsim_spec::FrictionSpec>,
     /// \[m\] from `start` over this length a wheel's contact forces pass linearly from the
     /// section before's rails to these ([`TrackModel::rail_blend_at`]); 0: at once.
     pub transition: f64,
@@ -590,12 +593,16 @@ fn check_rail_sections(
             );
             continue;
         }
-        if sec.rail_profile.is_none() && sec.rail_inclination.is_none() && sec.gauge_mm.is_none() {
+        if sec.rail_profile.is_none()
+            && sec.rail_inclination.is_none()
+            && sec.gauge_mm.is_none()
+            && sec.friction.is_none()
+        {
             sink.invalid(
                 &span_of(&sec.start_m),
                 "rail_section",
                 format!(
-                    "{what}changes nothing: give one or more of rail_profile = {{ left = ..., right = ... }}, rail_inclination and gauge_mm"
+                    "{what}changes nothing: give one or more of rail_profile = {{ left = ..., right = ... }}, rail_inclination, gauge_mm and friction"
                 ),
             );
         }
@@ -608,6 +615,16 @@ fn check_rail_sections(
         let gauge = sec.gauge_mm.as_ref().map_or(prev.gauge, |v| {
             check_gauge(sink, v, &what, Some(first_gauge)).map_or(prev.gauge, |g| g * 1e-3)
         });
+        let friction = match &sec.friction {
+            None => prev.friction.clone(),
+            Some(f) => match f.get_ref().problem("friction") {
+                Some(message) => {
+                    sink.invalid(&span_of(f), "friction", format!("{what}{message}"));
+                    prev.friction.clone()
+                }
+                None => Some(f.get_ref().clone()),
+            },
+        };
         let transition = match &sec.transition_m {
             None => 0.0,
             Some(v) => {
@@ -648,6 +665,7 @@ fn check_rail_sections(
             profiles,
             inclination,
             gauge,
+            friction,
             transition,
         });
     }

@@ -84,6 +84,10 @@ pub struct RailSectionSpec {
     /// \[mm\] track gauge from here on (e.g. widened in a tight curve).
     #[serde(default)]
     pub gauge_mm: Option<Spanned<f64>>,
+    /// Wheel/rail friction from here on, instead of the scene's (a lubricated curve, a wet or
+    /// leaf-covered stretch): a number or coefficients by contact angle.
+    #[serde(default)]
+    pub friction: Option<Spanned<railsim_spec::FrictionSpec>>,
     /// \[m\] length over which the rails change from the section before's to these (from
     /// `start_m` on); 0 (the default): at once.
     #[serde(default)]
@@ -260,7 +264,10 @@ impl TrackSpec {
                 let key = e
                     .span()
                     .and_then(|sp| railsim_spec::key_at(&root_copy, sp.start));
-                sink.parse(e.span().or(Some(root_span)), with_key(key, e.message()));
+                sink.parse(
+                    e.span().or(Some(root_span)),
+                    with_key(key, &railsim_spec::friction_message(e.message())),
+                );
                 None
             }
         };

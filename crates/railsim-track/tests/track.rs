@@ -793,6 +793,63 @@ fn rail_sections_change_the_gauge() {
     assert_eq!(msgs.len(), 3, "{msgs:#?}");
 }
 
+/// A section may set the wheel/rail friction (a lubricated curve): a number or a table by
+/// contact angle, inherited by the sections after it; bad values are located at the key.
+#[test]
+fn rail_sections_set_the_friction() {
+    use railsim_spec::FrictionSpec;
+    let seg = "[[segment]]\ntype = \"tangent\"\nlength_m = 300\n";
+    let t = track(&format!(
+        "{seg}[[rail_section]]\nstart_m = 100\n\
+         friction = {{ contact_angle_deg = [15, 25], coefficient = [0.3, 0.1] }}\n\
+         [[rail_section]]\nstart_m = 200\nrail_inclination = \"1:20\"\n\
+         [[rail_section]]\nstart_m = 250\nfriction = 0.25\n"
+    ));
+    let f: Vec<Option<FrictionSpec>> = t
+        .rail_sections()
+        .iter()
+        .map(|r| r.friction.clone())
+        .collect();
+    let table = FrictionSpec::ByContactAngle {
+        contact_angle_deg: vec![15.0, 25.0],
+        coefficient: vec![0.3, 0.1],
+    };
+    assert_eq!(
+        f,
+        [
+            None,
+            Some(table.clone()),
+            Some(table),
+            Some(FrictionSpec::Constant(0.25))
+        ]
+    );
+    let msgs = errors(&format!(
+        "{HEAD}{seg}\
+         [[rail_section]]\nstart_m = 100\nfriction = 1.5\n\
+         [[rail_section]]\nstart_m = 150\nfriction = {{ contact_angle_deg = [25, 15], coefficient = [0.3, 0.1] }}\n"
+    ));
+    has(
+        &msgs,
+        "mem.toml:9:12:",
+        "rail_section 1: friction must lie in",
+    );
+    has(
+        &msgs,
+        "mem.toml:12:12:",
+        "rail_section 2: friction.contact_angle_deg must increase strictly, found 15 after 25",
+    );
+    assert_eq!(msgs.len(), 2, "{msgs:#?}");
+    let msgs = errors(&format!(
+        "{HEAD}{seg}[[rail_section]]\nstart_m = 100\nfriction = \"wet\"\n"
+    ));
+    assert!(
+        msgs.iter()
+            .any(|m| m.starts_with("mem.toml:9:")
+                && m.contains("friction must be a number or a table")),
+        "{msgs:#?}"
+    );
+}
+
 #[test]
 fn rail_transitions_blend_linearly_and_bad_ones_are_located() {
     let seg = "[[segment]]\ntype = \"tangent\"\nlength_m = 300\n";
