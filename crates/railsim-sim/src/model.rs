@@ -7,7 +7,7 @@
 //! track has them.
 
 use railsim_contact::{
-    ContactOptions, PairSpec, Side, WheelRailContact, WheelRailPair, WheelsetPose,
+    ContactOptions, Friction, PairSpec, Side, WheelRailContact, WheelRailPair, WheelsetPose,
 };
 use railsim_elastic::Material;
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
@@ -19,7 +19,6 @@ use crate::assess::ComfortPoint;
 use crate::error::SimError;
 use crate::math::{M3, V3, inverse};
 use crate::scene::{Scene, SpeedProfile, friction_model};
-use crate::spec::FrictionSpec;
 
 /// \[Pa\] combined shear modulus of wheel and rail steel (CONTACT's benchmark value).
 pub const STEEL_SHEAR_MODULUS: f64 = 82e9;
@@ -226,16 +225,7 @@ impl SimModel {
         // Wheels with the same profiles and wheelset geometry share one pair, built once (the
         // profiles' splines and arc-length curves are most of the cost of a model: 85 % of a
         // modal analysis of the Manchester vehicle when each of its eight wheels built its own).
-        type PairKey = (
-            WheelProfile,
-            f64,
-            RailProfile,
-            f64,
-            f64,
-            Option<FrictionSpec>,
-            f64,
-            f64,
-        );
+        type PairKey = (WheelProfile, f64, RailProfile, f64, f64, Friction, f64, f64);
         let mut built: Vec<(PairKey, WheelRailContact)> = Vec::new();
         for (i, w) in v.wheelsets().iter().enumerate() {
             let first_wheel = wheels.len();
@@ -249,7 +239,7 @@ impl SimModel {
                         section.profiles[k].clone(),
                         section.inclination,
                         section.gauge,
-                        section.friction.clone(),
+                        rail_friction(scene, section, k),
                         w.nominal_radius,
                         w.back_to_back,
                     );
@@ -519,6 +509,15 @@ impl SimModel {
     }
 }
 
+/// The friction on rail `k` (0 left, 1 right) of a rail `section`: the section's, or the
+/// scene's where the section sets none.
+fn rail_friction(scene: &Scene, section: &RailSection, k: usize) -> Friction {
+    section
+        .friction
+        .as_ref()
+        .map_or_else(|| scene.friction[k].clone(), |f| friction_model(f, k))
+}
+
 /// The contact pair of wheel `k` (0 left, 1 right) of wheelset `w`: its wheel profile on the
 /// rail profile of the track's rail `section`, evaluated with the scene's contact options.
 fn build_contact(
@@ -543,10 +542,7 @@ fn build_contact(
         gauge_depth: 0.014,
         inclination,
         material,
-        friction: section
-            .friction
-            .as_ref()
-            .map_or_else(|| scene.friction.clone(), friction_model),
+        friction: rail_friction(scene, section, k),
         curve_ds: 5e-5,
         smoothing: 0.0,
     })

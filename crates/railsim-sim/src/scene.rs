@@ -379,9 +379,9 @@ pub struct Scene {
     pub length: RunLength,
     /// Contact model and options for every wheel.
     pub contact: ContactOptions,
-    /// Coulomb friction coefficient of every wheel/rail pair, constant or varying with the
-    /// contact angle.
-    pub friction: Friction,
+    /// Coulomb friction of the wheel/rail pairs on the left (`[0]`) and the right rail, each
+    /// constant or varying with the contact angle (a rail section may replace it).
+    pub friction: [Friction; 2],
     /// Warm-start each wheel's contact search from its previous evaluation (same patches and
     /// forces as a cold search to within the search's angle tolerance; docs/models/contact.md).
     pub warm_start: bool,
@@ -651,12 +651,12 @@ impl Compiler<'_> {
     }
 
     /// `[contact] friction` (checked by [`FrictionSpec::problem`]).
-    fn friction(&mut self, f: &Spanned<FrictionSpec>) -> Option<Friction> {
+    fn friction(&mut self, f: &Spanned<FrictionSpec>) -> Option<[Friction; 2]> {
         if let Some(message) = f.get_ref().problem("friction") {
             self.err(&f.span(), "friction", message);
             return None;
         }
-        Some(friction_model(f.get_ref()))
+        Some([0, 1].map(|k| friction_model(f.get_ref(), k)))
     }
 
     fn compile(&mut self, spec: &SceneSpec, source_name: &str, base_dir: &Path) -> Option<Scene> {
@@ -1204,12 +1204,12 @@ impl Compiler<'_> {
     fn contact(
         &mut self,
         c: Option<&Spanned<ContactSpec>>,
-    ) -> Option<(ContactOptions, Friction, bool)> {
+    ) -> Option<(ContactOptions, [Friction; 2], bool)> {
         let mut opts = ContactOptions::default();
         let Some(c) = c else {
             return (!self.unreadable.iter().any(|t| t == "contact")).then_some((
                 opts,
-                Friction::Constant(DEFAULT_FRICTION),
+                [0; 2].map(|_| Friction::Constant(DEFAULT_FRICTION)),
                 true,
             ));
         };
@@ -1240,7 +1240,7 @@ impl Compiler<'_> {
                 None => ok = false,
             }
         }
-        let mut friction = Friction::Constant(DEFAULT_FRICTION);
+        let mut friction = [0; 2].map(|_| Friction::Constant(DEFAULT_FRICTION));
         if let Some(f) = &c.friction {
             match self.friction(f) {
                 Some(x) => friction = x,
@@ -1917,17 +1917,17 @@ impl MinByStart for Range<usize> {
     }
 }
 
-/// The contact crate's friction of a checked [`FrictionSpec`] (angles to radians).
-pub fn friction_model(f: &FrictionSpec) -> Friction {
-    match f {
+/// The contact crate's friction of rail `k` (0 left, 1 right) of a checked [`FrictionSpec`]
+/// (angles to radians).
+pub fn friction_model(f: &FrictionSpec, k: usize) -> Friction {
+    match f.rail(k) {
         FrictionSpec::Constant(x) => Friction::Constant(*x),
-        FrictionSpec::ByContactAngle {
-            contact_angle_deg,
-            coefficient,
-        } => Friction::ByContactAngle {
-            angle: contact_angle_deg.iter().map(|a| a.to_radians()).collect(),
-            mu: coefficient.clone(),
+        FrictionSpec::ByContactAngle(t) => Friction::ByContactAngle {
+            angle: t.contact_angle_deg.iter().map(|a| a.to_radians()).collect(),
+            mu: t.coefficient.clone(),
         },
+        // (refused by `FrictionSpec::problem`; one built in code resolves the same way)
+        nested @ FrictionSpec::PerRail(_) => friction_model(nested, k),
     }
 }
 

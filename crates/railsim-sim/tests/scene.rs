@@ -670,22 +670,35 @@ fn comfort_points_are_read_and_checked() {
 fn friction_is_a_number_or_a_table_by_contact_angle() {
     use railsim_contact::Friction;
     let s = compile(&format!("{GOOD}[contact]\nfriction = 0.4\n")).unwrap();
-    assert_eq!(s.friction, Friction::Constant(0.4));
+    assert_eq!(
+        s.friction,
+        [Friction::Constant(0.4), Friction::Constant(0.4)]
+    );
     let s = compile(&format!(
         "{GOOD}[contact]\nfriction = {{ contact_angle_deg = [10, 20], coefficient = [0.3, 0.15] }}\n"
     ))
     .unwrap();
-    match &s.friction {
-        Friction::ByContactAngle { angle, mu } => {
-            assert_eq!(mu, &[0.3, 0.15]);
-            assert!((angle[1] - 20f64.to_radians()).abs() < 1e-15);
+    for f in &s.friction {
+        match f {
+            Friction::ByContactAngle { angle, mu } => {
+                assert_eq!(mu, &[0.3, 0.15]);
+                assert!((angle[1] - 20f64.to_radians()).abs() < 1e-15);
+            }
+            f => panic!("{f:?}"),
         }
-        f => panic!("{f:?}"),
     }
+    // per rail: only the right (high) rail's gauge face lubricated
+    let s = compile(&format!(
+        "{GOOD}[contact]\nfriction = {{ left = 0.35, right = {{ contact_angle_deg = [15, 25], \
+         coefficient = [0.35, 0.1] }} }}\n"
+    ))
+    .unwrap();
+    assert_eq!(s.friction[0], Friction::Constant(0.35));
+    assert!(matches!(&s.friction[1], Friction::ByContactAngle { mu, .. } if mu == &[0.35, 0.1]));
     // GOOD has four lines: the friction is on line 6
     for (value, needles) in [
         ("1.5", &["friction must lie in"][..]),
-        ("\"dry\"", &["friction must be a number or a table"][..]),
+        ("\"dry\"", &["friction must be a number, a table"][..]),
         (
             "{ contact_angle_deg = [10], coefficient = [0.3] }",
             &["1 contact angles and 1 coefficients", "at least two"][..],
@@ -704,7 +717,19 @@ fn friction_is_a_number_or_a_table_by_contact_angle() {
         ),
         (
             "{ angle = [10, 20], coefficient = [0.3, 0.2] }",
-            &["friction must be a number or a table"][..],
+            &["friction must be a number, a table"][..],
+        ),
+        (
+            "{ contact_angle_deg = [10, 20], coefficient = [0.3, 0.2], left = 0.3 }",
+            &["friction must be a number, a table"][..],
+        ),
+        (
+            "{ left = 0.3, right = 2 }",
+            &["friction.right must lie in", "found 2"][..],
+        ),
+        (
+            "{ left = { left = 0.3, right = 0.3 }, right = 0.3 }",
+            &["friction.left must be a number or a table by contact angle"][..],
         ),
     ] {
         let p = problems(&format!("{GOOD}[contact]\nfriction = {value}\n"));

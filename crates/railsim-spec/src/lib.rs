@@ -306,21 +306,39 @@ mod tests {
 }
 
 /// A Coulomb friction coefficient as the scene (`[contact] friction`) and the track
-/// (`[[rail_section]] friction`) give it: one number, or coefficients at contact angles
-/// (railsim's contact angle, positive toward the flange), linear in between and constant beyond
-/// the ends (`railsim_contact::Friction`).
+/// (`[[rail_section]] friction`) give it: one number, coefficients at contact angles (railsim's
+/// contact angle, positive toward the flange), linear in between and constant beyond the ends
+/// (`railsim_contact::Friction`), or either of those per rail (`{ left = .., right = .. }`, e.g.
+/// only the high rail's gauge face lubricated).
 #[derive(Debug, Clone, PartialEq, serde::Deserialize)]
 #[serde(untagged)]
 pub enum FrictionSpec {
     /// \[-\] the same everywhere.
     Constant(f64),
     /// Varying with the contact angle.
-    ByContactAngle {
-        /// \[deg\] contact angles, strictly increasing.
-        contact_angle_deg: Vec<f64>,
-        /// \[-\] the coefficient at each angle.
-        coefficient: Vec<f64>,
-    },
+    ByContactAngle(FrictionTable),
+    /// One of the other two forms per rail.
+    PerRail(FrictionPerRail),
+}
+
+/// Friction coefficients at contact angles.
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrictionTable {
+    /// \[deg\] contact angles, strictly increasing.
+    pub contact_angle_deg: Vec<f64>,
+    /// \[-\] the coefficient at each angle.
+    pub coefficient: Vec<f64>,
+}
+
+/// Friction per rail.
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrictionPerRail {
+    /// The left rail's: a number or a table by contact angle.
+    pub left: Box<FrictionSpec>,
+    /// The right rail's.
+    pub right: Box<FrictionSpec>,
 }
 
 /// \[-\] the friction coefficients the files accept.
@@ -328,8 +346,8 @@ pub const FRICTION_RANGE: (f64, f64) = (0.01, 1.0);
 
 /// What a `friction` value of neither form is told (serde's message for the untagged enum names
 /// no form): see [`friction_message`].
-pub const FRICTION_FORMS: &str =
-    "friction must be a number or a table { contact_angle_deg = [..], coefficient = [..] }";
+pub const FRICTION_FORMS: &str = "friction must be a number, a table { contact_angle_deg = [..], \
+     coefficient = [..] } or a table { left = .., right = .. } of those";
 
 /// A deserialisation message with serde's words for a `friction` of neither form replaced by
 /// [`FRICTION_FORMS`]; other messages as they are (a `rewrite` for [`read_table`]).
@@ -342,9 +360,24 @@ pub fn friction_message(message: &str) -> String {
 }
 
 impl FrictionSpec {
+    /// The friction of rail `k` (0 left, 1 right): a per-rail value's part, otherwise itself.
+    pub fn rail(&self, k: usize) -> &FrictionSpec {
+        match self {
+            FrictionSpec::PerRail(p) => {
+                if k == 0 {
+                    &p.left
+                } else {
+                    &p.right
+                }
+            }
+            other => other,
+        }
+    }
+
     /// What is wrong with the value, as a message about `key` (e.g. `friction`); `None` when
-    /// every coefficient lies in [`FRICTION_RANGE`] and a table has at least two points, as many
-    /// coefficients as angles, and angles strictly increasing within ±90°.
+    /// every coefficient lies in [`FRICTION_RANGE`], a table has at least two points, as many
+    /// coefficients as angles, and angles strictly increasing within ±90°, and a per-rail value
+    /// holds no other per-rail value.
     pub fn problem(&self, key: &str) -> Option<String> {
         let (lo, hi) = FRICTION_RANGE;
         let ok = |x: f64| x.is_finite() && (lo..=hi).contains(&x);
@@ -352,10 +385,10 @@ impl FrictionSpec {
             FrictionSpec::Constant(x) => {
                 (!ok(*x)).then(|| format!("{key} must lie in [{lo:e}, {hi:e}] -, found {x}"))
             }
-            FrictionSpec::ByContactAngle {
+            FrictionSpec::ByContactAngle(FrictionTable {
                 contact_angle_deg: a,
                 coefficient: c,
-            } => {
+            }) => {
                 if a.len() < 2 || a.len() != c.len() {
                     return Some(format!(
                         "{key}: {} contact angles and {} coefficients; expected as many \
@@ -381,6 +414,18 @@ impl FrictionSpec {
                     )
                 })
             }
+            FrictionSpec::PerRail(p) => [("left", &p.left), ("right", &p.right)]
+                .into_iter()
+                .find_map(|(side, f)| {
+                    let key = format!("{key}.{side}");
+                    match **f {
+                        FrictionSpec::PerRail(_) => Some(format!(
+                            "{key} must be a number or a table by contact angle, found another \
+                             {{ left, right }} table"
+                        )),
+                        _ => f.problem(&key),
+                    }
+                }),
         }
     }
 }

@@ -797,7 +797,7 @@ fn rail_sections_change_the_gauge() {
 /// contact angle, inherited by the sections after it; bad values are located at the key.
 #[test]
 fn rail_sections_set_the_friction() {
-    use railsim_spec::FrictionSpec;
+    use railsim_spec::{FrictionSpec, FrictionTable};
     let seg = "[[segment]]\ntype = \"tangent\"\nlength_m = 300\n";
     let t = track(&format!(
         "{seg}[[rail_section]]\nstart_m = 100\n\
@@ -810,10 +810,10 @@ fn rail_sections_set_the_friction() {
         .iter()
         .map(|r| r.friction.clone())
         .collect();
-    let table = FrictionSpec::ByContactAngle {
+    let table = FrictionSpec::ByContactAngle(FrictionTable {
         contact_angle_deg: vec![15.0, 25.0],
         coefficient: vec![0.3, 0.1],
-    };
+    });
     assert_eq!(
         f,
         [
@@ -845,7 +845,7 @@ fn rail_sections_set_the_friction() {
     assert!(
         msgs.iter()
             .any(|m| m.starts_with("mem.toml:9:")
-                && m.contains("friction must be a number or a table")),
+                && m.contains("friction must be a number, a table")),
         "{msgs:#?}"
     );
 }
