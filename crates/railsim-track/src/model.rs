@@ -462,8 +462,9 @@ pub struct RailBlend {
     pub weight: f64,
 }
 
-/// \[mm\] Most a rail section's gauge may differ from the track's `gauge_mm` (gauge widening in
-/// tight curves is at most some 20–30 mm; more is taken for a slip of the pen).
+/// \[mm\] Most a rail section's gauge may differ from the track's `gauge_mm`: a section gauge
+/// further off is taken for a slip of the pen (a gauge in metres, another track's gauge) rather
+/// than a widening.
 const SECTION_GAUGE_RANGE_MM: f64 = 50.0;
 
 /// Check a `gauge_mm` value (`prefix` names where it is); with `track` (the track's gauge, mm)
