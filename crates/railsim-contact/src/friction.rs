@@ -66,12 +66,12 @@ impl Friction {
     }
 
     /// \[-\] the coefficient where the contact normal is `n` (y, z in the side frame, from
-    /// rail to wheel): at its contact angle atan2(−n_y, n_z) (`crate::patch::PatchFrame`'s).
+    /// rail to wheel): at its contact angle ([`crate::patch::contact_angle_of`]).
     #[inline]
     pub fn at_normal(&self, n: [f64; 2]) -> f64 {
         match self {
             Friction::Constant(mu) => *mu,
-            _ => self.at((-n[0]).atan2(n[1])),
+            _ => self.at(crate::patch::contact_angle_of(n)),
         }
     }
 

@@ -10,6 +10,14 @@ use railsim_elastic::Creepages;
 /// are clamped to it (CONTACT's KPEC/ANALYN floor of 1e-4 1/mm, contact-theory.md §1.2).
 pub const B_MIN: f64 = 0.1;
 
+/// \[rad\] the contact angle of a contact normal `n` (y, z in the side frame, from rail to
+/// wheel): the rotation from the track's z axis to it, positive when it leans toward the flange
+/// ([`PatchFrame::contact_angle`]).
+#[inline]
+pub fn contact_angle_of(n: [f64; 2]) -> f64 {
+    (-n[0]).atan2(n[1])
+}
+
 /// The rigid contact pair of a patch and the patch's planar frame, in the side frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PatchFrame {
@@ -126,7 +134,7 @@ pub(crate) fn patch_frame(
         s_w: q.s_w,
         n,
         t,
-        contact_angle: (-n[0]).atan2(n[1]),
+        contact_angle: contact_angle_of(n),
         delta0,
         a_curv,
         b_curv,

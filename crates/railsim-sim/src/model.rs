@@ -233,13 +233,14 @@ impl SimModel {
                 let k = usize::from(side == Side::Right);
                 let mut contacts = Vec::new();
                 for section in scene.track.rail_sections() {
+                    let friction = rail_friction(scene, section, k);
                     let key: PairKey = (
                         w.profiles[k].clone(),
                         w.running_circle_from_back,
                         section.profiles[k].clone(),
                         section.inclination,
                         section.gauge,
-                        rail_friction(scene, section, k),
+                        friction.clone(),
                         w.nominal_radius,
                         w.back_to_back,
                     );
@@ -247,7 +248,7 @@ impl SimModel {
                         Some((_, contact)) => contact.clone(),
                         None => {
                             let contact =
-                                build_contact(scene, w, k, side, section, material, options)?;
+                                build_contact(w, k, side, section, friction, material, options)?;
                             built.push((key, contact.clone()));
                             contact
                         }
@@ -519,13 +520,14 @@ fn rail_friction(scene: &Scene, section: &RailSection, k: usize) -> Friction {
 }
 
 /// The contact pair of wheel `k` (0 left, 1 right) of wheelset `w`: its wheel profile on the
-/// rail profile of the track's rail `section`, evaluated with the scene's contact options.
+/// rail profile of the track's rail `section` with `friction` (`rail_friction`), evaluated with
+/// the scene's contact `options`.
 fn build_contact(
-    scene: &Scene,
     w: &Wheelset,
     k: usize,
     side: Side,
     section: &RailSection,
+    friction: Friction,
     material: Material,
     options: ContactOptions,
 ) -> Result<WheelRailContact, SimError> {
@@ -542,7 +544,7 @@ fn build_contact(
         gauge_depth: 0.014,
         inclination,
         material,
-        friction: rail_friction(scene, section, k),
+        friction,
         curve_ds: 5e-5,
         smoothing: 0.0,
     })

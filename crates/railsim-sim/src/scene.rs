@@ -1209,7 +1209,7 @@ impl Compiler<'_> {
         let Some(c) = c else {
             return (!self.unreadable.iter().any(|t| t == "contact")).then_some((
                 opts,
-                [0; 2].map(|_| Friction::Constant(DEFAULT_FRICTION)),
+                default_friction(),
                 true,
             ));
         };
@@ -1240,7 +1240,7 @@ impl Compiler<'_> {
                 None => ok = false,
             }
         }
-        let mut friction = [0; 2].map(|_| Friction::Constant(DEFAULT_FRICTION));
+        let mut friction = default_friction();
         if let Some(f) = &c.friction {
             match self.friction(f) {
                 Some(x) => friction = x,
@@ -1915,6 +1915,11 @@ impl MinByStart for Range<usize> {
             other.clone()
         }
     }
+}
+
+/// [`DEFAULT_FRICTION`] on both rails.
+fn default_friction() -> [Friction; 2] {
+    [0; 2].map(|_| Friction::Constant(DEFAULT_FRICTION))
 }
 
 /// The contact crate's friction of rail `k` (0 left, 1 right) of a checked [`FrictionSpec`]

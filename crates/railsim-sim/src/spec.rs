@@ -105,8 +105,8 @@ pub struct ContactSpec {
     /// \[mm\] arc-length step of the contact search near contact; default 1.0.
     #[serde(default)]
     pub step_mm: Option<Spanned<f64>>,
-    /// Coulomb friction coefficient of every wheel/rail pair: a number (default 0.3) or a
-    /// table varying with the contact angle.
+    /// Coulomb friction coefficient of the wheel/rail pairs: a number (default 0.3), a table
+    /// varying with the contact angle, or either per rail.
     #[serde(default)]
     pub friction: Option<Spanned<FrictionSpec>>,
     /// \[N\] `linear` model only: constant creep coefficient f11 = f22 (no spin terms); without
