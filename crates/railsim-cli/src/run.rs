@@ -88,6 +88,12 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
         scene.contact.model.name(),
         sim.model().dim()
     );
+    if let Some((iterations, residual)) = sim.quasi_static_start() {
+        eprintln!(
+            "initial state: quasi-static at s = {:.2} m ({iterations} Newton iterations, largest residual {residual:.2} of its limit)",
+            scene.start
+        );
+    }
     let mut progress = throttled(a.quiet, |t, t_end, w| {
         let frac = (t / t_end).clamp(0.0, 1.0);
         let n = (frac * 30.0).round() as usize;

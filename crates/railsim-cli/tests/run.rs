@@ -241,3 +241,34 @@ fn a_stability_limited_run_is_reported() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A scene that starts inside a curve from its quasi-static state: the run says how the state
+/// was found, and the vehicle is at its steady lateral position from the first sample.
+#[test]
+fn a_quasi_static_start_is_reported() {
+    let dir = temp_dir("quasi_static");
+    let scene = dir.join("in_curve.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "vehicle = \"{}\"\ntrack = \"{}\"\nspeed_kmh = 80\nstart_m = 420\nduration_s = 0.2\n\
+             freeze = [\"carbody.x\"]\n[contact]\nmodel = \"polach\"\n[initial]\nstate = \"quasi-static\"\n",
+            root().join("vehicles/manchester_vehicle1.toml").display(),
+            root().join("tracks/curve_r300.toml").display()
+        ),
+    )
+    .unwrap();
+    let (code, out, err) = railsim(&["run", scene.to_str().unwrap(), "--no-log"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("initial state: quasi-static at s = 420.00 m (")
+            && err.contains("Newton iterations, largest residual"),
+        "{err}"
+    );
+    // the leading wheelset runs 6.28 mm out toward the outer rail throughout
+    assert!(
+        out.contains("wheelset 0: max |lateral displacement| 6.28 mm"),
+        "{out}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -22,6 +22,7 @@ use std::path::Path;
 use railsim_track::{HARD_MIN_RADIUS_M, TrackModel, TrackSpec};
 
 use faer::linalg::solvers::Solve;
+use railsim_contact::ContactModelKind;
 use railsim_ode::OdeSystem;
 use railsim_ode::linear::jacobian;
 
@@ -29,7 +30,9 @@ use crate::dynamics::Dynamics;
 use crate::error::SimError;
 use crate::modal::{ModalOptions, difference_steps};
 use crate::run::{RunOptions, RunSummary, Sample, Simulation};
-use crate::scene::{RunLength, Scene, SpeedProfile, extent, required_curve_radius};
+use crate::scene::{
+    RunLength, STRAIGHT_CURVATURE, Scene, SpeedProfile, extent, required_curve_radius,
+};
 
 /// \[m\] straight track ahead of the leading wheelset at the start.
 const LEAD_MARGIN: f64 = 5.0;
@@ -420,8 +423,11 @@ impl Default for QuasiStatic {
 /// Newton's method on the whole state (the Jacobian by central differences with the modal
 /// analysis' steps, `modal::difference_steps`, faer's LU) with a backtracking line
 /// search on the squared norm of the scaled residual, from the run's initial state (centred, on
-/// the tangent); when that fails, curvature and cant are raised in quarters, each solved from the
-/// last solution (continuation). Each row's residual is scaled to a force (member accelerations
+/// the tangent). When that fails, Newton starts again nearer the solution: with a contact model
+/// other than `polach`, from `polach`'s steady state of the case (STRIPES' and FASTSIM's forces
+/// are not smooth enough for Newton from afar); otherwise, or if that fails too, from the case
+/// with curvature and cant raised in quarters, each solved from the last solution
+/// (continuation). Each row's residual is scaled to a force (member accelerations
 /// times mass or inertia, rail accelerations times the rail mass) or taken as a rate, against
 /// the limits of `qs`. Same quantities as [`steady_curving`] from one sample at the solution
 /// (`lateral_swing` 0). Errors when Newton does not converge (a curve without a steady state, or
@@ -481,42 +487,31 @@ pub(crate) fn steady_state(
     let sim = Simulation::new(&study)?;
     let fail = |message: String| SimError::Study {
         message: format!(
-            "quasi-static curving of scene '{}', R = {} m at {:.1} km/h: {message}",
+            "quasi-static curving of scene '{}', R = {} m at {:.1} km/h: {message}; the time \
+             integration (the default method) shows whether the vehicle settles",
             scene.name,
             case.radius,
             case.speed * 3.6
         ),
     };
-    let (x, iterations, residual) = match newton_steady(&sim, at / case.speed, None, qs) {
+    let t = at / case.speed;
+    let (x, iterations, residual) = match newton_steady(&sim, t, None, qs) {
         Ok(solved) => solved,
         Err(first) => {
-            // Continuation: curvature and cant raised in quarters, each solved from the last
-            // solution; the last quarter is the case itself. A failure reports the direct one.
-            let mut x: Option<Vec<f64>> = None;
-            let mut total = 0;
-            for k in 1..=3 {
-                let f = k as f64 / 4.0;
-                let part = CurveCase {
-                    radius: case.radius / f,
-                    cant: case.cant * f,
-                    ..*case
-                };
-                let solved = curving_scene(scene, &part, run)
-                    .and_then(|(s, c)| Ok((Simulation::new(&s)?, c)))
-                    .ok()
-                    .and_then(|(psim, c)| {
-                        let t = (c + 0.5 * run.settle) / case.speed;
-                        newton_steady(&psim, t, x.as_deref(), qs).ok()
-                    });
-                let Some((xk, it, _)) = solved else {
-                    return Err(fail(first));
-                };
-                total += it;
-                x = Some(xk);
-            }
-            let (xk, it, r) =
-                newton_steady(&sim, at / case.speed, x.as_deref(), qs).map_err(|_| fail(first))?;
-            (xk, total + it, r)
+            // A start nearer the solution: for a contact model other than `polach`, `polach`'s
+            // steady state of the case (smooth forces, and its own continuation), else the
+            // continuation in curvature and cant with the model itself.
+            let nearer = (scene.contact.model != ContactModelKind::Polach)
+                .then(|| steady_state(&with_polach(scene), case, run, qs).ok())
+                .flatten()
+                .map(|p| (p.x, p.iterations))
+                .or_else(|| continuation(scene, case, run, qs));
+            nearer
+                .and_then(|(x1, before)| {
+                    let (x, it, r) = newton_steady(&sim, t, Some(&x1), qs).ok()?;
+                    Some((x, before + it, r))
+                })
+                .ok_or_else(|| fail(first))?
         }
     };
     Ok(SteadyState {
@@ -526,6 +521,105 @@ pub(crate) fn steady_state(
         x,
         iterations,
         residual,
+    })
+}
+
+/// `scene` with the `polach` contact model: smooth forces, from whose steady state Newton
+/// reaches that of STRIPES or FASTSIM, which it does not from afar.
+fn with_polach(scene: &Scene) -> Scene {
+    let mut smooth = scene.clone();
+    smooth.contact.model = ContactModelKind::Polach;
+    smooth
+}
+
+/// The continuation of [`steady_state`]: curvature and cant raised in quarters, each solved from
+/// the last solution, up to three quarters of the case. Returns that solution and the Newton
+/// iterations taken, or `None` when a step fails.
+fn continuation(
+    scene: &Scene,
+    case: &CurveCase,
+    run: &CurvingRun,
+    qs: &QuasiStatic,
+) -> Option<(Vec<f64>, usize)> {
+    let mut x: Option<Vec<f64>> = None;
+    let mut total = 0;
+    for k in 1..=3 {
+        let f = k as f64 / 4.0;
+        let part = CurveCase {
+            radius: case.radius / f,
+            cant: case.cant * f,
+            ..*case
+        };
+        let (study, c) = curving_scene(scene, &part, run).ok()?;
+        let psim = Simulation::new(&study).ok()?;
+        let t = (c + 0.5 * run.settle) / case.speed;
+        let (xk, it, _) = newton_steady(&psim, t, x.as_deref(), qs).ok()?;
+        total += it;
+        x = Some(xk);
+    }
+    x.map(|x| (x, total))
+}
+
+/// The quasi-static start of `scene` ([`crate::InitialState::QuasiStatic`]), for
+/// `Simulation::new`, which passes `sim` with its static equilibrium built (every member on its
+/// own frame's centre line, each wheelset settled on its rails): Newton's method on
+/// `f(0, x) = 0` from there, as [`quasi_static_curving`] solves a curving case. If that fails, a
+/// second Newton on the scene itself (its own track, rails and irregularities) starts nearer:
+/// - for a contact model other than `polach`, from `polach`'s quasi-static start of the same
+///   scene: STRIPES' and FASTSIM's forces are not smooth enough for Newton from afar, but are
+///   from there (the R = 150 m curve with `stripes`: 5 iterations after `polach`'s 23);
+/// - for `polach` in a curve, from the steady state of that curve's curving case (its radius and
+///   cant at the vehicle's reference point, the speed at t = 0), with [`steady_state`]'s
+///   continuation in curvature and cant.
+///
+/// Returns the state, the Newton iterations in all and the largest scaled residual left.
+pub(crate) fn quasi_static_start(
+    sim: &Simulation,
+    scene: &Scene,
+) -> Result<(Vec<f64>, usize, f64), SimError> {
+    let qs = QuasiStatic::default();
+    let direct = match newton_steady(sim, 0.0, None, &qs) {
+        Ok(solved) => return Ok(solved),
+        Err(e) => e,
+    };
+    // A start nearer the solution: for a model other than `polach`, `polach`'s quasi-static
+    // state (the smooth forces Newton needs, and this fallback's continuation); for `polach`
+    // in a curve, the steady state of that curve's curving case (continuation in curvature and
+    // cant).
+    let nearer = if scene.contact.model != ContactModelKind::Polach {
+        Simulation::new(&with_polach(scene)).ok().map(|p| {
+            (
+                p.initial_state().to_vec(),
+                p.quasi_static_start().map_or(0, |q| q.0),
+            )
+        })
+    } else {
+        let f = scene.track.frame_at(scene.start);
+        let left = f.curvature > 0.0;
+        let case = CurveCase {
+            radius: 1.0 / f.curvature.abs(),
+            // the outer rail's height above the inner one (`TrackFrame::cant` is the left
+            // rail's)
+            cant: if left { -f.cant } else { f.cant },
+            left,
+            speed: sim.model().motion(0.0).1,
+        };
+        (f.curvature.abs() > STRAIGHT_CURVATURE)
+            .then(|| steady_state(scene, &case, &CurvingRun::default(), &qs).ok())
+            .flatten()
+            .map(|s| (s.x, s.iterations))
+    };
+    let solved = nearer.and_then(|(x1, before)| {
+        newton_steady(sim, 0.0, Some(&x1), &qs)
+            .ok()
+            .map(|(x, it, r)| (x, before + it, r))
+    });
+    solved.ok_or_else(|| SimError::Initial {
+        message: format!(
+            "quasi-static start of scene '{}' at s = {:.2} m: no steady state found: {direct}; start \
+             on a tangent instead ([initial] state = \"static\") and let the vehicle run into the curve",
+            scene.name, scene.start
+        ),
     })
 }
 
@@ -591,7 +685,7 @@ fn newton_steady(
     while r > 1.0 {
         if iterations == qs.max_iterations {
             return Err(format!(
-                "Newton did not converge in {iterations} iterations (largest scaled residual {r:.3} at '{}'); the time integration (the default method) shows whether the vehicle settles",
+                "Newton did not converge in {iterations} iterations (largest scaled residual {r:.3} at '{}')",
                 model.state_names[worst]
             ));
         }
@@ -621,7 +715,7 @@ fn newton_steady(
             lambda *= 0.5;
             if lambda < 1.0 / 1024.0 {
                 return Err(format!(
-                    "Newton's line search failed after {iterations} iterations (largest scaled residual {r:.3} at '{}'): no steady state near, or contact forces not smooth enough for Newton (STRIPES' strips, FASTSIM's cells; `polach` is smooth); the time integration (the default method) shows whether the vehicle settles",
+                    "Newton's line search failed after {iterations} iterations (largest scaled residual {r:.3} at '{}'): no steady state near, or contact forces not smooth enough for Newton (STRIPES' strips, FASTSIM's cells; `polach` is smooth)",
                     model.state_names[worst]
                 ));
             }

@@ -36,8 +36,8 @@ pub use error::{Problem, SceneError, SimError, SourceMap};
 pub use model::SimModel;
 pub use run::{ElementEnergy, RunOptions, RunSummary, Sample, Simulation};
 pub use scene::{
-    InitialDisturbance, LogOptions, RigidWheelbase, RunLength, Scene, SpeedProfile, Topic,
-    longest_rigid_wheelbase, required_curve_radius,
+    InitialDisturbance, InitialState, LogOptions, RigidWheelbase, RunLength, Scene, SpeedProfile,
+    Topic, longest_rigid_wheelbase, required_curve_radius,
 };
 pub use spec::{
     AssessmentSpec, ComfortPointSpec, ContactSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec,

@@ -22,7 +22,7 @@ use crate::dynamics::{CostSplit, Dynamics, ElementRecord, MemberKin, Workspace, 
 use crate::error::SimError;
 use crate::math::{add, cross, mul, mul_t, quaternion, rotation_rpy};
 use crate::model::{MemberKind, SimModel};
-use crate::scene::{Scene, Topic};
+use crate::scene::{InitialState, Scene, Topic};
 
 /// \[m\] wheelset lateral displacement relative to the track beyond which a run stops as a
 /// derailment (the flange has climbed the rail: flange-way clearance ≈ 8 mm, flange height
@@ -56,6 +56,9 @@ pub struct Simulation {
     t_end: f64,
     /// Wheel loads of the static solution, per wheelset \[left, right\].
     static_loads: Vec<[f64; 2]>,
+    /// The quasi-static start's Newton iterations and largest scaled residual
+    /// ([`InitialState::QuasiStatic`]); `None` for a static start.
+    quasi_static: Option<(usize, f64)>,
 }
 
 /// One sampled instant: time, state and the outputs derived from it.
@@ -306,7 +309,7 @@ impl Simulation {
             }
             ws = d.ws;
         }
-        Ok(Simulation {
+        let mut sim = Simulation {
             model,
             ws: Some(ws),
             integ,
@@ -314,7 +317,22 @@ impl Simulation {
             t0: 0.0,
             t_end: scene.duration(),
             static_loads: stat.wheel_loads,
-        })
+            quasi_static: None,
+        };
+        if scene.initial_state == InitialState::QuasiStatic {
+            // from the static equilibrium just built, which places every member on its frame
+            let (x, iterations, residual) = crate::curving::quasi_static_start(&sim, scene)?;
+            sim.x0 = x;
+            sim.quasi_static = Some((iterations, residual));
+        }
+        Ok(sim)
+    }
+
+    /// For a quasi-static start ([`InitialState::QuasiStatic`]): the Newton iterations it took
+    /// (with those of a continuation) and the largest residual left, scaled to its limit (at
+    /// most 1); `None` for a static start.
+    pub fn quasi_static_start(&self) -> Option<(usize, f64)> {
+        self.quasi_static
     }
 
     /// The model.

@@ -263,6 +263,34 @@ pub struct InitialDisturbance {
     pub yaw: f64,
 }
 
+/// Which state a run starts from (`[initial] state`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum InitialState {
+    /// The static equilibrium on straight level track: every member on its own frame's centre
+    /// line, each wheelset settled on its rails under its static load (docs/models/dynamics.md).
+    /// The vehicle must start on a tangent without cant.
+    #[default]
+    Static,
+    /// The steady state at the start (`f(0, x) = 0`: no acceleration relative to the
+    /// track-following frames), found by Newton's method as for quasi-static curving
+    /// (`crate::curving::quasi_static_start`). The vehicle may start inside a curve, where
+    /// curvature and cant are constant along it.
+    QuasiStatic,
+}
+
+impl InitialState {
+    /// The names in scene files.
+    pub const NAMES: [&'static str; 2] = ["static", "quasi-static"];
+
+    /// The name in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            InitialState::Static => Self::NAMES[0],
+            InitialState::QuasiStatic => Self::NAMES[1],
+        }
+    }
+}
+
 /// The longest rigid wheelset base of a vehicle: two wheelsets attached by force elements to the
 /// same body (a bogie frame, or the carbody of a two-axle vehicle), or to each other.
 #[derive(Debug, Clone, PartialEq)]
@@ -391,6 +419,8 @@ pub struct Scene {
     pub log: LogOptions,
     /// Initial disturbance of the leading wheelset (zero when the file has no `[initial]`).
     pub initial: InitialDisturbance,
+    /// The state the run starts from (`[initial] state`; [`InitialState::Static`] by default).
+    pub initial_state: InitialState,
     /// Degrees of freedom frozen by the scene (in addition to those the vehicle file freezes).
     pub frozen: Vec<Dof>,
     /// Settings of the EN 14363 assessment of the run's track-shift force (`[assessment]`).
@@ -506,7 +536,9 @@ impl Scene {
 
     /// A copy of this scene for a study (`crate::stability`): the same vehicle, track, start,
     /// contact, integrator and log settings, with `speed`, `length` and a lateral offset
-    /// \[m\] of the leading wheelset (its yaw disturbance kept). Checked like a scene file:
+    /// \[m\] of the leading wheelset (its yaw disturbance kept), starting from the static
+    /// equilibrium ([`InitialState::Static`]: a study places its vehicle on its own track,
+    /// straight where it starts). Checked like a scene file:
     /// the offset within ±[`MAX_INITIAL_OFFSET_MM`] and not on a frozen lateral degree of
     /// freedom (unless zero), and the run on the track.
     pub fn study(
@@ -538,6 +570,8 @@ impl Scene {
         s.speed = speed;
         s.length = length;
         s.initial.lateral_offset = lateral_offset;
+        // (a study places its vehicle itself, on its own track)
+        s.initial_state = InitialState::Static;
         let (_, x_max, _) = extent(&s.vehicle);
         let (d, len) = (s.distance(), s.track.length());
         if !(d.is_finite() && s.start + d + x_max <= len) {
@@ -706,7 +740,7 @@ impl Compiler<'_> {
                 &vehicle,
                 &track,
                 &track_file,
-                start,
+                (start, initial.map_or(InitialState::Static, |i| i.1)),
                 (x_max, x_min),
                 speed.as_ref(),
                 length,
@@ -730,7 +764,8 @@ impl Compiler<'_> {
             warm_start,
             integrator: integrator?,
             log: log?,
-            initial: initial?,
+            initial: initial?.0,
+            initial_state: initial?.1,
             frozen: frozen?,
             assessment: assessment?,
         })
@@ -1690,17 +1725,37 @@ impl Compiler<'_> {
         vehicle: &VehicleModel,
         lead: WheelsetId,
         frozen: &Option<Vec<Dof>>,
-    ) -> Option<InitialDisturbance> {
+    ) -> Option<(InitialDisturbance, InitialState)> {
         let mut out = InitialDisturbance {
             wheelset: lead,
             lateral_offset: 0.0,
             yaw: 0.0,
         };
+        let mut state = InitialState::Static;
         let Some(i) = i else {
-            return (!self.unreadable.iter().any(|t| t == "initial")).then_some(out);
+            return (!self.unreadable.iter().any(|t| t == "initial")).then_some((out, state));
         };
         let i = i.get_ref();
         let mut ok = true;
+        if let Some(v) = &i.state {
+            let name = v.get_ref().trim();
+            match InitialState::NAMES.iter().position(|n| *n == name) {
+                Some(0) => state = InitialState::Static,
+                Some(_) => state = InitialState::QuasiStatic,
+                None => {
+                    self.err(
+                        &v.span(),
+                        "initial.state",
+                        format!(
+                            "[initial] state: unknown initial state '{name}'{}; expected one of: {}",
+                            did_you_mean(name, InitialState::NAMES.into_iter()),
+                            InitialState::NAMES.join(", ")
+                        ),
+                    );
+                    ok = false;
+                }
+            }
+        }
         let ws = vehicle.wheelset(lead);
         let checks: [Check<'_>; 2] = [
             (
@@ -1728,6 +1783,19 @@ impl Compiler<'_> {
                     &v.span(),
                     key,
                     format!("[initial] {key} must lie in [-{max}, {max}] {unit}, found {x}"),
+                );
+                ok = false;
+                continue;
+            }
+            if x != 0.0 && state == InitialState::QuasiStatic {
+                self.err(
+                    &v.span(),
+                    key,
+                    format!(
+                        "[initial] {key} = {x} {unit} with state = \"quasi-static\": the quasi-static start is the \
+                         steady state itself, which a disturbance would leave at once; expected 0 (or state = \"static\" on \
+                         straight track)"
+                    ),
                 );
                 ok = false;
                 continue;
@@ -1761,7 +1829,7 @@ impl Compiler<'_> {
                 _ => out.yaw = x * scale,
             }
         }
-        ok.then_some(out)
+        ok.then_some((out, state))
     }
 
     /// Check that every wheelset stays on the track from start to end. Returns whether it does.
@@ -1771,7 +1839,7 @@ impl Compiler<'_> {
         vehicle: &VehicleModel,
         track: &TrackModel,
         track_file: &Path,
-        start: f64,
+        (start, state): (f64, InitialState),
         (x_max, x_min): (f64, f64),
         speed: Option<&SpeedProfile>,
         length: Option<RunLength>,
@@ -1799,8 +1867,9 @@ impl Compiler<'_> {
         // versines (0.30 m between a carbody and its bogies 19 m apart at R = 150 m) and the
         // wheel loads ignore the cant: the Manchester vehicle started in the R = 150 m curve
         // "derailed" at t = 0.03 s. So a start must find the vehicle on straight track without
-        // cant.
-        if ok {
+        // cant. The quasi-static start (`InitialState::QuasiStatic`) solves for the steady state
+        // instead, which needs curvature and cant constant under the vehicle (below).
+        if ok && state == InitialState::Static {
             let (a, b) = (start + x_min, start + x_max);
             let n = ((b - a) / 0.25).ceil().max(1.0) as usize;
             // (radius above 100 km and cant below 0.02 mm count as straight and level)
@@ -1834,15 +1903,50 @@ impl Compiler<'_> {
                         "start_m = {start} m puts the wheelsets of vehicle '{}' at s = {a:.2} .. {b:.2} m, on curved \
                          or canted track ({what} at s = {s_bent:.2} m); the initial state is the static equilibrium on \
                          straight level track, so the vehicle must start on a tangent without cant and run into the \
-                         curve: expected {advice}",
+                         curve: expected {advice} (or [initial] state = \"quasi-static\" for a start inside a circular curve)",
                         vehicle.name(),
                     ),
                 );
                 ok = false;
             }
         }
-        // The static equilibrium at the start takes each wheelset on the rails of its section;
-        // in a rail transition the dynamics blend two rails' forces, which it does not.
+        // A steady state needs the vehicle where the track does not change along it: curvature
+        // and cant constant from its rearmost to its leading wheelset (to 1e-5 1/m, the
+        // straight limit, and 0.02 mm), so not on a transition.
+        if ok && state == InitialState::QuasiStatic {
+            let (a, b) = (start + x_min, start + x_max);
+            let n = ((b - a) / 0.25).ceil().max(1.0) as usize;
+            let f0 = track.frame_at(a);
+            let changed = (1..=n)
+                .map(|k| a + (b - a) * k as f64 / n as f64)
+                .find(|&s| {
+                    let f = track.frame_at(s);
+                    (f.curvature - f0.curvature).abs() > STRAIGHT_CURVATURE
+                        || (f.cant - f0.cant).abs() > 0.02e-3
+                });
+            if let Some(s_changed) = changed {
+                let f = track.frame_at(s_changed);
+                self.err(
+                    &start_span,
+                    "start_m",
+                    format!(
+                        "start_m = {start} m puts the wheelsets of vehicle '{}' at s = {a:.2} .. {b:.2} m, where the track \
+                         changes (curvature {:.6} 1/m and cant {:.1} mm at s = {a:.2} m, {:.6} 1/m and {:.1} mm at \
+                         s = {s_changed:.2} m); the quasi-static start is a steady state, which needs curvature and cant \
+                         constant under the vehicle: expected a start with every wheelset on one tangent or in one \
+                         circular curve",
+                        vehicle.name(),
+                        f0.curvature,
+                        f0.cant * 1e3,
+                        f.curvature,
+                        f.cant * 1e3,
+                    ),
+                );
+                ok = false;
+            }
+        }
+        // The initial state takes each wheelset on the rails of its section; in a rail
+        // transition the dynamics blend two rails' forces, which it does not.
         if ok {
             let (a, b) = (start + x_min, start + x_max);
             let over = track
@@ -1855,7 +1959,7 @@ impl Compiler<'_> {
                     "start_m",
                     format!(
                         "start_m = {start} m puts the wheelsets of vehicle '{}' at s = {a:.2} .. {b:.2} m, over the rail \
-                         transition at s = {:.2} .. {:.2} m; the initial state is a static equilibrium on one rail \
+                         transition at s = {:.2} .. {:.2} m; the initial state is an equilibrium on one rail \
                          section: expected a start with every wheelset before or after the transition",
                         vehicle.name(),
                         r.start,

@@ -161,10 +161,14 @@ pub struct LogSpec {
     pub topics: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
-/// `[initial]`: a disturbance of the leading wheelset at t = 0.
+/// `[initial]`: the initial state, and a disturbance of the leading wheelset at t = 0.
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSpec {
+    /// `"static"` (default: the static equilibrium on straight level track) or
+    /// `"quasi-static"` (the steady state at the start, which may lie in a curve).
+    #[serde(default)]
+    pub state: Option<Spanned<String>>,
     /// \[mm\] lateral offset, positive to the left; default 0.
     #[serde(default)]
     pub lateral_offset_mm: Option<Spanned<f64>>,
@@ -260,7 +264,7 @@ pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_
 /// Keys of `[log]`.
 pub const LOG_KEYS: &[&str] = &["path", "rate_hz", "topics"];
 /// Keys of `[initial]`.
-pub const INITIAL_KEYS: &[&str] = &["lateral_offset_mm", "yaw_mrad"];
+pub const INITIAL_KEYS: &[&str] = &["state", "lateral_offset_mm", "yaw_mrad"];
 /// Keys of `[assessment]`.
 pub const ASSESSMENT_KEYS: &[&str] = &[
     "alpha",

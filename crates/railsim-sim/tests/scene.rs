@@ -459,6 +459,61 @@ fn a_start_on_curved_or_canted_track_is_rejected() {
     assert!(tangent.is_ok(), "{:?}", tangent.err());
 }
 
+/// `[initial] state = "quasi-static"` starts inside a circular curve (R = 1200 m from s = 320
+/// to 1120 m); a start where curvature or cant change under the vehicle (the clothoid before
+/// it), a disturbance with it and an unknown state are rejected at their keys.
+#[test]
+fn a_quasi_static_start_lies_where_the_track_is_constant() {
+    let start = |s: f64, initial: &str| {
+        GOOD.replace(
+            "duration_s = 1",
+            &format!("duration_s = 1\nstart_m = {s}\n[initial]\n{initial}"),
+        )
+    };
+    let inside = compile(&start(600.0, "state = \"quasi-static\""));
+    let inside = inside.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(inside.initial_state, railsim_sim::InitialState::QuasiStatic);
+    let p = problems(&start(300.0, "state = \"quasi-static\""));
+    expect(
+        &p,
+        5,
+        &[
+            "start_m = 300 m",
+            "where the track changes",
+            "needs curvature and cant constant under the vehicle",
+            "expected a start with every wheelset on one tangent or in one circular curve",
+        ],
+    );
+    let p = problems(&start(
+        600.0,
+        "state = \"quasi-static\"\nlateral_offset_mm = 2",
+    ));
+    expect(
+        &p,
+        8,
+        &[
+            "lateral_offset_mm = 2 mm with state = \"quasi-static\"",
+            "expected 0",
+        ],
+    );
+    let p = problems(&start(150.0, "state = \"quasistatic\""));
+    expect(
+        &p,
+        7,
+        &[
+            "unknown initial state 'quasistatic'",
+            "expected one of: static, quasi-static",
+        ],
+    );
+    // the static start's rejection names the quasi-static one
+    let p = problems(&start(600.0, "state = \"static\""));
+    expect(
+        &p,
+        5,
+        &["on curved or canted track", "state = \"quasi-static\""],
+    );
+}
+
 #[test]
 fn disturbance_of_a_frozen_dof_and_bad_log_are_rejected() {
     let p = problems(&format!(

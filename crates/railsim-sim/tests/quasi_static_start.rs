@@ -1,0 +1,176 @@
+//! A run that starts inside a curve from its quasi-static state (`[initial] state =
+//! "quasi-static"`, `railsim_sim::InitialState::QuasiStatic`): the steady state at the start,
+//! found by Newton's method, from which the vehicle runs on steadily from the first sample. A
+//! static start there is refused (the members placed on their own frames miss each other by
+//! the curve's versines), so without it a run in a curve must begin on the tangent before it.
+
+mod common;
+
+use railsim_sim::curving::{CurveCase, CurvingRun, QuasiStatic, quasi_static_curving};
+use railsim_sim::{InitialState, Sample, Scene, Simulation};
+
+/// The Manchester vehicle (carbody x frozen, DOPRI5 at its default tolerances) with contact
+/// model `model` on `track` at `kmh`, starting at `start_m` from the quasi-static state.
+fn quasi_static(track: &str, model: &str, kmh: f64, start_m: f64, seconds: f64) -> Scene {
+    common::scene(&format!(
+        r#"
+        vehicle = "vehicles/manchester_vehicle1.toml"
+        track = "{track}"
+        freeze = ["carbody.x"]
+        speed_kmh = {kmh}
+        start_m = {start_m}
+        duration_s = {seconds}
+        [contact]
+        model = "{model}"
+        [initial]
+        state = "quasi-static"
+        "#
+    ))
+}
+
+/// The largest change of any wheelset's lateral displacement \[m\] and of any wheel's Y or Q
+/// \[N\] from the first sample.
+fn drift(samples: &[Sample]) -> (f64, f64) {
+    let first = &samples[0];
+    let (mut lateral, mut force) = (0.0f64, 0.0f64);
+    for s in samples {
+        for (a, b) in s.lateral.iter().zip(&first.lateral) {
+            lateral = lateral.max((a - b).abs());
+        }
+        for (a, b) in s.wheelsets.iter().zip(&first.wheelsets) {
+            for d in [
+                a.y_left_n - b.y_left_n,
+                a.y_right_n - b.y_right_n,
+                a.q_left_n - b.q_left_n,
+                a.q_right_n - b.q_right_n,
+            ] {
+                force = force.max(d.abs());
+            }
+        }
+    }
+    (lateral, force)
+}
+
+/// R = 300 m, 150 mm cant, 80 km/h (`tracks/curve_r300.toml`, a right curve; 0.7 m/s² cant
+/// deficiency), `polach`: the run's first sample is the quasi-static curving solution of the
+/// same curve (`railsim curving --method quasi-static`: the same equations solved on the
+/// curving study's own track), and the vehicle stays there: over 1.5 s no wheelset moves
+/// laterally by more than 1 µm and no wheel force changes by more than 150 N (measured 0.1 µm
+/// and 62 N: DOPRI5's stability-limited ripple at atol 1e-8, docs/models/ode.md).
+#[test]
+fn a_run_started_in_a_curve_from_its_quasi_static_state_runs_on_steadily() {
+    let scene = quasi_static("tracks/curve_r300.toml", "polach", 80.0, 420.0, 1.5);
+    assert_eq!(scene.initial_state, InitialState::QuasiStatic);
+    let (sim, samples, _) = common::run(&scene);
+    let (iterations, residual) = sim.quasi_static_start().expect("a quasi-static start");
+    println!("{iterations} Newton iterations, residual {residual:.3}");
+    assert!(iterations > 0 && residual <= 1.0);
+    let reference = quasi_static_curving(
+        &scene,
+        &CurveCase {
+            radius: 300.0,
+            cant: 0.15,
+            left: false,
+            speed: 80.0 / 3.6,
+        },
+        &CurvingRun::default(),
+        &QuasiStatic::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let first = &samples[0];
+    for (n, (w, m)) in first.wheelsets.iter().zip(&reference.wheelsets).enumerate() {
+        println!(
+            "ws{n}: Y {:.1} {:.1} against {:.1} {:.1} N, Q {:.1} {:.1} against {:.1} {:.1} N, lateral {:.4} against {:.4} mm",
+            w.y_left_n,
+            w.y_right_n,
+            m.wheels[0].y,
+            m.wheels[1].y,
+            w.q_left_n,
+            w.q_right_n,
+            m.wheels[0].q,
+            m.wheels[1].q,
+            first.lateral[n] * 1e3,
+            m.lateral * 1e3
+        );
+        // (Newton's force tolerance: 1e-3 of the mean static wheel load, 55 N)
+        for (got, want) in [
+            (w.y_left_n, m.wheels[0].y),
+            (w.y_right_n, m.wheels[1].y),
+            (w.q_left_n, m.wheels[0].q),
+            (w.q_right_n, m.wheels[1].q),
+        ] {
+            assert!((got - want).abs() < 55.0, "ws{n}: {got} against {want} N");
+        }
+        assert!((first.lateral[n] - m.lateral).abs() < 1e-6);
+    }
+    // the leading wheelset runs out toward the outer (left) rail by several millimetres
+    assert!(first.lateral[0] > 5e-3, "{}", first.lateral[0]);
+    let (lateral, force) = drift(&samples);
+    println!("drift over 1.5 s: {:.4} mm, {force:.1} N", lateral * 1e3);
+    assert!(lateral < 1e-6 && force < 150.0, "{lateral} m, {force} N");
+}
+
+/// R = 300 m with 100 mm cant at 40 km/h (0.24 m/s² cant excess), `polach`: Newton from the
+/// static start does not reach the steady state (its line search stalls after 5 iterations), so
+/// the start comes from the curving case's continuation in curvature and cant, and the run is
+/// steady from it. The same start with `stripes`, whose forces Newton reaches directly here.
+#[test]
+fn a_quasi_static_start_that_needs_the_continuation_is_steady_too() {
+    let track = "crates/railsim-sim/tests/tracks/r300_cant100.toml";
+    for model in ["polach", "stripes"] {
+        let scene = quasi_static(track, model, 40.0, 100.0, 1.0);
+        let (sim, samples, _) = common::run(&scene);
+        let (iterations, residual) = sim.quasi_static_start().expect("a quasi-static start");
+        let (lateral, force) = drift(&samples);
+        println!(
+            "{model}: {iterations} Newton iterations, residual {residual:.3}; drift over 1 s {:.4} mm, {force:.1} N",
+            lateral * 1e3
+        );
+        assert!(residual <= 1.0);
+        assert!(lateral < 1e-6 && force < 150.0, "{lateral} m, {force} N");
+        // a left curve: the leading wheelset toward the outer (right) rail, the trailing one of
+        // the bogie toward the inner one (cant excess)
+        assert!(samples[0].lateral[0] < -5e-3 && samples[0].lateral[1] > 2e-3);
+    }
+}
+
+/// R = 150 m, 40 km/h, `stripes`: Newton from the static start stalls (STRIPES' forces are not
+/// smooth enough for it from afar), from `polach`'s quasi-static state it converges in a few
+/// iterations. On these rigid rails that steady state is unstable (the flange contact's
+/// flutter, docs/models/contact.md §8), so the run stays near it only briefly: within 2 µm and
+/// 500 N over the first 0.05 s (measured 0.7 µm and 95 N; later the oscillation grows to kN).
+#[test]
+fn stripes_start_from_the_polach_state() {
+    let scene = quasi_static("tracks/curve_r150.toml", "stripes", 40.0, 150.0, 0.05);
+    let (sim, samples, _) = common::run(&scene);
+    let (iterations, residual) = sim.quasi_static_start().expect("a quasi-static start");
+    let polach = quasi_static("tracks/curve_r150.toml", "polach", 40.0, 150.0, 0.05);
+    let psim = Simulation::new(&polach).unwrap();
+    let (p_iterations, _) = psim.quasi_static_start().unwrap();
+    let (lateral, force) = drift(&samples);
+    println!(
+        "stripes: {iterations} Newton iterations in all (polach {p_iterations}), residual {residual:.3}; drift {:.4} mm, {force:.1} N",
+        lateral * 1e3
+    );
+    assert!(residual <= 1.0 && iterations > p_iterations);
+    assert!(lateral < 2e-6 && force < 500.0, "{lateral} m, {force} N");
+}
+
+/// R = 300 m, 100 mm cant at 120 km/h (3.0 m/s² cant deficiency; the curving study finds no
+/// steady state there): the start is an error that says so and what to do instead.
+#[test]
+fn a_curve_without_a_steady_state_is_an_error() {
+    let track = "crates/railsim-sim/tests/tracks/r300_cant100.toml";
+    let scene = quasi_static(track, "polach", 120.0, 100.0, 0.3);
+    let e = Simulation::new(&scene)
+        .err()
+        .expect("no steady state")
+        .to_string();
+    println!("{e}");
+    assert!(
+        e.contains("quasi-static start of scene")
+            && e.contains("at s = 100.00 m: no steady state found")
+            && e.contains("state = \"static\""),
+        "{e}"
+    );
+}
