@@ -279,14 +279,14 @@ pub enum InitialState {
 }
 
 impl InitialState {
-    /// The names in scene files.
-    pub const NAMES: [&'static str; 2] = ["static", "quasi-static"];
+    /// Every initial state, in the order of the scene format's docs.
+    pub const ALL: [InitialState; 2] = [InitialState::Static, InitialState::QuasiStatic];
 
     /// The name in scene files.
     pub fn name(self) -> &'static str {
         match self {
-            InitialState::Static => Self::NAMES[0],
-            InitialState::QuasiStatic => Self::NAMES[1],
+            InitialState::Static => "static",
+            InitialState::QuasiStatic => "quasi-static",
         }
     }
 }
@@ -1739,17 +1739,16 @@ impl Compiler<'_> {
         let mut ok = true;
         if let Some(v) = &i.state {
             let name = v.get_ref().trim();
-            match InitialState::NAMES.iter().position(|n| *n == name) {
-                Some(0) => state = InitialState::Static,
-                Some(_) => state = InitialState::QuasiStatic,
+            match InitialState::ALL.into_iter().find(|k| k.name() == name) {
+                Some(k) => state = k,
                 None => {
                     self.err(
                         &v.span(),
                         "initial.state",
                         format!(
                             "[initial] state: unknown initial state '{name}'{}; expected one of: {}",
-                            did_you_mean(name, InitialState::NAMES.into_iter()),
-                            InitialState::NAMES.join(", ")
+                            did_you_mean(name, InitialState::ALL.into_iter().map(InitialState::name)),
+                            InitialState::ALL.map(InitialState::name).join(", ")
                         ),
                     );
                     ok = false;
