@@ -165,7 +165,7 @@ fn rhs_allocates_nothing(model: &str, pool: Option<&rayon::ThreadPool>) {
             pool.is_some()
         );
         assert!(dx.iter().all(|v| v.is_finite()));
-        let warm: u64 = d.ws.warm.iter().map(|w| w.warm_count).sum();
+        let warm: u64 = d.ws.warm_starts().map(|w| w.warm_count).sum();
         assert!(warm >= 8 * 50, "{model}: {warm} warm searches");
     }
 }

@@ -184,18 +184,10 @@ pub struct Workspace {
     /// A contact workspace for the evaluations outside the right-hand side (the static
     /// solution).
     pub contact: ContactWorkspace,
-    /// Per wheel: its own contact workspace (the wheels are evaluated in parallel); its
-    /// `patches` hold the wheel's patches of the last evaluation.
-    pub wheel_contact: Vec<ContactWorkspace>,
     /// Per wheel: the pose, velocities and rail frame of the current evaluation.
     wheel_input: Vec<WheelInput>,
-    /// Per wheel: the error of its last evaluation, if it failed.
-    wheel_error: Vec<Option<ContactError>>,
-    /// Per wheel: the warm start of its contact search (used when the model asks for it).
-    pub warm: Vec<WarmStart>,
-    /// Per wheel: the evaluation on the section before's rails while the wheel is in a rail
-    /// transition (`TrackModel::rail_blend_at`; unused elsewhere).
-    partner: Vec<Partner>,
+    /// Per wheel: the buffers of its contact evaluations (the wheels are evaluated in parallel).
+    wheel_contact: Vec<WheelContact>,
     /// Patches of the last evaluation, filled only when `record` is set.
     pub patches: Vec<PatchRecord>,
     /// \[N\] per wheel: force on the wheel in its wheelset's track frame, summed over patches.
@@ -227,14 +219,9 @@ impl Workspace {
             track_position: model.start,
             speed: 0.0,
             contact: ContactWorkspace::new(),
-            wheel_contact: (0..model.wheels.len())
-                .map(|_| ContactWorkspace::new())
-                .collect(),
             wheel_input: vec![WheelInput::default(); model.wheels.len()],
-            wheel_error: vec![None; model.wheels.len()],
-            warm: vec![WarmStart::new(); model.wheels.len()],
-            partner: (0..model.wheels.len())
-                .map(|_| Partner::default())
+            wheel_contact: (0..model.wheels.len())
+                .map(|_| WheelContact::default())
                 .collect(),
             patches: Vec::with_capacity(4 * model.wheels.len()),
             wheel_force: vec![[0.0; 3]; model.wheels.len()],
@@ -245,6 +232,20 @@ impl Workspace {
             element_force: vec![0.0; model.elements.len()],
             elements: vec![ElementRecord::default(); model.elements.len()],
             failure: None,
+        }
+    }
+
+    /// Per wheel, the warm start of its contact search on the rails under it (its counts of
+    /// warm and cold searches).
+    pub fn warm_starts(&self) -> impl Iterator<Item = &WarmStart> {
+        self.wheel_contact.iter().map(|w| &w.main.warm)
+    }
+
+    /// Make every wheel's next contact searches cold (the rails before and in a transition).
+    pub fn invalidate_warm_starts(&mut self) {
+        for w in &mut self.wheel_contact {
+            w.main.warm.invalidate();
+            w.partner.warm.invalidate();
         }
     }
 }
@@ -263,24 +264,25 @@ struct WheelInput {
     weight: f64,
 }
 
-/// One wheel's buffers of the contact stage, as the stage zips them: workspace, warm start,
-/// error, partner.
-type WheelSlots<'a> = (
-    (
-        (&'a mut ContactWorkspace, &'a mut WarmStart),
-        &'a mut Option<ContactError>,
-    ),
-    &'a mut Partner,
-);
-
-/// One wheel's second evaluation in a rail transition: on the section before's rails.
+/// The buffers of one contact evaluation: its workspace (whose `patches` hold the patches of
+/// the last evaluation), its warm start (used when the model asks for it) and the error of its
+/// last evaluation, if it failed.
 #[derive(Default)]
-struct Partner {
+struct ContactSlot {
     contact: ContactWorkspace,
     warm: WarmStart,
     error: Option<ContactError>,
-    /// the section it was last evaluated on
-    section: usize,
+}
+
+/// One wheel's buffers of the contact stage: the evaluation on the rails under it, and while the
+/// wheel is in a rail transition (`TrackModel::rail_blend_at`) a second one on the section
+/// before's rails.
+#[derive(Default)]
+struct WheelContact {
+    main: ContactSlot,
+    partner: ContactSlot,
+    /// the section the partner was last evaluated on
+    partner_section: usize,
 }
 
 /// Where one rail is, moved by the track irregularities and an elastic support's displacement:
@@ -729,15 +731,15 @@ impl Dynamics<'_> {
             // transition the section before's rails are evaluated too (`Partner`).
             let blend = m.track.rail_blend_at(s_wheel);
             let section = blend.section;
+            let slots = &mut self.ws.wheel_contact[wi];
             if section != self.ws.wheel_input[wi].section {
-                self.ws.warm[wi].invalidate();
+                slots.main.warm.invalidate();
             }
-            let partner = &mut self.ws.partner[wi];
             // (`rail_blend_at` gives a weight below 1 only from the second section on)
             let blended = blend.weight < 1.0 && section > 0;
-            if blended && partner.section != section - 1 {
-                partner.warm.invalidate();
-                partner.section = section - 1;
+            if blended && slots.partner_section != section - 1 {
+                slots.partner.warm.invalidate();
+                slots.partner_section = section - 1;
             }
             self.ws.wheel_input[wi] = WheelInput {
                 pose,
@@ -750,22 +752,29 @@ impl Dynamics<'_> {
         }
         let timer = self.ws.timing.then(Instant::now);
         let inputs = &self.ws.wheel_input;
-        let evaluate = |(wi, (((cws, warm), error), partner)): (usize, WheelSlots)| {
+        let evaluate = |(wi, slots): (usize, &mut WheelContact)| {
             let (wheel, inp) = (&m.wheels[wi], &inputs[wi]);
-            let one = |section: usize, warm: &mut WarmStart, cws: &mut ContactWorkspace| {
+            let one = |section: usize, slot: &mut ContactSlot| {
                 let contact = &wheel.contacts[section];
-                if m.warm_start {
-                    contact.evaluate_warm(wheel.side, &inp.pose, &inp.vel, warm, cws)
+                let result = if m.warm_start {
+                    contact.evaluate_warm(
+                        wheel.side,
+                        &inp.pose,
+                        &inp.vel,
+                        &mut slot.warm,
+                        &mut slot.contact,
+                    )
                 } else {
-                    contact.evaluate(wheel.side, &inp.pose, &inp.vel, cws)
-                }
+                    contact.evaluate(wheel.side, &inp.pose, &inp.vel, &mut slot.contact)
+                };
+                slot.error = result.err();
             };
-            *error = one(inp.section, warm, cws).err();
-            partner.error = if inp.weight < 1.0 {
-                one(inp.section - 1, &mut partner.warm, &mut partner.contact).err()
+            one(inp.section, &mut slots.main);
+            if inp.weight < 1.0 {
+                one(inp.section - 1, &mut slots.partner);
             } else {
-                None
-            };
+                slots.partner.error = None;
+            }
         };
         // In parallel only on a thread of a rayon pool (the CLI runs its commands in one): the
         // calling thread then takes a share and the others steal the rest. From any other
@@ -775,18 +784,12 @@ impl Dynamics<'_> {
             self.ws
                 .wheel_contact
                 .par_iter_mut()
-                .zip(self.ws.warm.par_iter_mut())
-                .zip(self.ws.wheel_error.par_iter_mut())
-                .zip(self.ws.partner.par_iter_mut())
                 .enumerate()
                 .for_each(evaluate);
         } else {
             self.ws
                 .wheel_contact
                 .iter_mut()
-                .zip(self.ws.warm.iter_mut())
-                .zip(self.ws.wheel_error.iter_mut())
-                .zip(self.ws.partner.iter_mut())
                 .enumerate()
                 .for_each(evaluate);
         }
@@ -795,8 +798,9 @@ impl Dynamics<'_> {
         }
         for (wi, wheel) in m.wheels.iter().enumerate() {
             let mi = wheel.member.0;
-            let error = self.ws.wheel_error[wi].take();
-            if let Some(e) = error.or_else(|| self.ws.partner[wi].error.take()) {
+            let slots = &mut self.ws.wheel_contact[wi];
+            let error = slots.main.error.take();
+            if let Some(e) = error.or_else(|| slots.partner.error.take()) {
                 let body = format!(
                     "wheelset '{}', {} wheel",
                     m.members[mi].name,
@@ -817,8 +821,11 @@ impl Dynamics<'_> {
             let mut force_g = [0.0; 3];
             let mut moment_g = [0.0; 3];
             // in a rail transition the patches on both rails, each with its weight
-            let partner = &self.ws.partner[wi].contact.patches;
-            let both = self.ws.wheel_contact[wi]
+            let slots = &self.ws.wheel_contact[wi];
+            let partner = &slots.partner.contact.patches;
+            let both = slots
+                .main
+                .contact
                 .patches
                 .iter()
                 .map(|p| (p, weight))

@@ -477,13 +477,10 @@ impl Simulation {
         // Every run starts with cold contact searches (runs of one simulation do not depend on
         // each other); the counters are read as differences.
         let searches = |ws: &Workspace| {
-            ws.warm
-                .iter()
+            ws.warm_starts()
                 .fold((0, 0), |(w, c), s| (w + s.warm_count, c + s.cold_count))
         };
-        for w in &mut dynamics.ws.warm {
-            w.invalidate();
-        }
+        dynamics.ws.invalidate_warm_starts();
         let searches0 = searches(&dynamics.ws);
         let dt_ns = (1e9 / scene.log.rate_hz).round().max(1.0) as u64;
         let n = self.model.dim();

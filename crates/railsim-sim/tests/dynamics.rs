@@ -495,7 +495,7 @@ fn the_warm_started_contact_search_gives_the_cold_right_hand_side() {
         }
         ymax = ymax.max(w[0].lateral[0].abs());
     }
-    let warm: u64 = dw.ws.warm.iter().map(|w| w.warm_count).sum();
+    let warm: u64 = dw.ws.warm_starts().map(|w| w.warm_count).sum();
     eprintln!(
         "{evals} evaluations, {warm} of {} wheel searches warm; max lateral {:.2} mm; largest \
          relative difference {worst:.2e}",
