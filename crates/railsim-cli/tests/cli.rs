@@ -494,8 +494,9 @@ fn curving_quasi_static_solves_a_case_and_reports_one_without_a_steady_state() {
         "{out}"
     );
     assert!(out.contains("Y/Q outer"), "{out}");
+    // R = 150 m at 120 km/h, 6.1 m/s² uncompensated: no steady state
     let mut args = base.to_vec();
-    args[7] = "300";
+    args[7] = "150";
     args.extend(["--speed-kmh", "120"]);
     let (code, _, err) = railsim(&args);
     assert_eq!(code, 2, "{err}");

@@ -425,9 +425,9 @@ impl Default for QuasiStatic {
 /// search on the squared norm of the scaled residual, from the run's initial state (centred, on
 /// the tangent). When that fails, Newton starts again nearer the solution: with a contact model
 /// other than `polach`, from `polach`'s steady state of the case (STRIPES' and FASTSIM's forces
-/// are not smooth enough for Newton from afar); otherwise, or if that fails too, from the case
-/// with curvature and cant raised in quarters, each solved from the last solution
-/// (continuation). Each row's residual is scaled to a force (member accelerations
+/// are not smooth enough for Newton from afar); otherwise, or if that fails too, by a
+/// continuation: curvature and cant raised in steps of a quarter, each solved from the last
+/// solution, a step that fails halved. Each row's residual is scaled to a force (member accelerations
 /// times mass or inertia, rail accelerations times the rail mass) or taken as a rate, against
 /// the limits of `qs`. Same quantities as [`steady_curving`] from one sample at the solution
 /// (`lateral_swing` 0). Errors when Newton does not converge (a curve without a steady state, or
@@ -499,18 +499,18 @@ pub(crate) fn steady_state(
         Ok(solved) => solved,
         Err(first) => {
             // A start nearer the solution: for a contact model other than `polach`, `polach`'s
-            // steady state of the case (smooth forces, and its own continuation), else the
-            // continuation in curvature and cant with the model itself.
-            let nearer = (scene.contact.model != ContactModelKind::Polach)
+            // steady state of the case (smooth forces, and its own continuation); else, or if
+            // Newton fails from there too, the continuation in curvature and cant with the model
+            // itself.
+            let from_polach = (scene.contact.model != ContactModelKind::Polach)
                 .then(|| steady_state(&with_polach(scene), case, run, qs).ok())
                 .flatten()
-                .map(|p| (p.x, p.iterations))
-                .or_else(|| continuation(scene, case, run, qs));
-            nearer
-                .and_then(|(x1, before)| {
-                    let (x, it, r) = newton_steady(&sim, t, Some(&x1), qs).ok()?;
-                    Some((x, before + it, r))
-                })
+                .and_then(|p| {
+                    let (x, it, r) = newton_steady(&sim, t, Some(&p.x), qs).ok()?;
+                    Some((x, p.iterations + it, r))
+                });
+            from_polach
+                .or_else(|| continuation(scene, case, run, qs, &sim, t))
                 .ok_or_else(|| fail(first))?
         }
     };
@@ -532,32 +532,55 @@ fn with_polach(scene: &Scene) -> Scene {
     smooth
 }
 
-/// The continuation of [`steady_state`]: curvature and cant raised in quarters, each solved from
-/// the last solution, up to three quarters of the case. Returns that solution and the Newton
-/// iterations taken, or `None` when a step fails.
+/// The continuation of [`steady_state`]: curvature and cant raised from none to the case's in
+/// steps of a quarter, each solved by Newton from the last solution; a step that fails is
+/// halved (down to 1/64; the step doubles again, up to a quarter, after a success), and the last
+/// one solves the case itself on `sim` at `t`. Returns the solution, the Newton iterations of the
+/// steps solved and the largest scaled residual left, or `None` when a step of 1/64 fails.
 fn continuation(
     scene: &Scene,
     case: &CurveCase,
     run: &CurvingRun,
     qs: &QuasiStatic,
-) -> Option<(Vec<f64>, usize)> {
+    sim: &Simulation,
+    t: f64,
+) -> Option<(Vec<f64>, usize, f64)> {
+    const FIRST: f64 = 0.25;
+    const SMALLEST: f64 = 1.0 / 64.0;
     let mut x: Option<Vec<f64>> = None;
-    let mut total = 0;
-    for k in 1..=3 {
-        let f = k as f64 / 4.0;
-        let part = CurveCase {
-            radius: case.radius / f,
-            cant: case.cant * f,
-            ..*case
+    let (mut done, mut step, mut total) = (0.0, FIRST, 0);
+    loop {
+        let f = (done + step).min(1.0);
+        let solved = if f >= 1.0 {
+            newton_steady(sim, t, x.as_deref(), qs).ok()
+        } else {
+            let part = CurveCase {
+                radius: case.radius / f,
+                cant: case.cant * f,
+                ..*case
+            };
+            curving_scene(scene, &part, run)
+                .ok()
+                .and_then(|(study, c)| {
+                    let psim = Simulation::new(&study).ok()?;
+                    let tp = (c + 0.5 * run.settle) / case.speed;
+                    newton_steady(&psim, tp, x.as_deref(), qs).ok()
+                })
         };
-        let (study, c) = curving_scene(scene, &part, run).ok()?;
-        let psim = Simulation::new(&study).ok()?;
-        let t = (c + 0.5 * run.settle) / case.speed;
-        let (xk, it, _) = newton_steady(&psim, t, x.as_deref(), qs).ok()?;
-        total += it;
-        x = Some(xk);
+        match solved {
+            Some((xk, it, r)) => {
+                total += it;
+                if f >= 1.0 {
+                    return Some((xk, total, r));
+                }
+                x = Some(xk);
+                done = f;
+                step = (2.0 * step).min(FIRST);
+            }
+            None if step > SMALLEST => step *= 0.5,
+            None => return None,
+        }
     }
-    x.map(|x| (x, total))
 }
 
 /// The quasi-static start of `scene` ([`crate::InitialState::QuasiStatic`]), for

@@ -156,12 +156,11 @@ fn stripes_start_from_the_polach_state() {
     assert!(lateral < 2e-6 && force < 500.0, "{lateral} m, {force} N");
 }
 
-/// R = 300 m, 100 mm cant at 120 km/h (3.0 m/s² cant deficiency; the curving study finds no
-/// steady state there): the start is an error that says so and what to do instead.
+/// R = 150 m, 100 mm cant at 120 km/h (6.1 m/s² uncompensated; the curving study finds no
+/// steady state there either): the start is an error that says so and what to do instead.
 #[test]
 fn a_curve_without_a_steady_state_is_an_error() {
-    let track = "crates/railsim-sim/tests/tracks/r300_cant100.toml";
-    let scene = quasi_static(track, "polach", 120.0, 100.0, 0.3);
+    let scene = quasi_static("tracks/curve_r150.toml", "polach", 120.0, 150.0, 0.3);
     let e = Simulation::new(&scene)
         .err()
         .expect("no steady state")
@@ -169,7 +168,7 @@ fn a_curve_without_a_steady_state_is_an_error() {
     println!("{e}");
     assert!(
         e.contains("quasi-static start of scene")
-            && e.contains("at s = 100.00 m: no steady state found")
+            && e.contains("at s = 150.00 m: no steady state found")
             && e.contains("state = \"static\""),
         "{e}"
     );
@@ -218,4 +217,25 @@ fn the_wheelsets_start_with_the_rails_moving_under_them() {
         );
         assert!(lo > 30e3 && hi < 80e3, "{name}: {lo} .. {hi} N");
     }
+}
+
+/// The R = 150 m curve on the elastic rail support (`tracks/curve_r150_elastic.toml`, 40 km/h,
+/// `polach`): Newton from the static start stalls, and the continuation in quarters of the
+/// curvature and cant stalls at its second step (R = 300 m from the solution at 600 m). With that
+/// step halved (R = 400 m) it goes on by quarters (R = 240, 171, 150 m; 29 Newton iterations in
+/// all) to the steady state, and the run stays there (0.4 N over 0.5 s; criteria as above).
+#[test]
+fn the_continuation_halves_its_step_where_newton_fails() {
+    let scene = quasi_static("tracks/curve_r150_elastic.toml", "polach", 40.0, 150.0, 0.5);
+    let t = std::time::Instant::now();
+    let (sim, samples, _) = common::run(&scene);
+    let (iterations, residual) = sim.quasi_static_start().expect("a quasi-static start");
+    let (lateral, force) = drift(&samples);
+    println!(
+        "{iterations} Newton iterations, residual {residual:.3}; drift over 0.5 s {:.4} mm, {force:.1} N; {:.1} s",
+        lateral * 1e3,
+        t.elapsed().as_secs_f64()
+    );
+    assert!(residual <= 1.0);
+    assert!(lateral < 1e-6 && force < 150.0, "{lateral} m, {force} N");
 }
