@@ -596,12 +596,54 @@ fn continuation(
 ///   cant at the vehicle's reference point, the speed at t = 0), with [`steady_state`]'s
 ///   continuation in curvature and cant.
 ///
-/// Returns the state, the Newton iterations in all and the largest scaled residual left.
+/// The scene's disturbance of the leading wheelset (`[initial] lateral_offset_mm`, `yaw_mrad`)
+/// is then added to its steady position and held there while a last Newton ([`newton_held`])
+/// balances the rest of the vehicle about it. Returns the state, the Newton iterations in all
+/// and the largest scaled residual left.
 pub(crate) fn quasi_static_start(
     sim: &Simulation,
     scene: &Scene,
 ) -> Result<(Vec<f64>, usize, f64), SimError> {
     let qs = QuasiStatic::default();
+    let (mut x, iterations, residual) = steady_start(sim, scene, &qs)?;
+    // The scene's disturbance of the leading wheelset, added to its steady lateral position and
+    // yaw and held there while the rest of the vehicle balances about it.
+    let model = sim.model();
+    let lead = model
+        .members
+        .iter()
+        .filter(|m| m.is_wheelset())
+        .nth(scene.initial.wheelset.index());
+    let mut held = Vec::new();
+    if let Some(mm) = lead {
+        for (k, d) in [(1, scene.initial.lateral_offset), (5, scene.initial.yaw)] {
+            if let (true, Some(p), Some(row)) = (d != 0.0, mm.pos[k], mm.rate[k]) {
+                x[p] += d;
+                held.push((p, row));
+            }
+        }
+    }
+    if held.is_empty() {
+        return Ok((x, iterations, residual));
+    }
+    let (x, more, residual) =
+        newton_held(sim, 0.0, Some(&x), &qs, &held).map_err(|e| SimError::Initial {
+            message: format!(
+                "quasi-static start of scene '{}' at s = {:.2} m: no equilibrium with the leading \
+                 wheelset's disturbance ([initial] lateral_offset_mm, yaw_mrad) held: {e}",
+                scene.name, scene.start
+            ),
+        })?;
+    Ok((x, iterations + more, residual))
+}
+
+/// The steady state of [`quasi_static_start`], without the disturbance.
+fn steady_start(
+    sim: &Simulation,
+    scene: &Scene,
+    qs: &QuasiStatic,
+) -> Result<(Vec<f64>, usize, f64), SimError> {
+    let qs = *qs;
     let direct = match newton_steady(sim, 0.0, None, &qs) {
         Ok(solved) => return Ok(solved),
         Err(e) => e,
@@ -611,7 +653,11 @@ pub(crate) fn quasi_static_start(
     // in a curve, the steady state of that curve's curving case (continuation in curvature and
     // cant).
     let nearer = if scene.contact.model != ContactModelKind::Polach {
-        Simulation::new(&with_polach(scene)).ok().map(|p| {
+        // (undisturbed: the disturbance is added to this scene's own steady state)
+        let mut smooth = with_polach(scene);
+        smooth.initial.lateral_offset = 0.0;
+        smooth.initial.yaw = 0.0;
+        Simulation::new(&smooth).ok().map(|p| {
             (
                 p.initial_state().to_vec(),
                 p.quasi_static_start().map_or(0, |q| q.0),
@@ -681,6 +727,41 @@ fn newton_steady(
     start: Option<&[f64]>,
     qs: &QuasiStatic,
 ) -> Result<(Vec<f64>, usize, f64), String> {
+    newton_held(sim, t, start, qs, &[])
+}
+
+/// `Dynamics` with some positions held where they start: the acceleration row of each
+/// (position index, acceleration row, value) is replaced by the position's distance from its
+/// value, so that Newton keeps it there and balances the rest of the state around it.
+struct Held<'a> {
+    sys: Dynamics<'a>,
+    held: Vec<(usize, usize, f64)>,
+}
+
+impl OdeSystem for Held<'_> {
+    fn dim(&self) -> usize {
+        self.sys.dim()
+    }
+
+    fn rhs(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), railsim_ode::RhsError> {
+        self.sys.rhs(t, x, dx)?;
+        for &(p, row, v) in &self.held {
+            dx[row] = x[p] - v;
+        }
+        Ok(())
+    }
+}
+
+/// [`newton_steady`] with the positions `held` (position index, index of its acceleration row)
+/// kept at their values in the start state (to 1e-6 m or rad): the equilibrium of the rest of
+/// the state about a displaced degree of freedom, as a disturbance held by an external force.
+fn newton_held(
+    sim: &Simulation,
+    t: f64,
+    start: Option<&[f64]>,
+    qs: &QuasiStatic,
+    held: &[(usize, usize)],
+) -> Result<(Vec<f64>, usize, f64), String> {
     let model = sim.model();
     let n = model.dim();
     // Row scales: a residual times its scale, over its limit, must be at most 1.
@@ -710,6 +791,11 @@ fn newton_steady(
             }
         }
     }
+    // a held position's row: its distance from where it is held, to the rate tolerance's
+    // number in metres or radians
+    for &(_, row) in held {
+        scale[row] = 1.0 / qs.rate_tol;
+    }
     // the convergence test: the largest scaled residual and its row
     let measure = |f: &[f64]| -> (f64, usize) {
         f.iter()
@@ -725,7 +811,10 @@ fn newton_steady(
     let merit = |f: &[f64]| -> f64 { f.iter().zip(&scale).map(|(v, s)| (v * s).powi(2)).sum() };
     let steps = difference_steps(model, sim.initial_state(), &ModalOptions::default());
     let mut x = start.unwrap_or(sim.initial_state()).to_vec();
-    let mut sys = Dynamics::new(model);
+    let mut sys = Held {
+        sys: Dynamics::new(model),
+        held: held.iter().map(|&(p, row)| (p, row, x[p])).collect(),
+    };
     let mut f = vec![0.0; n];
     sys.rhs(t, &x, &mut f).map_err(|e| e.0)?;
     let (mut r, mut worst) = measure(&f);

@@ -274,7 +274,8 @@ pub enum InitialState {
     /// The steady state at the start (`f(0, x) = 0`: no acceleration relative to the
     /// track-following frames), found by Newton's method as for quasi-static curving
     /// (`crate::curving::quasi_static_start`). The vehicle may start inside a curve, where
-    /// curvature and cant are constant along it.
+    /// curvature and cant are constant along it. A disturbance is added to the steady state and
+    /// held while the rest of the vehicle balances about it.
     QuasiStatic,
 }
 
@@ -1782,19 +1783,6 @@ impl Compiler<'_> {
                     &v.span(),
                     key,
                     format!("[initial] {key} must lie in [-{max}, {max}] {unit}, found {x}"),
-                );
-                ok = false;
-                continue;
-            }
-            if x != 0.0 && state == InitialState::QuasiStatic {
-                self.err(
-                    &v.span(),
-                    key,
-                    format!(
-                        "[initial] {key} = {x} {unit} with state = \"quasi-static\": the quasi-static start is the \
-                         steady state itself, which a disturbance would leave at once; expected 0 (or state = \"static\" on \
-                         straight track)"
-                    ),
                 );
                 ok = false;
                 continue;
