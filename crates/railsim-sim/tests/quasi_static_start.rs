@@ -10,8 +10,15 @@ use railsim_sim::curving::{CurveCase, CurvingRun, QuasiStatic, quasi_static_curv
 use railsim_sim::{InitialState, Sample, Scene, Simulation};
 
 /// The Manchester vehicle (carbody x frozen, DOPRI5 at its default tolerances) with contact
-/// model `model` on `track` at `kmh`, starting at `start_m` from the quasi-static state.
-fn quasi_static(track: &str, model: &str, kmh: f64, start_m: f64, seconds: f64) -> Scene {
+/// model `model` on `track` at `kmh`, starting at `start_m`, with the `[initial]` keys `initial`.
+fn manchester(
+    track: &str,
+    model: &str,
+    kmh: f64,
+    start_m: f64,
+    seconds: f64,
+    initial: &str,
+) -> Scene {
     common::scene(&format!(
         r#"
         vehicle = "vehicles/manchester_vehicle1.toml"
@@ -23,9 +30,21 @@ fn quasi_static(track: &str, model: &str, kmh: f64, start_m: f64, seconds: f64) 
         [contact]
         model = "{model}"
         [initial]
-        state = "quasi-static"
+        {initial}
         "#
     ))
+}
+
+/// [`manchester`] from the quasi-static state.
+fn quasi_static(track: &str, model: &str, kmh: f64, start_m: f64, seconds: f64) -> Scene {
+    manchester(
+        track,
+        model,
+        kmh,
+        start_m,
+        seconds,
+        "state = \"quasi-static\"",
+    )
 }
 
 /// The largest change of any wheelset's lateral displacement \[m\] and of any wheel's Y or Q
@@ -185,18 +204,7 @@ fn a_curve_without_a_steady_state_is_an_error() {
 fn the_wheelsets_start_with_the_rails_moving_under_them() {
     let track = "tracks/straight_irregular_into_r1200.toml";
     let in_curve = quasi_static(track, "polach", 160.0, 1000.0, 0.05);
-    let on_tangent = common::scene(&format!(
-        r#"
-        vehicle = "vehicles/manchester_vehicle1.toml"
-        track = "{track}"
-        freeze = ["carbody.x"]
-        speed_kmh = 160
-        start_m = 300
-        duration_s = 0.05
-        [contact]
-        model = "polach"
-        "#
-    ));
+    let on_tangent = manchester(track, "polach", 160.0, 300.0, 0.05, "");
     for (name, scene) in [("quasi-static", in_curve), ("static", on_tangent)] {
         let (sim, samples, _) = common::run(&scene);
         if let Some((iterations, residual)) = sim.quasi_static_start() {
@@ -252,21 +260,14 @@ fn a_disturbance_is_added_to_the_steady_state_and_decays() {
     let track = "tracks/curve_r1200.toml";
     let steady = quasi_static(track, "polach", 120.0, 600.0, 0.05);
     let (_, steady, _) = common::run(&steady);
-    let kicked = common::scene(&format!(
-        r#"
-        vehicle = "vehicles/manchester_vehicle1.toml"
-        track = "{track}"
-        freeze = ["carbody.x"]
-        speed_kmh = 120
-        start_m = 600
-        duration_s = 1
-        [contact]
-        model = "polach"
-        [initial]
-        state = "quasi-static"
-        lateral_offset_mm = 1
-        "#
-    ));
+    let kicked = manchester(
+        track,
+        "polach",
+        120.0,
+        600.0,
+        1.0,
+        "state = \"quasi-static\"\nlateral_offset_mm = 1",
+    );
     let (sim, samples, _) = common::run(&kicked);
     let (iterations, residual) = sim.quasi_static_start().expect("a quasi-static start");
     let (y0, y_first) = (steady[0].lateral[0], samples[0].lateral[0]);
