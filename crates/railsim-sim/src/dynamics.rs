@@ -260,7 +260,7 @@ struct WheelInput {
     r: V3,
     /// the track's rail section under the wheel (`WheelModel::contacts`)
     section: usize,
-    /// its weight: below 1 in its transition, where section − 1 carries the rest (`Partner`)
+    /// its weight: below 1 in its transition, where section − 1 carries the rest (`WheelContact::partner`)
     weight: f64,
 }
 
@@ -728,7 +728,7 @@ impl Dynamics<'_> {
                 &mut vel,
             );
             // Other rails under the wheel: the warm start describes the other pair. In a
-            // transition the section before's rails are evaluated too (`Partner`).
+            // transition the section before's rails are evaluated too (`WheelContact::partner`).
             let blend = m.track.rail_blend_at(s_wheel);
             let section = blend.section;
             let slots = &mut self.ws.wheel_contact[wi];

@@ -1858,15 +1858,12 @@ impl Compiler<'_> {
         // instead, which needs curvature and cant constant under the vehicle (below).
         if ok && state == InitialState::Static {
             let (a, b) = (start + x_min, start + x_max);
-            let n = ((b - a) / 0.25).ceil().max(1.0) as usize;
             // (radius above 100 km and cant below 0.02 mm count as straight and level)
             let bent_at = |s: f64| {
                 let f = track.frame_at(s);
                 (f.curvature.abs() > STRAIGHT_CURVATURE || f.roll.abs() > 1e-5).then_some(f)
             };
-            let bent = (0..=n)
-                .map(|k| a + (b - a) * k as f64 / n as f64)
-                .find_map(|s| bent_at(s).map(|f| (s, f)));
+            let bent = span_points(a, b).find_map(|s| bent_at(s).map(|f| (s, f)));
             if let Some((s_bent, f)) = bent {
                 let what = if f.curvature.abs() > STRAIGHT_CURVATURE {
                     format!("radius {:.0} m", 1.0 / f.curvature.abs())
@@ -1902,15 +1899,12 @@ impl Compiler<'_> {
         // straight limit, and 0.02 mm), so not on a transition.
         if ok && state == InitialState::QuasiStatic {
             let (a, b) = (start + x_min, start + x_max);
-            let n = ((b - a) / 0.25).ceil().max(1.0) as usize;
             let f0 = track.frame_at(a);
-            let changed = (1..=n)
-                .map(|k| a + (b - a) * k as f64 / n as f64)
-                .find(|&s| {
-                    let f = track.frame_at(s);
-                    (f.curvature - f0.curvature).abs() > STRAIGHT_CURVATURE
-                        || (f.cant - f0.cant).abs() > 0.02e-3
-                });
+            let changed = span_points(a, b).skip(1).find(|&s| {
+                let f = track.frame_at(s);
+                (f.curvature - f0.curvature).abs() > STRAIGHT_CURVATURE
+                    || (f.cant - f0.cant).abs() > 0.02e-3
+            });
             if let Some(s_changed) = changed {
                 let f = track.frame_at(s_changed);
                 self.err(
@@ -2006,6 +2000,13 @@ impl MinByStart for Range<usize> {
             other.clone()
         }
     }
+}
+
+/// Track positions from `a` to `b` (both included) at most 0.25 m apart: where the start checks
+/// look at the track under the vehicle.
+fn span_points(a: f64, b: f64) -> impl Iterator<Item = f64> {
+    let n = ((b - a) / 0.25).ceil().max(1.0) as usize;
+    (0..=n).map(move |k| a + (b - a) * k as f64 / n as f64)
 }
 
 /// [`DEFAULT_FRICTION`] on both rails.
