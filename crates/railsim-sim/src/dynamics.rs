@@ -441,9 +441,14 @@ impl Dynamics<'_> {
                 scale(tf.droll_ds, tangent),
             );
             let omega_frame = scale(speed, darboux);
+            // v̇ D + v² dD/ds with the rates of the curvature and the roll rate (the turning of
+            // the axes the Darboux vector's components refer to is left out)
             let alpha_frame = add(
-                scale(vdot, darboux),
-                [0.0, 0.0, speed * speed * tf.dcurvature_ds],
+                add(
+                    scale(vdot, darboux),
+                    [0.0, 0.0, speed * speed * tf.dcurvature_ds],
+                ),
+                scale(speed * speed * tf.droll_ds2, tangent),
             );
             let vel_origin = scale(speed, tangent);
             // The frame's own ẍ·t is the member's longitudinal acceleration, left out here.

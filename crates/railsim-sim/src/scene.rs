@@ -1585,7 +1585,7 @@ impl Compiler<'_> {
         let seg = &track.segments()[i];
         let what = match seg.kind {
             SegmentKind::Curve => "curve",
-            SegmentKind::Clothoid => "transition",
+            SegmentKind::Transition(_) => "transition",
             SegmentKind::Tangent => "segment",
         };
         let place = match track_spec

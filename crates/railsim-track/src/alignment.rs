@@ -1,19 +1,20 @@
-//! Compiled alignment: plan geometry (tangent, clothoid, circular arc), cant and gradient, and
-//! its evaluation s → [`TrackFrame`].
+//! Compiled alignment: plan geometry (tangent, transition curve, circular arc), cant and
+//! gradient, and its evaluation s → [`TrackFrame`].
 //!
-//! Plan geometry. Along each segment the curvature is linear in s,
-//! κ(u) = κ₀ + κ′ u, so the heading is ψ(u) = ψ₀ + κ₀ u + κ′ u²/2 and the position is
-//! x(u) = x₀ + ∫₀ᵘ cos ψ, y(u) = y₀ + ∫₀ᵘ sin ψ. Tangents and arcs (κ′ = 0) use the closed form
-//! (chord of length 2 sin(κu/2)/κ along ψ₀ + κu/2). A clothoid (κ′ ≠ 0) is the Euler spiral
+//! Plan geometry. Along each segment the curvature is κ(u) = κ₀ + Δκ f(u/L) with a shape f
+//! rising from f(0) = 0 to f(1) = 1 ([`TransitionShape`]; f = 0 on tangents and arcs), so the
+//! heading is ψ(u) = ψ₀ + κ₀ u + Δκ L F(u/L) with F = ∫₀ᵗ f, and the position is
+//! x(u) = x₀ + ∫₀ᵘ cos ψ, y(u) = y₀ + ∫₀ᵘ sin ψ. Tangents and arcs use the closed form
+//! (chord of length 2 sin(κu/2)/κ along ψ₀ + κu/2). A clothoid (f = t) is the Euler spiral
 //! whose coordinates are Fresnel integrals (Abramowitz & Stegun 7.3; for a spiral from κ = 0,
-//! x = a√π C(u/(a√π)), y = a√π S(u/(a√π)) with a² = 1/κ′); here it is integrated with
+//! x = a√π C(u/(a√π)), y = a√π S(u/(a√π)) with a² = 1/κ′). Every transition is integrated with
 //! 8-point Gauss–Legendre quadrature from knots precomputed at compile time every ≤ 10 m, which
-//! agrees with the Fresnel form to about 1e-12 m (see the tests), works for a spiral between
-//! any two curvatures and costs one fixed-size quadrature per lookup.
+//! agrees with the Fresnel form to about 1e-12 m (see the tests), works between any two
+//! curvatures and costs one fixed-size quadrature per lookup.
 
 use crate::math::{GL8_W, GL8_X};
 
-/// \[m\] longest distance integrated by quadrature in one lookup (knot spacing on clothoids).
+/// \[m\] longest distance integrated by quadrature in one lookup (knot spacing on transitions).
 const KNOT_SPACING_M: f64 = 10.0;
 
 /// Kind of an alignment segment.
@@ -21,10 +22,102 @@ const KNOT_SPACING_M: f64 = 10.0;
 pub enum SegmentKind {
     /// Straight line: zero curvature, constant cant (normally zero).
     Tangent,
-    /// Transition curve (clothoid): curvature and cant linear in s between the neighbours.
-    Clothoid,
+    /// Transition curve: curvature and cant go from the previous segment's to the next one's
+    /// along the shape.
+    Transition(TransitionShape),
     /// Circular curve: constant curvature and cant.
     Curve,
+}
+
+impl SegmentKind {
+    /// The name in a track file (`type = ...`).
+    pub fn name(self) -> &'static str {
+        match self {
+            SegmentKind::Tangent => "tangent",
+            SegmentKind::Transition(shape) => shape.name(),
+            SegmentKind::Curve => "curve",
+        }
+    }
+}
+
+/// How curvature and cant change along a transition curve: κ = κ₀ + Δκ f(t) and
+/// cant = c₀ + Δc f(t) with t = u/L. Every shape has f(0) = 0, f(1) = 1 and ∫₀¹ f = 1/2, so all
+/// turn the track by the same angle (κ₀ + κ₁) L/2.
+///
+/// Sources: the clothoid is the standard railway transition (Esveld, *Modern Railway Track*,
+/// 2nd ed. 2001, alignment chapter [L]); the Bloss curve f = 3t² − 2t³ (Bloss, 1936) and the
+/// cosine (half-wave sine) curve f = (1 − cos πt)/2 have zero curvature rate and cant slope at
+/// both ends (e.g. Lindahl, *Track geometry for high-speed railways*, KTH 2001 [L]). The shift
+/// of the circle from the tangent, p ≈ L²/(24R) for the clothoid and L²/(40R) for Bloss, follows
+/// from y(L) = ∫₀ᴸ (L − v) κ(v) dv and is checked in the tests.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TransitionShape {
+    /// f = t: curvature and cant linear in s (the Euler spiral).
+    Clothoid,
+    /// f = 3t² − 2t³.
+    Bloss,
+    /// f = (1 − cos πt)/2.
+    Cosine,
+}
+
+impl TransitionShape {
+    /// Every shape, in the order of the file format's documentation.
+    pub const ALL: [TransitionShape; 3] = [
+        TransitionShape::Clothoid,
+        TransitionShape::Bloss,
+        TransitionShape::Cosine,
+    ];
+
+    /// The name in a track file (`type = ...`).
+    pub fn name(self) -> &'static str {
+        match self {
+            TransitionShape::Clothoid => "clothoid",
+            TransitionShape::Bloss => "bloss",
+            TransitionShape::Cosine => "cosine",
+        }
+    }
+
+    /// f(t), f'(t), f''(t) and F(t) = ∫₀ᵗ f for t in \[0, 1\].
+    #[inline]
+    pub fn eval(self, t: f64) -> ShapeValues {
+        match self {
+            TransitionShape::Clothoid => ShapeValues {
+                f: t,
+                df: 1.0,
+                d2f: 0.0,
+                integral: 0.5 * t * t,
+            },
+            TransitionShape::Bloss => ShapeValues {
+                f: t * t * (3.0 - 2.0 * t),
+                df: 6.0 * t * (1.0 - t),
+                d2f: 6.0 - 12.0 * t,
+                integral: t * t * t * (1.0 - 0.5 * t),
+            },
+            TransitionShape::Cosine => {
+                let (s, c) = (std::f64::consts::PI * t).sin_cos();
+                let pi = std::f64::consts::PI;
+                ShapeValues {
+                    f: 0.5 * (1.0 - c),
+                    df: 0.5 * pi * s,
+                    d2f: 0.5 * pi * pi * c,
+                    integral: 0.5 * t - s / (2.0 * pi),
+                }
+            }
+        }
+    }
+}
+
+/// A transition shape's values at one t ([`TransitionShape::eval`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShapeValues {
+    /// f(t)
+    pub f: f64,
+    /// f'(t)
+    pub df: f64,
+    /// f''(t)
+    pub d2f: f64,
+    /// ∫₀ᵗ f
+    pub integral: f64,
 }
 
 /// Index of a segment in [`crate::TrackModel::segments`].
@@ -34,7 +127,7 @@ pub struct SegmentId(pub usize);
 /// A compiled segment: everything in SI, start state precomputed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Segment {
-    /// Tangent, clothoid or curve.
+    /// Tangent, transition or curve.
     pub kind: SegmentKind,
     /// \[m\] distance along the track where the segment starts.
     pub s_start: f64,
@@ -62,7 +155,7 @@ pub struct Segment {
     pub(crate) vjoin_start: Option<(f64, f64)>,
     /// Vertical curve at the end: (\[-\] gradient change, \[m\] half length).
     pub(crate) vjoin_end: Option<(f64, f64)>,
-    /// First knot in [`Alignment::knots`] and knot spacing \[m\] (clothoids only).
+    /// First knot in [`Alignment::knots`] and knot spacing \[m\] (transitions only).
     knot_first: usize,
     knot_spacing: f64,
 }
@@ -92,7 +185,7 @@ pub struct TrackFrame {
     pub heading: f64,
     /// \[1/m\] plan curvature κ = dψ/ds, positive for a curve to the left.
     pub curvature: f64,
-    /// \[1/m²\] dκ/ds (non-zero on clothoids).
+    /// \[1/m²\] dκ/ds (non-zero on transitions).
     pub dcurvature_ds: f64,
     /// \[m\] cant as height of the left rail above the right rail over the cant base: negative
     /// in a left curve banked toward its centre.
@@ -104,6 +197,8 @@ pub struct TrackFrame {
     pub roll: f64,
     /// \[rad/m\] dφ/ds.
     pub droll_ds: f64,
+    /// \[rad/m²\] d²φ/ds² (non-zero inside Bloss and cosine transitions).
+    pub droll_ds2: f64,
     /// \[-\] gradient dz/ds, positive uphill.
     pub gradient: f64,
     /// \[1/m\] vertical curvature d²z/ds², positive for a sag (concave up).
@@ -149,22 +244,26 @@ fn arc(x: f64, y: f64, psi: f64, kappa: f64, d: f64) -> (f64, f64, f64) {
     )
 }
 
-/// Integrate (cos ψ, sin ψ) for ψ(v) = ψ₀ + κ₀ v + κ′ v²/2 over v ∈ \[0, d\] with 8-point
+/// Integrate (cos ψ, sin ψ) for ψ(v) = `psi(v)` over v ∈ \[0, d\] with 8-point
 /// Gauss–Legendre.
 #[inline]
-fn spiral_delta(psi0: f64, k0: f64, k1: f64, d: f64) -> (f64, f64) {
+fn quad_delta(psi: impl Fn(f64) -> f64, d: f64) -> (f64, f64) {
     let h = 0.5 * d;
     let (mut cx, mut cy) = (0.0, 0.0);
     for j in 0..4 {
         for sgn in [-1.0, 1.0] {
-            let v = h + sgn * GL8_X[j] * h;
-            let p = psi0 + v * (k0 + 0.5 * k1 * v);
-            let (s, c) = p.sin_cos();
+            let (s, c) = psi(h + sgn * GL8_X[j] * h).sin_cos();
             cx += GL8_W[j] * c;
             cy += GL8_W[j] * s;
         }
     }
     (cx * h, cy * h)
+}
+
+/// The heading change ψ(u) − ψ₀ of a transition of `length` from curvature `k0` to `k1`.
+#[inline]
+fn transition_turn(shape: TransitionShape, k0: f64, k1: f64, length: f64, u: f64) -> f64 {
+    k0 * u + (k1 - k0) * length * shape.eval(u / length).integral
 }
 
 impl Alignment {
@@ -180,12 +279,12 @@ impl Alignment {
         let (mut x, mut y, mut psi, mut z, mut s) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for inp in inputs {
             let (k0, k1) = inp.curvature;
-            let dk = (k1 - k0) / inp.length;
             let knot_first = knots.len();
             let mut knot_spacing = 0.0;
-            if inp.kind == SegmentKind::Clothoid || dk != 0.0 {
-                let n = (inp.length / KNOT_SPACING_M).ceil().max(1.0) as usize;
-                knot_spacing = inp.length / n as f64;
+            if let SegmentKind::Transition(shape) = inp.kind {
+                let l = inp.length;
+                let n = (l / KNOT_SPACING_M).ceil().max(1.0) as usize;
+                knot_spacing = l / n as f64;
                 let (mut kx, mut ky, mut kpsi) = (x, y, psi);
                 for i in 0..=n {
                     knots.push(Knot {
@@ -195,12 +294,11 @@ impl Alignment {
                     });
                     if i < n {
                         let u = i as f64 * knot_spacing;
-                        let ku = k0 + dk * u;
-                        let (dx, dy) = spiral_delta(kpsi, ku, dk, knot_spacing);
+                        let turn = |v: f64| psi + transition_turn(shape, k0, k1, l, u + v);
+                        let (dx, dy) = quad_delta(turn, knot_spacing);
                         kx += dx;
                         ky += dy;
-                        let u1 = (i + 1) as f64 * knot_spacing;
-                        kpsi = psi + k0 * u1 + 0.5 * dk * u1 * u1;
+                        kpsi = turn(knot_spacing);
                     }
                 }
             }
@@ -263,19 +361,17 @@ impl Alignment {
     #[inline]
     fn plan_at(&self, seg: &Segment, u: f64) -> (f64, f64, f64) {
         let k0 = seg.curvature_start;
-        if seg.knot_spacing == 0.0 {
+        let SegmentKind::Transition(shape) = seg.kind else {
             return arc(seg.x_start, seg.y_start, seg.heading_start, k0, u);
-        }
-        let dk = (seg.curvature_end - k0) / seg.length;
-        let n_knots = (seg.length / seg.knot_spacing).round() as usize;
+        };
+        let (k1, l) = (seg.curvature_end, seg.length);
+        let n_knots = (l / seg.knot_spacing).round() as usize;
         let i = ((u / seg.knot_spacing) as usize).min(n_knots.saturating_sub(1));
         let knot = self.knots[seg.knot_first + i];
         let ui = i as f64 * seg.knot_spacing;
-        let d = u - ui;
-        let ki = k0 + dk * ui;
-        let (dx, dy) = spiral_delta(knot.psi, ki, dk, d);
-        let psi = seg.heading_start + u * (k0 + 0.5 * dk * u);
-        (knot.x + dx, knot.y + dy, psi)
+        let turn = |v: f64| seg.heading_start + transition_turn(shape, k0, k1, l, v);
+        let (dx, dy) = quad_delta(|v| turn(ui + v), u - ui);
+        (knot.x + dx, knot.y + dy, turn(u))
     }
 
     /// The track frame at s. Outside \[0, length\] the track continues with the end's curvature,
@@ -286,16 +382,31 @@ impl Alignment {
         let u = u_raw.clamp(0.0, seg.length);
         let outside = u_raw - u;
         let inv_l = 1.0 / seg.length;
-        let dk = (seg.curvature_end - seg.curvature_start) * inv_l;
         let (mut x, mut y, mut psi) = self.plan_at(seg, u);
-        let mut kappa = seg.curvature_start + dk * u;
-        let mut dkappa = dk;
-        let mut cant = seg.cant_start + (seg.cant_end - seg.cant_start) * u * inv_l;
-        let mut dcant = (seg.cant_end - seg.cant_start) * inv_l;
+        // the shape's f, f', f'' (a tangent or an arc: constant)
+        let sh = match seg.kind {
+            SegmentKind::Transition(shape) => shape.eval(u * inv_l),
+            _ => ShapeValues {
+                f: 0.0,
+                df: 0.0,
+                d2f: 0.0,
+                integral: 0.0,
+            },
+        };
+        let (dk, dc) = (
+            seg.curvature_end - seg.curvature_start,
+            seg.cant_end - seg.cant_start,
+        );
+        let mut kappa = seg.curvature_start + dk * sh.f;
+        let mut dkappa = dk * sh.df * inv_l;
+        let mut cant = seg.cant_start + dc * sh.f;
+        let mut dcant = dc * sh.df * inv_l;
+        let mut d2cant = dc * sh.d2f * inv_l * inv_l;
         if outside != 0.0 {
             (x, y, psi) = arc(x, y, psi, kappa, outside);
             dkappa = 0.0;
             dcant = 0.0;
+            d2cant = 0.0;
             kappa = if outside < 0.0 {
                 seg.curvature_start
             } else {
@@ -334,6 +445,8 @@ impl Alignment {
         let sin_roll = (cant / self.cant_base).clamp(-1.0, 1.0);
         let roll = sin_roll.asin();
         let droll = dcant / (self.cant_base * roll.cos());
+        // d/ds of c'/(b cos φ)
+        let d2roll = d2cant / (self.cant_base * roll.cos()) + roll.tan() * droll * droll;
         TrackFrame {
             s,
             position_g: [x, y, z],
@@ -344,6 +457,7 @@ impl Alignment {
             dcant_ds: dcant,
             roll,
             droll_ds: droll,
+            droll_ds2: d2roll,
             gradient,
             vertical_curvature: vcurv,
         }
@@ -380,7 +494,15 @@ mod tests {
     #[test]
     fn clothoid_quadrature_matches_fresnel() {
         let (l, r) = (150.0, 400.0);
-        let al = Alignment::build(&[one(SegmentKind::Clothoid, l, (0.0, 1.0 / r))], 1.5, None);
+        let al = Alignment::build(
+            &[one(
+                SegmentKind::Transition(TransitionShape::Clothoid),
+                l,
+                (0.0, 1.0 / r),
+            )],
+            1.5,
+            None,
+        );
         let a = (r * l).sqrt();
         let scale = a * std::f64::consts::PI.sqrt();
         for &u in &[3.3, 47.0, 99.99, 150.0] {

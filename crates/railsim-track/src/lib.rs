@@ -21,7 +21,7 @@ pub mod math;
 pub mod model;
 pub mod spec;
 
-pub use alignment::{Segment, SegmentId, SegmentKind, TrackFrame};
+pub use alignment::{Segment, SegmentId, SegmentKind, ShapeValues, TrackFrame, TransitionShape};
 pub use error::{SourceMap, TrackError, TrackErrors};
 pub use irregularity::{Channel, Irregularity, IrregularitySeries, Spectrum};
 pub use model::{

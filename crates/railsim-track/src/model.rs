@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use railsim_spec::short_number;
 use toml::Spanned;
 
-use crate::alignment::{Alignment, Segment, SegmentInput, SegmentKind, TrackFrame};
+use crate::alignment::{
+    Alignment, Segment, SegmentInput, SegmentKind, TrackFrame, TransitionShape,
+};
 use crate::error::{Sink, TrackError, TrackErrors};
 use crate::irregularity::{
     self, Irregularity, IrregularitySeries, Spectrum, SyntheticParams, default_components,
@@ -213,7 +215,7 @@ impl TrackModel {
             sink.invalid(
                 &(0..0),
                 "segment",
-                "segment: the track needs at least one [[segment]] (tangent, clothoid or curve)"
+                "segment: the track needs at least one [[segment]] (tangent, clothoid, bloss, cosine or curve)"
                     .to_owned(),
             );
         }
@@ -221,25 +223,27 @@ impl TrackModel {
         for (i, seg) in spec.segment.iter().enumerate() {
             inputs.push(check_segment(&mut sink, i + 1, seg, min_radius));
         }
-        // Clothoids take curvature and cant from their neighbours.
+        // Transitions take curvature and cant from their neighbours.
         let n = inputs.len();
         for i in 0..n {
-            if inputs[i].kind != SegmentKind::Clothoid {
+            let SegmentKind::Transition(shape) = inputs[i].kind else {
                 continue;
-            }
+            };
             let prev = if i > 0 { Some(inputs[i - 1]) } else { None };
             let next = inputs.get(i + 1).copied();
             for (nb, j) in [(prev, i.wrapping_sub(1)), (next, i + 1)] {
                 if let Some(nb) = nb
-                    && nb.kind == SegmentKind::Clothoid
+                    && let SegmentKind::Transition(next_shape) = nb.kind
                     && j > i
                 {
                     sink.invalid(
                         &span_of(&spec.segment[j].get_ref().kind),
                         "type",
                         format!(
-                            "segment {} (clothoid): follows another clothoid; put a tangent or curve between transitions",
-                            j + 1
+                            "segment {} ({}): follows another transition ({}); put a tangent or curve between transitions",
+                            j + 1,
+                            next_shape.name(),
+                            shape.name()
                         ),
                     );
                 }
@@ -746,18 +750,20 @@ fn check_segment(
     let kind_name = s.kind.get_ref().as_str();
     let kind = match kind_name {
         "tangent" => Some(SegmentKind::Tangent),
-        "clothoid" => Some(SegmentKind::Clothoid),
         "curve" => Some(SegmentKind::Curve),
-        other => {
-            sink.invalid(
-                &span_of(&s.kind),
-                "type",
-                format!(
-                    "segment {index}: type = {other:?} must be \"tangent\", \"clothoid\" or \"curve\""
-                ),
-            );
-            None
-        }
+        other => match TransitionShape::ALL.into_iter().find(|t| t.name() == other) {
+            Some(shape) => Some(SegmentKind::Transition(shape)),
+            None => {
+                sink.invalid(
+                    &span_of(&s.kind),
+                    "type",
+                    format!(
+                        "segment {index}: type = {other:?} must be \"tangent\", \"curve\" or a transition (\"clothoid\", \"bloss\" or \"cosine\")"
+                    ),
+                );
+                None
+            }
+        },
     };
     let label = format!("segment {index} ({kind_name})");
     let mut out = SegmentInput {
@@ -804,8 +810,8 @@ fn check_segment(
     }
     let Some(kind) = kind else { return out };
     if kind != SegmentKind::Curve {
-        let why = if kind == SegmentKind::Clothoid {
-            "a clothoid takes curvature and cant from its neighbours"
+        let why = if let SegmentKind::Transition(_) = kind {
+            "a transition takes curvature and cant from its neighbours"
         } else {
             "a tangent is straight with no cant"
         };

@@ -157,28 +157,143 @@ fn joins_are_continuous() {
 
 #[test]
 fn derivatives_match_finite_differences() {
-    let t = track(
-        "vertical_curve_radius_m = 4000\n\
-         [[segment]]\ntype = \"tangent\"\nlength_m = 60\n\
-         [[segment]]\ntype = \"clothoid\"\nlength_m = 90\ngradient_permille = 8\n\
-         [[segment]]\ntype = \"curve\"\nradius_m = 400\ncant_mm = 130\ndirection = \"left\"\nlength_m = 100\n",
-    );
-    let h = 1e-4;
-    for s in [10.0, 70.3, 101.0, 148.0, 170.0, 230.0] {
-        let (a, f, b) = (t.frame_at(s - h), t.frame_at(s), t.frame_at(s + h));
-        let d = |x: f64, y: f64| (y - x) / (2.0 * h);
-        assert!((d(a.position_g[0], b.position_g[0]) - f.heading.cos()).abs() < 1e-7);
-        assert!((d(a.position_g[1], b.position_g[1]) - f.heading.sin()).abs() < 1e-7);
-        assert!((d(a.position_g[2], b.position_g[2]) - f.gradient).abs() < 1e-7);
-        assert!((d(a.heading, b.heading) - f.curvature).abs() < 1e-9);
-        assert!((d(a.curvature, b.curvature) - f.dcurvature_ds).abs() < 1e-9);
-        assert!((d(a.cant, b.cant) - f.dcant_ds).abs() < 1e-9);
-        assert!((d(a.roll, b.roll) - f.droll_ds).abs() < 1e-9);
-        assert!(
-            (d(a.gradient, b.gradient) - f.vertical_curvature).abs() < 1e-7,
-            "s={s}"
-        );
+    for shape in ["clothoid", "bloss", "cosine"] {
+        let t = track(&format!(
+            "vertical_curve_radius_m = 4000\n\
+             [[segment]]\ntype = \"tangent\"\nlength_m = 60\n\
+             [[segment]]\ntype = \"{shape}\"\nlength_m = 90\ngradient_permille = 8\n\
+             [[segment]]\ntype = \"curve\"\nradius_m = 400\ncant_mm = 130\ndirection = \"left\"\nlength_m = 100\n",
+        ));
+        let h = 1e-4;
+        for s in [10.0, 70.3, 101.0, 148.0, 170.0, 230.0] {
+            let (a, f, b) = (t.frame_at(s - h), t.frame_at(s), t.frame_at(s + h));
+            let d = |x: f64, y: f64| (y - x) / (2.0 * h);
+            let at = format!("{shape}, s={s}");
+            assert!((d(a.position_g[0], b.position_g[0]) - f.heading.cos()).abs() < 1e-7);
+            assert!((d(a.position_g[1], b.position_g[1]) - f.heading.sin()).abs() < 1e-7);
+            assert!((d(a.position_g[2], b.position_g[2]) - f.gradient).abs() < 1e-7);
+            assert!((d(a.heading, b.heading) - f.curvature).abs() < 1e-9, "{at}");
+            assert!(
+                (d(a.curvature, b.curvature) - f.dcurvature_ds).abs() < 1e-9,
+                "{at}"
+            );
+            assert!((d(a.cant, b.cant) - f.dcant_ds).abs() < 1e-9, "{at}");
+            assert!((d(a.roll, b.roll) - f.droll_ds).abs() < 1e-9, "{at}");
+            assert!(
+                (d(a.droll_ds, b.droll_ds) - f.droll_ds2).abs() < 1e-9,
+                "{at}"
+            );
+            assert!(
+                (d(a.gradient, b.gradient) - f.vertical_curvature).abs() < 1e-7,
+                "{at}"
+            );
+        }
     }
+}
+
+/// Bloss and cosine transitions against the clothoid: the same turn (every shape has ∫f = 1/2),
+/// curvature and cant reach half their change at mid-length, zero curvature rate and cant slope
+/// at both ends (the clothoid's jump there), and a smaller shift of the circle from the
+/// tangent: p = y(L) − R (1 − cos ψ(L)) with y(L) = ∫₀ᴸ (L − v) κ(v) dv, to leading order
+/// L²/(24 R) for the clothoid, L²/(40 R) for Bloss and (1/8 − 1/π²) L²/R = L²/(42.2 R) for the
+/// cosine.
+#[test]
+fn bloss_and_cosine_transitions_turn_like_a_clothoid_with_less_shift() {
+    let (l, r, cant) = (60.0, 1200.0, 0.1);
+    // y(L) R / L² = ∫₀¹ (1 − t) f(t) dt: clothoid 1/6, Bloss 3/20, cosine 1/4 − 1/π²
+    let lead = [
+        ("clothoid", 1.0 / 6.0),
+        ("bloss", 3.0 / 20.0),
+        ("cosine", 0.25 - 1.0 / (PI * PI)),
+    ];
+    let mut shifts = Vec::new();
+    for (shape, y_lead) in lead {
+        let t = track(&format!(
+            "[[segment]]\ntype = \"tangent\"\nlength_m = 50\n\
+             [[segment]]\ntype = \"{shape}\"\nlength_m = {l}\n\
+             [[segment]]\ntype = \"curve\"\nradius_m = {r}\ncant_mm = {}\ndirection = \"left\"\nlength_m = 100\n",
+            cant * 1e3
+        ));
+        let end = t.frame_at(50.0 + l);
+        // the turn of every shape: L / (2R)
+        assert!((end.heading - l / (2.0 * r)).abs() < 1e-14, "{shape}");
+        let mid = t.frame_at(50.0 + 0.5 * l);
+        assert!((mid.curvature - 0.5 / r).abs() < 1e-15, "{shape}");
+        assert!((mid.cant + 0.5 * cant).abs() < 1e-15, "{shape}");
+        let start = t.frame_at(50.0);
+        if shape == "clothoid" {
+            assert!((start.dcurvature_ds - 1.0 / (r * l)).abs() < 1e-15);
+        } else {
+            for f in [&start, &end] {
+                assert!(
+                    f.dcurvature_ds.abs() < 1e-15 && f.dcant_ds.abs() < 1e-15,
+                    "{shape}"
+                );
+                assert!(f.droll_ds.abs() < 1e-15, "{shape}");
+            }
+            // steeper in the middle: Bloss 3/2, cosine π/4 · 2 of the clothoid's slope
+            let k = if shape == "bloss" { 1.5 } else { PI / 2.0 };
+            assert!((mid.dcurvature_ds - k / (r * l)).abs() < 1e-15, "{shape}");
+        }
+        let y = end.position_g[1];
+        // leading order, with the next term of relative size (L/R)² (0.25 %)
+        assert!(
+            (y * r / (l * l) / y_lead - 1.0).abs() < 3e-3,
+            "{shape}: {y}"
+        );
+        shifts.push(y - r * (1.0 - end.heading.cos()));
+    }
+    let p = |k: f64| k * l * l / r;
+    assert!((shifts[0] / p(1.0 / 24.0) - 1.0).abs() < 5e-3, "{shifts:?}");
+    assert!((shifts[1] / p(1.0 / 40.0) - 1.0).abs() < 5e-3, "{shifts:?}");
+    assert!(
+        (shifts[2] / p(0.125 - 1.0 / (PI * PI)) - 1.0).abs() < 5e-3,
+        "{shifts:?}"
+    );
+    assert!(shifts[1] < shifts[0] && shifts[2] < shifts[1]);
+}
+
+/// A Bloss transition from a tangent into R = 500 m over 200 m: its end point against Simpson's
+/// rule on the closed-form heading ψ = (L/R)(t³ − t⁴/2) (20 000 intervals), and against the
+/// figures a track-design program gives for it, (199.271, 11.965) m (quoted to 1 mm in a
+/// discussion of the Bloss curve's series coordinates, pwayblog.com, 2017).
+#[test]
+fn bloss_end_point_matches_an_independent_integration() {
+    let (r, l) = (500.0, 200.0);
+    let t = track(&format!(
+        "[[segment]]\ntype = \"bloss\"\nlength_m = {l}\n\
+         [[segment]]\ntype = \"curve\"\nradius_m = {r}\ndirection = \"left\"\nlength_m = 10\n"
+    ));
+    let n = 20_000;
+    let h = l / n as f64;
+    let (mut x, mut y) = (0.0, 0.0);
+    for i in 0..=n {
+        let w = if i == 0 || i == n {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        let u = i as f64 * h / l;
+        let psi = l / r * u * u * u * (1.0 - 0.5 * u);
+        x += w * psi.cos();
+        y += w * psi.sin();
+    }
+    let (x, y) = (x * h / 3.0, y * h / 3.0);
+    let end = t.frame_at(l);
+    assert!(
+        (end.position_g[0] - x).abs() < 1e-9,
+        "{} {x}",
+        end.position_g[0]
+    );
+    assert!(
+        (end.position_g[1] - y).abs() < 1e-9,
+        "{} {y}",
+        end.position_g[1]
+    );
+    assert!((end.position_g[0] - 199.271).abs() < 5e-4);
+    assert!((end.position_g[1] - 11.965).abs() < 5e-4);
 }
 
 #[test]
@@ -549,35 +664,45 @@ fn missing_root_key_and_other_errors() {
         "mem.toml:3:",
         "rail_profile.right = \"none.prr\": file",
     );
-    has(&msgs, "mem.toml:5:8:", "segment 1: type = \"spiral\"");
+    has(
+        &msgs,
+        "mem.toml:5:8:",
+        "segment 1: type = \"spiral\" must be \"tangent\", \"curve\" or a transition (\"clothoid\", \"bloss\" or \"cosine\")",
+    );
     has(
         &msgs,
         "mem.toml:10:12:",
         "segment 2 (tangent): key radius_m is not allowed",
     );
 
-    // Two clothoids in a row, a vertical curve that does not fit, an empty synthetic table.
+    // Two transitions in a row (a clothoid and a Bloss curve, the second with a cant of its
+    // own), a vertical curve that does not fit, an empty synthetic table.
     let msgs = errors(&format!(
         "{HEAD}vertical_curve_radius_m = 20000\n\
          [[segment]]\ntype = \"clothoid\"\nlength_m = 50\n\
-         [[segment]]\ntype = \"clothoid\"\nlength_m = 50\ngradient_permille = 10\n\
+         [[segment]]\ntype = \"bloss\"\nlength_m = 50\ngradient_permille = 10\ncant_mm = 50\n\
          [irregularities]\ntype = \"synthetic\"\nwavelength_min_m = 3\nwavelength_max_m = 2\n"
     ));
     has(
         &msgs,
         "mem.toml:9:8:",
-        "segment 2 (clothoid): follows another clothoid",
+        "segment 2 (bloss): follows another transition (clothoid)",
+    );
+    has(
+        &msgs,
+        "mem.toml:12:11:",
+        "segment 2 (bloss): key cant_mm is not allowed (a transition takes curvature and cant",
     );
     has(
         &msgs,
         "mem.toml:11:21:",
         "segment 2: gradient_permille = 10: the vertical curve",
     );
-    has(&msgs, "mem.toml:12:", "missing key spectrum");
-    has(&msgs, "mem.toml:12:", "missing key seed");
+    has(&msgs, "mem.toml:13:", "missing key spectrum");
+    has(&msgs, "mem.toml:13:", "missing key seed");
     has(
         &msgs,
-        "mem.toml:15:20:",
+        "mem.toml:16:20:",
         "wavelength_max_m = 2 must be greater",
     );
 
