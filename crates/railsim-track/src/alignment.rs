@@ -45,11 +45,12 @@ impl SegmentKind {
 /// turn the track by the same angle (κ₀ + κ₁) L/2.
 ///
 /// Sources: the clothoid is the standard railway transition (Esveld, *Modern Railway Track*,
-/// 2nd ed. 2001, alignment chapter [L]); the Bloss curve f = 3t² − 2t³ (Bloss, 1936) and the
-/// cosine (half-wave sine) curve f = (1 − cos πt)/2 have zero curvature rate and cant slope at
-/// both ends (e.g. Lindahl, *Track geometry for high-speed railways*, KTH 2001 [L]). The shift
-/// of the circle from the tangent, p ≈ L²/(24R) for the clothoid and L²/(40R) for Bloss, follows
-/// from y(L) = ∫₀ᴸ (L − v) κ(v) dv and is checked in the tests.
+/// 2nd ed. 2001, alignment chapter, unverified here); the Bloss curve f = 3t² − 2t³ (Bloss,
+/// 1936) and the cosine (half-wave sine) curve f = (1 − cos πt)/2 have zero curvature rate and
+/// cant slope at both ends. The shift of the circle from the tangent, p ≈ L²/(24R) for the
+/// clothoid and L²/(40R) for Bloss, follows from y(L) = ∫₀ᴸ (L − v) κ(v) dv and is checked in
+/// the tests, with a Bloss end point quoted from a track-design program
+/// (`docs/models/track.md`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TransitionShape {
     /// f = t: curvature and cant linear in s (the Euler spiral).
