@@ -28,7 +28,7 @@ use crate::math::{
     M3, V3, add, cross, dot, mat_mul, mat_t_mul, mul, mul_t, rot_x, rot_y, rot_z, rotation_rpy,
     scale, small_rotation, sub,
 };
-use crate::model::{ElementModel, End, MemberKind, SimModel};
+use crate::model::{ElementModel, End, MemberIx, MemberKind, SimModel};
 
 /// A member's frame and kinematics at one evaluation (global components unless noted).
 #[derive(Debug, Clone, Copy, Default)]
@@ -887,13 +887,23 @@ impl Dynamics<'_> {
     /// Stage 7: accelerations in each member's frame.
     fn equations(&mut self, dx: &mut [f64]) {
         let m = self.model;
+        // A wheelset's traction or brake torque acts about its axle (below); its reaction, where
+        // the vehicle names a mount, acts on that body about the same axis.
+        for (i, mm) in m.members.iter().enumerate() {
+            if let Some(MemberIx(b)) = mm.torque_reaction {
+                let fr = &self.ws.kin[i].frame;
+                let axle = [fr[0][1], fr[1][1], fr[2][1]];
+                let k = &mut self.ws.kin[b];
+                k.moment = add(k.moment, scale(-mm.torque, axle));
+            }
+        }
         for (i, mm) in m.members.iter().enumerate() {
             let k = &mut self.ws.kin[i];
             let fr = &k.frame;
             let g_l = mul_t(fr, [0.0, 0.0, -m.gravity * mm.mass]);
             let f_l = add(mul_t(fr, k.force), g_l);
             let mut m_l = mul_t(fr, k.moment);
-            // Traction or brake torque about the axle (its reaction is outside the model).
+            // Traction or brake torque about the axle.
             m_l[1] += mm.torque;
             let w = mul_t(fr, k.omega_frame);
             let wd = mul_t(fr, k.alpha_frame);

@@ -65,9 +65,11 @@ pub struct MemberModel {
     /// Index of each rate in the state, `None` if frozen. A frozen wheelset spin rolls at
     /// V / `rolling_radius`.
     pub rate: [Option<usize>; 6],
-    /// \[N m\] a wheelset's constant traction (> 0) or brake (< 0) torque about its axle (the
-    /// reaction is not applied to any modelled body).
+    /// \[N m\] a wheelset's constant traction (> 0) or brake (< 0) torque about its axle.
     pub torque: f64,
+    /// The body that carries the torque's reaction (−torque about the wheelset's axle); `None`:
+    /// the reaction acts on nothing modelled.
+    pub torque_reaction: Option<MemberIx>,
     /// \[m\] a wheelset's rolling radius in its initial position on the rails (the mean of its
     /// two wheels, from the contact); the nominal radius until the initial state is found.
     pub rolling_radius: f64,
@@ -203,6 +205,7 @@ impl SimModel {
                 pos: [None; 6],
                 rate: [None; 6],
                 torque: 0.0,
+                torque_reaction: None,
                 rolling_radius: 0.0,
             });
         }
@@ -277,6 +280,8 @@ impl SimModel {
                 pos: [None; 6],
                 rate: [None; 6],
                 torque: w.torque,
+                // bodies come first among the members, in the vehicle's order
+                torque_reaction: w.torque_reaction.map(|b| MemberIx(b.index())),
                 rolling_radius: w.nominal_radius,
             });
         }

@@ -178,6 +178,9 @@ pub struct Wheelset {
     pub profiles: [WheelProfile; 2],
     /// \[N·m\] constant traction (> 0) or brake (< 0) torque about the axle.
     pub torque: f64,
+    /// The body that carries the torque's reaction (the motor's or brake's mount, e.g. a bogie
+    /// frame); `None`: the reaction acts on nothing modelled.
+    pub torque_reaction: Option<BodyId>,
     /// Frozen degrees of freedom, indexed by [`DofKind::index`] (`Pitch` is the spin).
     pub frozen: [bool; 6],
 }
@@ -778,7 +781,7 @@ impl Compiler<'_> {
         }
         let mut wheelsets = Vec::new();
         for w in &spec.wheelset {
-            if let Some(ws) = self.wheelset(w.get_ref(), &w.span(), &mut names, base_dir) {
+            if let Some(ws) = self.wheelset(w.get_ref(), &w.span(), &mut names, &bodies, base_dir) {
                 wheelsets.push(ws);
             }
         }
@@ -1035,6 +1038,7 @@ impl Compiler<'_> {
         w: &WheelsetSpec,
         table: &Range<usize>,
         names: &mut Vec<(String, Range<usize>)>,
+        bodies: &[Body],
         base_dir: &Path,
     ) -> Option<Wheelset> {
         let name = self.name(&w.name, table, "wheelset", names);
@@ -1157,6 +1161,28 @@ impl Compiler<'_> {
                 None
             }
         };
+        // The reaction's body: one of the rigid bodies (a wheelset's own torque cannot react
+        // on a wheelset, and the track is outside the vehicle).
+        let torque_reaction = match &w.torque_reaction {
+            None => Some(None),
+            Some(v) => {
+                let name = v.get_ref().as_str();
+                match bodies.iter().position(|b| b.name == name) {
+                    Some(i) => Some(Some(BodyId(i))),
+                    None => {
+                        self.err(
+                            &v.span(),
+                            "torque_reaction",
+                            format!(
+                                "{label}: torque_reaction = \"{name}\" must name a body (the motor's or brake's mount, e.g. a bogie frame){}",
+                                did_you_mean(name, bodies.iter().map(|b| b.name.as_str()))
+                            ),
+                        );
+                        None
+                    }
+                }
+            }
+        };
         let profiles = self
             .req(
                 &w.wheel_profile,
@@ -1181,6 +1207,7 @@ impl Compiler<'_> {
             running_circle_from_back: rc? * 1e-3,
             profiles: profiles?,
             torque: torque?,
+            torque_reaction: torque_reaction?,
             frozen,
         })
     }

@@ -117,6 +117,10 @@ pub struct WheelsetSpec {
     /// \[N·m\] constant traction (> 0) or brake (< 0) torque about the axle; default 0.
     #[serde(default)]
     pub torque_nm: Option<Spanned<f64>>,
+    /// The body that carries the torque's reaction (a bogie frame or the carbody); default:
+    /// none modelled.
+    #[serde(default)]
+    pub torque_reaction: Option<Spanned<String>>,
     /// Degrees of freedom held at their nominal value: any of `x y z roll yaw spin`.
     #[serde(default)]
     pub frozen: Option<Spanned<Vec<Spanned<String>>>>,
@@ -255,6 +259,7 @@ pub const WHEELSET_KEYS: &[&str] = &[
     "running_circle_from_back_mm",
     "wheel_profile",
     "torque_nm",
+    "torque_reaction",
     "frozen",
 ];
 /// Keys of a `[[force]]`.

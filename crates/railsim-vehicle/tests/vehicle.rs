@@ -822,3 +822,38 @@ friction_force_n = 2000
     );
     expect(&p, 11, &["missing key 'stiffness_n_per_m'"]);
 }
+
+#[test]
+fn a_torque_reaction_names_a_body() {
+    let head = r#"name = "driven"
+[[body]]
+name = "frame"
+mass_kg = 2000
+inertia_kgm2 = [1000, 1000, 2000]
+position_m = [0, 0, 0.6]
+"#;
+    let ws =
+        |reaction: &str| format!("{head}{WS}torque_nm = 3000\ntorque_reaction = \"{reaction}\"\n");
+    let v = compile(&ws("frame")).unwrap_or_else(|e| panic!("{e}"));
+    let w = &v.wheelsets()[0];
+    assert_eq!(w.torque, 3000.0);
+    assert_eq!(w.torque_reaction, v.body_id("frame"));
+    assert!(w.torque_reaction.is_some());
+    // the reaction key is on line 17 (the body ends on line 6; the wheelset, after a blank
+    // line, on 8 to 17)
+    for (name, needle) in [("ws", "must name a body"), ("fram", "did you mean 'frame'")] {
+        let p = problems(&ws(name));
+        expect(
+            &p,
+            17,
+            &[
+                "wheelset 'ws'",
+                &format!("torque_reaction = \"{name}\""),
+                needle,
+            ],
+        );
+    }
+    // without the key the reaction acts on nothing modelled
+    let v = compile(&format!("{head}{WS}")).unwrap();
+    assert_eq!(v.wheelsets()[0].torque_reaction, None);
+}

@@ -46,9 +46,14 @@ pub fn run(scene: &Scene) -> (Simulation, Vec<Sample>, RunSummary) {
 /// its carbody's x frozen, DOPRI5 at rtol 1e-4 / atol 1e-6, and the scene keys in `keys`
 /// (track, speed, length; tables such as `[initial]` last).
 pub fn manchester_polach(keys: &str) -> Scene {
+    vehicle_polach("vehicles/manchester_vehicle1.toml", keys)
+}
+
+/// [`manchester_polach`] with another vehicle file (a changed copy of the Manchester vehicle).
+pub fn vehicle_polach(vehicle: &str, keys: &str) -> Scene {
     scene(&format!(
         r#"
-        vehicle = "vehicles/manchester_vehicle1.toml"
+        vehicle = "{vehicle}"
         freeze = ["carbody.x"]
         {keys}
         [contact]
