@@ -80,7 +80,7 @@ pub fn fastrip_strip(
         && [p_peak, mu].iter().all(|v| v.is_finite() && *v > 0.0)
         && flex.is_valid()
         && patch.nu.is_finite()
-        && (0.0..0.5).contains(&patch.nu)
+        && (0.0..=0.5).contains(&patch.nu)
         && nx > 0
         && nx <= u32::MAX as usize;
     if !ok {
@@ -229,6 +229,43 @@ mod tests {
             f[2] += st.mz;
         }
         f
+    }
+
+    /// ν = 0.5 (incompressible) is inside the documented range [0, 0.5]: the strip gives the
+    /// limit of ν → 0.5, not the zero result of invalid input (a fuzzing run found Fx = 0 at
+    /// exactly 0.5 and −530 N at 0.4999 in `railsim contact`).
+    #[test]
+    fn an_incompressible_material_is_the_limit_of_nu_to_one_half() {
+        let (a, b, n) = (0.005, 0.004, 50e3);
+        let creep = Creepages {
+            xi: -1e-3,
+            eta: 5e-4,
+            phi: 0.2,
+        };
+        let strip = |nu: f64| {
+            let mat = Material::new(82e9, nu).unwrap();
+            let c = kalker_coeffs(a, b, nu).unwrap();
+            let patch = FastripPatch {
+                c11: c.c11,
+                c22: c.c22,
+                c23: c.c23,
+                a,
+                b,
+                g: mat.g,
+                nu,
+            };
+            let flex = flexibilities(a, b, &mat).unwrap();
+            let p0 = 1.5 * n / (std::f64::consts::PI * a * b);
+            fastrip_strip(0.001, 0.0005, 0.0, a, p0, &creep, &flex, &patch, 0.3, 200).0
+        };
+        let (half, near) = (strip(0.5), strip(0.5 - 1e-6));
+        assert!(half.n_cells > 0 && half.fx.abs() > 1.0, "{half:?}");
+        for (x, y) in [(half.fx, near.fx), (half.fy, near.fy), (half.mz, near.mz)] {
+            assert!(
+                (x - y).abs() <= 1e-4 * y.abs().max(1e-9),
+                "{half:?} against {near:?}"
+            );
+        }
     }
 
     #[test]
