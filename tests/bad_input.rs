@@ -144,6 +144,14 @@ fn results_are_finite_over_a_sweep() {
 }
 
 #[test]
+fn a_case_table_may_start_with_a_byte_order_mark() {
+    let text = "\u{feff}side,y_ws_mm,yaw_ws_rad,roll_ws_rad,vpitch_rad_s,fz_target_N\nleft,1,0,0,-4.3,1e4\n";
+    let cases = parse_cases_csv(text, "bom.csv").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(cases.len(), 1);
+    assert!((cases[0].1.y_ws_mm - 1.0).abs() < 1e-15);
+}
+
+#[test]
 fn case_table_errors_name_line_and_column() {
     let e = parse_cases_csv("side,y_ws_mm,yaw_ws_rad,roll_ws_rad,vpitch_rad_s,fz_target_N\nleft,1,0,0,-4.3,1e4\nright,abc,0,0,-4.3,1e4\n", "cases.csv").unwrap_err();
     assert_eq!(e.line, 3);

@@ -74,15 +74,15 @@ pub struct CriticalArgs {
     #[arg(long, default_value_t = 8.0)]
     pub duration_s: f64,
     /// Bisect, linear: stop when the bracket is narrower than this fraction of its upper speed
-    /// (default 0.01 for bisect, 0.002 for linear).
+    /// (default 0.01 for bisect, 0.002 for linear; 1e-4 to 0.5).
     #[arg(long)]
     pub tol: Option<f64>,
     /// Linear: number of equal intervals scanned from --to-kmh to --from-kmh for the first
     /// change from damped to undamped, which is then bisected.
     #[arg(long, default_value_t = 8)]
     pub scan: usize,
-    /// Linear: difference step of the positions (µm, µrad; rates ten times it per second); the
-    /// search is repeated with four times the step as a check.
+    /// Linear: difference step of the positions (µm, µrad; rates ten times it per second), 0.1 to
+    /// 1000; the search is repeated with four times the step as a check.
     #[arg(long, default_value_t = 1.0)]
     pub step_um: f64,
     /// Write the result as CSV: the ramp's half waves (wheelset, time, speed, amplitude), the
@@ -118,12 +118,18 @@ pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
         ("--ramp-m", a.ramp_m),
         ("--threshold-mm", a.threshold_mm),
         ("--duration-s", a.duration_s),
-        ("--tol", a.tol.unwrap_or(0.01)),
     ] {
         if !(v.is_finite() && v > 0.0) {
             bail!("{name}: expected a positive number, found {v}");
         }
     }
+    // (a bracket narrower than 1e-4 of the speed is below what the growth rates resolve, and
+    // the bisection would not end)
+    if let Some(t) = a.tol {
+        crate::in_range("--tol", t, 1e-4, 0.5)?;
+    }
+    crate::check_speeds("--from-kmh", &[a.from_kmh])?;
+    crate::check_speeds("--to-kmh", &[a.to_kmh])?;
     if a.to_kmh >= a.from_kmh {
         bail!(
             "--to-kmh ({}) must be below --from-kmh ({})",

@@ -98,11 +98,10 @@ pub fn run_curving(a: &CurvingArgs) -> Result<ExitCode> {
             a.settle_m
         );
     }
-    for (name, list) in [("--radius-m", &a.radius_m), ("--speed-kmh", &a.speed_kmh)] {
-        if let Some(v) = list.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
-            bail!("{name}: expected positive numbers, found {v}");
-        }
+    if let Some(v) = a.radius_m.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        bail!("--radius-m: expected positive numbers, found {v}");
     }
+    crate::check_speeds("--speed-kmh", &a.speed_kmh)?;
     if a.cant_mm.len() != 1 && a.cant_mm.len() != a.radius_m.len() {
         bail!(
             "--cant-mm: expected one value or one per radius ({}), found {}",

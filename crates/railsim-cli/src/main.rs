@@ -40,12 +40,16 @@ mod modes;
 mod replay;
 mod run;
 
+/// Most threads `--threads` accepts (the wheels of a vehicle are a few dozen evaluations per
+/// right-hand side; each thread costs a stack and a start-up).
+const MAX_THREADS: usize = 256;
+
 /// railsim: rail-vehicle dynamics with online multi-patch wheel/rail contact.
 #[derive(Parser)]
 #[command(name = "railsim", version, about)]
 struct Cli {
     /// Threads for the wheels' contact evaluations of a simulation (0: one per core; 1: none
-    /// besides the main one). The results do not depend on it.
+    /// besides the main one; at most 256). The results do not depend on it.
     #[arg(long, global = true, default_value_t = 0)]
     threads: usize,
     #[command(subcommand)]
@@ -148,8 +152,8 @@ struct PairArgs {
     /// Rail profile: SIMPACK .prr or a y-z table in mm (z up); default built-in UIC60 (60E1).
     #[arg(long)]
     rail: Option<PathBuf>,
-    /// Rail inclination applied to the rail profile, as 1:N or 0 (use 0 for a profile file that
-    /// is already inclined, such as the Manchester benchmark .prr).
+    /// Rail inclination applied to the rail profile, as 1:N with N from 5 to 1000, or 0 (use 0
+    /// for a profile file that is already inclined, such as the Manchester benchmark .prr).
     #[arg(long, default_value = "1:40")]
     inclination: String,
     /// Track gauge (mm), measured 14 mm below the top of the rail.
@@ -164,7 +168,7 @@ struct PairArgs {
     /// Nominal rolling radius (mm).
     #[arg(long, default_value_t = 460.0)]
     r0_mm: f64,
-    /// Combined shear modulus (GPa) (82 GPa with nu = 0.28 is E = 210 GPa).
+    /// Combined shear modulus (GPa), 1 to 1000 (82 GPa with nu = 0.28 is E = 210 GPa).
     #[arg(long, default_value_t = 82.0)]
     shear_modulus_gpa: f64,
     /// Poisson's ratio.
@@ -214,10 +218,10 @@ struct ContactArgs {
     /// Roll angle (mrad) about the track x-axis.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     roll_mrad: f64,
-    /// Forward speed (m/s).
+    /// Forward speed (m/s), 0.001 to 200.
     #[arg(long, default_value_t = 20.0, allow_hyphen_values = true)]
     speed_m_s: f64,
-    /// Wheelset spin (rad/s); default pure rolling, speed / r0.
+    /// Wheelset spin (rad/s); default pure rolling, speed / r0; within ±10 speed / r0.
     #[arg(long, allow_hyphen_values = true)]
     spin_rad_s: Option<f64>,
     /// Vertical wheel load (kN) (the wheelset height is iterated to carry it).
@@ -258,6 +262,13 @@ fn main() -> ExitCode {
     // The command runs on a thread of a rayon pool, so that a simulation's right-hand side
     // shares the wheels' contact evaluations with the pool's other threads
     // (`railsim_sim::dynamics`); with one thread, or if no pool can be made, it runs here.
+    if cli.threads > MAX_THREADS {
+        eprintln!(
+            "railsim: --threads: expected 0 (one per core) to {MAX_THREADS}, found {}",
+            cli.threads
+        );
+        return ExitCode::from(2);
+    }
     let result = match cli.threads {
         1 => command(),
         n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
@@ -300,29 +311,46 @@ fn broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
+/// `--inclination`: `1:N` with N from 5 to 1000 (as in a track file's `rail_inclination`), or 0.
 fn parse_inclination(s: &str) -> Result<f64> {
     let s = s.trim();
+    let bad = || anyhow!("--inclination: expected 1:N with N from 5 to 1000, or 0, found \"{s}\"");
     if let Some((a, b)) = s.split_once(':') {
-        let a: f64 = a
-            .trim()
-            .parse()
-            .map_err(|_| anyhow!("--inclination: expected 1:N or 0, found \"{s}\""))?;
-        let b: f64 = b
-            .trim()
-            .parse()
-            .map_err(|_| anyhow!("--inclination: expected 1:N or 0, found \"{s}\""))?;
-        if !(a.is_finite() && b.is_finite() && b > 0.0) {
-            bail!("--inclination: expected 1:N with N > 0, found \"{s}\"");
+        let a: f64 = a.trim().parse().map_err(|_| bad())?;
+        let b: f64 = b.trim().parse().map_err(|_| bad())?;
+        if a != 1.0 || !(b.is_finite() && (5.0..=1000.0).contains(&b)) {
+            return Err(bad());
         }
-        return Ok((a / b).atan());
+        return Ok((1.0 / b).atan());
     }
-    let v: f64 = s
-        .parse()
-        .map_err(|_| anyhow!("--inclination: expected 1:N or 0, found \"{s}\""))?;
+    let v: f64 = s.parse().map_err(|_| bad())?;
     if v != 0.0 {
-        bail!("--inclination: expected 1:N or 0, found \"{s}\"");
+        return Err(bad());
     }
     Ok(0.0)
+}
+
+/// Speeds of the studies' option `name` (km/h): the range a scene accepts
+/// (`railsim_sim::scene::MIN_SPEED_KMH` to `MAX_SPEED_KMH`).
+fn check_speeds(name: &str, speeds: &[f64]) -> Result<()> {
+    use railsim_sim::scene::{MAX_SPEED_KMH, MIN_SPEED_KMH};
+    for &v in speeds {
+        in_range(name, v, MIN_SPEED_KMH, MAX_SPEED_KMH)?;
+    }
+    Ok(())
+}
+
+/// `v` if it is finite and within `[lo, hi]`, else an error naming the option and the range.
+fn in_range(name: &str, v: f64, lo: f64, hi: f64) -> Result<f64> {
+    if !(v.is_finite() && (lo..=hi).contains(&v)) {
+        bail!(
+            "{name}: expected a number from {} to {}, found {}",
+            railsim_profile::short_number(lo),
+            railsim_profile::short_number(hi),
+            railsim_profile::short_number(v)
+        );
+    }
+    Ok(v)
 }
 
 fn load_profile(path: &Path, kind: ProfileKind) -> Result<Profile> {
@@ -364,7 +392,8 @@ fn profiles(a: &PairArgs) -> Result<(Profile, Profile)> {
 fn build_pair(a: &PairArgs) -> Result<WheelRailPair> {
     let (wheel, rail) = profiles(a)?;
     let material = Material::new(
-        positive("--shear-modulus-gpa", a.shear_modulus_gpa)? * 1e9,
+        // (steel 80 GPa; beyond these the value is a unit error)
+        in_range("--shear-modulus-gpa", a.shear_modulus_gpa, 1.0, 1000.0)? * 1e9,
         a.poisson,
     )
     .map_err(|e| anyhow!("material: {e}"))?;
@@ -449,10 +478,16 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
         SideName::Right => Side::Right,
     };
     let r0 = contact.pair.r0;
-    let vx = positive("--speed-m-s", a.speed_m_s)?;
+    // (the contact's creepages divide by the speed: a wheelset at rest has none)
+    let vx = in_range("--speed-m-s", a.speed_m_s, 1e-3, 200.0)?;
+    // a longitudinal creepage within ±9 (a locked or a spinning wheel is ±1)
+    let spin = match a.spin_rad_s {
+        Some(w) => in_range("--spin-rad-s", w, -10.0 * vx / r0, 10.0 * vx / r0)?,
+        None => vx / r0,
+    };
     let vel = WheelsetVelocity {
         vx,
-        spin: a.spin_rad_s.unwrap_or(vx / r0),
+        spin,
         ..Default::default()
     };
     let mut pose = WheelsetPose {

@@ -128,6 +128,70 @@ fn bad_input_exits_2_with_a_message() {
     let (code, _, err) = railsim(&["contact", "--model", "exact"]);
     assert_eq!(code, 2);
     assert!(err.contains("exact"), "{err}");
+    // a gauge far from the wheelset's: the profiles' lateral spans show why nothing touches
+    let (code, _, err) = railsim(&["contact", "--gauge-mm", "1000"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("spans 695.0 to 810.0 mm and the rail's 499.3 to 573.7 mm")
+            && err.contains("check the gauge"),
+        "{err}"
+    );
+}
+
+/// Option values a fuzzing run found to hang, to give non-finite results or to be taken in the
+/// wrong unit: each is refused with the option, the range and what was found.
+#[test]
+fn out_of_range_options_are_refused_before_any_work() {
+    for (args, needle) in [
+        (
+            &["--threads", "100000", "conicity"][..],
+            "--threads: expected 0 (one per core) to 256, found 100000",
+        ),
+        (
+            &["contact", "--shear-modulus-gpa", "1e30"][..],
+            "--shear-modulus-gpa: expected a number from 1 to 1000, found 1e30",
+        ),
+        (
+            &["contact", "--spin-rad-s=1e30"][..],
+            "--spin-rad-s: expected a number from",
+        ),
+        (
+            &["contact", "--speed-m-s", "1e-9"][..],
+            "--speed-m-s: expected a number from 0.001 to 200",
+        ),
+        (
+            &["contact", "--inclination", "2:40"][..],
+            "--inclination: expected 1:N with N from 5 to 1000, or 0, found \"2:40\"",
+        ),
+        (
+            &["contact", "--inclination", "1:1e-9"][..],
+            "--inclination: expected 1:N with N from 5 to 1000",
+        ),
+        (
+            &["modes", "--speed-kmh", "100", "--step-um", "1e-12"][..],
+            "--step-um: expected a number from 0.1 to 1000, found 1e-12",
+        ),
+        (
+            &["modes", "--speed-kmh", "1e-9"][..],
+            "--speed-kmh: expected a number from 0.01 to 1500",
+        ),
+        (
+            &["curving", "--speed-kmh", "1e9"][..],
+            "--speed-kmh: expected a number from 0.01 to 1500, found 1e9",
+        ),
+        (
+            &["critical-speed", "--method", "linear", "--tol", "1e-300"][..],
+            "--tol: expected a number from 1e-4 to 0.5, found 1e-300",
+        ),
+        (
+            &["critical-speed", "--from-kmh", "1e9"][..],
+            "--from-kmh: expected a number from 0.01 to 1500, found 1e9",
+        ),
+    ] {
+        let (code, _, err) = railsim(args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
 }
 
 #[test]
@@ -438,7 +502,7 @@ fn modes_and_the_linear_critical_speed_of_the_wickens_wheelset() {
     for (args, want) in [
         (
             vec!["modes", scene, "--speed-kmh=-5"],
-            "--speed-kmh: expected positive",
+            "--speed-kmh: expected a number from 0.01 to 1500, found -5",
         ),
         (
             vec!["modes", scene, "--step-um", "0"],

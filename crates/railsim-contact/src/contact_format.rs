@@ -148,6 +148,8 @@ pub fn parse_cases_csv(
         line,
         message,
     };
+    // (a byte-order mark, as spreadsheet programs write, is not part of the first column's name)
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut lines = text
         .lines()
         .enumerate()

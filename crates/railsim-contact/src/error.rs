@@ -69,12 +69,22 @@ pub enum ContactError {
         reason: String,
     },
     /// The travelling along the profiles found no overlap of wheel and rail.
-    #[error("the {side} wheel and rail profiles do not face each other at y = {y_mm:.2} mm")]
+    #[error(
+        "the {side} wheel and rail profiles do not face each other at y = {y_mm:.2} mm: across \
+         the track the wheel's profile (flange tip to field side) spans {:.1} to {:.1} mm and \
+         the rail's {:.1} to {:.1} mm (from the track centre, outward); check the gauge, the \
+         flange-back distance and position, and the profiles' lateral origins",
+        wheel_mm[0], wheel_mm[1], rail_mm[0], rail_mm[1]
+    )]
     NoOverlap {
         /// Which wheel.
         side: &'static str,
         /// \[mm\] the lateral wheelset displacement.
         y_mm: f64,
+        /// \[mm\] the wheel profile's lateral span in the side frame (flange tip, field end).
+        wheel_mm: [f64; 2],
+        /// \[mm\] the rail profile's lateral span in the side frame.
+        rail_mm: [f64; 2],
     },
     /// An option has an unusable value.
     #[error("option {key} = {value}: expected {expected}")]

@@ -488,12 +488,9 @@ impl WheelRailContact {
                 // (a point-search model keeps no travelling memory: its fallback travels cold,
                 // windowed, with or without a warm start)
                 let warm = if point_search { None } else { warm };
-                let stats = self.travel_zones(&sp, &ctx, warm, ws).map_err(|()| {
-                    ContactError::NoOverlap {
-                        side: side.name(),
-                        y_mm: pose.y * 1e3,
-                    }
-                })?;
+                let stats = self
+                    .travel_zones(&sp, &ctx, warm, ws)
+                    .map_err(|()| self.no_overlap(side, pose))?;
                 if self.opts.model.is_hertz() {
                     split_into_wells(&ws.pairs, &mut ws.zones, &mut ws.wells, false);
                 }
@@ -684,10 +681,7 @@ impl WheelRailContact {
         let y_end = locus(&self.pair, ctx, self.pair.wheel.length()).p[1];
         let (r0, r1) = self.pair.rail.y_range();
         if y_end.min(r1) - y_tip.max(r0) <= 0.0 {
-            return Err(ContactError::NoOverlap {
-                side: side.name(),
-                y_mm: pose.y * 1e3,
-            });
+            return Err(self.no_overlap(side, pose));
         }
         Ok(point::search(
             &self.pair,
@@ -698,6 +692,22 @@ impl WheelRailContact {
             &mut ws.pairs,
             &mut ws.zones,
         ))
+    }
+
+    /// The error of a pose where the wheel and rail profiles do not face each other, with
+    /// their lateral spans in the side frame (where the wheel's flange tip and field end lie,
+    /// where the rail profile lies), so that a wrong gauge or profile origin shows.
+    fn no_overlap(&self, side: Side, pose: &WheelsetPose) -> ContactError {
+        let ctx = PoseCtx::new(&self.pair, &pose.to_side(side));
+        let y_tip = locus(&self.pair, &ctx, self.pair.wheel_s_tip).p[1];
+        let y_end = locus(&self.pair, &ctx, self.pair.wheel.length()).p[1];
+        let (r0, r1) = self.pair.rail.y_range();
+        ContactError::NoOverlap {
+            side: side.name(),
+            y_mm: pose.y * 1e3,
+            wheel_mm: [y_tip * 1e3, y_end * 1e3],
+            rail_mm: [r0 * 1e3, r1 * 1e3],
+        }
     }
 
     /// Evaluate with a prescribed vertical load: the wheelset height `pose.z` is iterated
@@ -770,10 +780,7 @@ impl WheelRailContact {
             found = true;
         }
         if !found {
-            return Err(ContactError::NoOverlap {
-                side: side.name(),
-                y_mm: pose.y * 1e3,
-            });
+            return Err(self.no_overlap(side, pose));
         }
         // Bracket: F(z_touch) = 0; go down until the load is exceeded.
         let f_at =

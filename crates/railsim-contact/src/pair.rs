@@ -253,9 +253,10 @@ impl WheelRailPair {
             ),
         ] {
             if !(v.is_finite() && (lo..=hi).contains(&v)) {
+                let unit = if what == "inclination" { "rad" } else { "m" };
                 return Err(ContactError::BadOption {
                     key: what,
-                    value: format!("{} m", railsim_profile::short_number(v)),
+                    value: format!("{} {unit}", railsim_profile::short_number(v)),
                     expected: expected.into(),
                 });
             }

@@ -155,7 +155,7 @@ pub fn curving_scene(
     let required = required_curve_radius(&scene.vehicle).max(HARD_MIN_RADIUS_M);
     if !(case.radius.is_finite() && case.radius >= required) {
         return Err(bad(format!(
-            "the radius must be at least {:.0} m (the track's lower limit, and what the \
+            "the radius must be at least {:.1} m (the track's lower limit, and what the \
              vehicle's rigid wheelbase needs), found {} m",
             required, case.radius
         )));

@@ -21,6 +21,12 @@ use crate::spec::{
 pub const RADIUS_PER_WHEELBASE: f64 = 20.0;
 /// \[km/h\] largest speed accepted.
 pub const MAX_SPEED_KMH: f64 = 1500.0;
+/// \[km/h\] lowest speed accepted (2.8 mm/s): the contact's creepages are relative to the
+/// speed, and a vehicle at rest has none. Walking pace and below are slow to integrate (the
+/// creep forces act as very stiff dampers) but work.
+pub const MIN_SPEED_KMH: f64 = 0.01;
+/// \[s\] smallest `max_step_s` accepted (below it a run of seconds takes millions of steps).
+pub const MIN_MAX_STEP_S: f64 = 1e-6;
 /// \[s\] longest duration accepted (one day).
 pub const MAX_DURATION_S: f64 = 86_400.0;
 /// \[-\] range of the relative tolerance of the adaptive integrators.
@@ -1056,7 +1062,7 @@ impl Compiler<'_> {
     }
 
     fn speed(&mut self, spec: &SceneSpec, root: &Range<usize>) -> Option<SpeedProfile> {
-        let (lo, hi) = (0.0, MAX_SPEED_KMH);
+        let (lo, hi) = (MIN_SPEED_KMH, MAX_SPEED_KMH);
         match (&spec.speed_kmh, &spec.speed_profile) {
             (Some(v), Some(p)) => {
                 self.err(
@@ -1068,15 +1074,13 @@ impl Compiler<'_> {
             }
             (Some(v), None) => {
                 let x = *v.get_ref();
-                if x.is_finite() && x > lo && x <= hi {
+                if x.is_finite() && x >= lo && x <= hi {
                     Some(SpeedProfile::constant(x / 3.6))
                 } else {
                     self.err(
                         &v.span(),
                         "speed_kmh",
-                        format!(
-                            "speed_kmh must be a positive speed of at most {hi} km/h, found {x}"
-                        ),
+                        format!("speed_kmh must be a speed from {lo} to {hi} km/h, found {x}"),
                     );
                     None
                 }
@@ -1163,11 +1167,11 @@ impl Compiler<'_> {
         }
         for x in v.get_ref() {
             let y = *x.get_ref();
-            if !(y.is_finite() && y > 0.0 && y <= MAX_SPEED_KMH) {
+            if !(y.is_finite() && (MIN_SPEED_KMH..=MAX_SPEED_KMH).contains(&y)) {
                 self.err(
                     &x.span(),
                     "speed_kmh",
-                    format!("[speed_profile] speed_kmh values must be positive speeds of at most {MAX_SPEED_KMH} km/h, found {y}"),
+                    format!("[speed_profile] speed_kmh values must be speeds from {MIN_SPEED_KMH} to {MAX_SPEED_KMH} km/h, found {y}"),
                 );
                 ok = false;
             }
@@ -1429,7 +1433,13 @@ impl Compiler<'_> {
                 };
                 let h_max = match &i.max_step_s {
                     None => Some(f64::INFINITY),
-                    Some(v) => self.range(v, "max_step_s", "s", (0.0, MAX_STEP_LIMIT_S), true),
+                    Some(v) => self.range(
+                        v,
+                        "max_step_s",
+                        "s",
+                        (MIN_MAX_STEP_S, MAX_STEP_LIMIT_S),
+                        false,
+                    ),
                 };
                 let (rtol, atol, h_max) = (rtol?, atol?, h_max?);
                 if i.step_s.is_some() {

@@ -297,7 +297,18 @@ fn both_duration_and_distance_are_rejected() {
 #[test]
 fn negative_speed_is_rejected() {
     let p = problems(&GOOD.replace("speed_kmh = 100", "speed_kmh = -100"));
-    expect(&p, 3, &["speed_kmh must be a positive speed", "-100"]);
+    expect(
+        &p,
+        3,
+        &["speed_kmh must be a speed from 0.01 to 1500 km/h", "-100"],
+    );
+    // a vehicle (almost) at rest has no creepages: refused at the key, not in the contact
+    let p = problems(&GOOD.replace("speed_kmh = 100", "speed_kmh = 1e-9"));
+    expect(
+        &p,
+        3,
+        &["speed_kmh must be a speed from 0.01 to 1500 km/h, found 0.000000001"],
+    );
     let p = problems(
         "vehicle = \"../vehicles/wheelset_free.toml\"\ntrack = \"../tracks/straight.toml\"\nduration_s = 1\n[speed_profile]\ndistance_m = [0, 10]\nspeed_kmh = [10, -5]\n",
     );
@@ -389,6 +400,11 @@ fn bad_integrator_and_tolerances_are_rejected() {
     ));
     expect(&p, 6, &["method 'rk4' needs step_s"]);
     expect(&p, 7, &["'rtol' does not apply to method 'rk4'"]);
+    // a largest step so small that time hardly advances (a fuzzing run: 1e-300 s ran forever)
+    let p = problems(&format!(
+        "{GOOD}[integrator]\nmethod = \"dopri5\"\nmax_step_s = 1e-300\n"
+    ));
+    expect(&p, 7, &["max_step_s must lie in"]);
 }
 
 #[test]
@@ -565,7 +581,7 @@ fn several_problems_in_several_files_are_all_reported() {
     let err = Scene::from_toml_str(&text, "scenes/x.toml", &dir).unwrap_err();
     let p: Vec<String> = err.problems().iter().map(|p| p.to_string()).collect();
     expect(&p, 1, &["vehicle file", "has 2 problem(s)"]);
-    expect(&p, 3, &["speed_kmh must be a positive speed"]);
+    expect(&p, 3, &["speed_kmh must be a speed from 0.01 to 1500 km/h"]);
     expect(&p, 5, &["either duration_s or distance_m"]);
     expect(&p, 7, &["unknown contact model 'kalker'"]);
     expect(&p, 9, &["unknown integrator 'euler'"]);

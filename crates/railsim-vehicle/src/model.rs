@@ -26,6 +26,40 @@ pub const Z_RANGE: (f64, f64) = (-0.5, 6.0);
 pub const MASS_RANGE: (f64, f64) = (1.0, 1e6);
 /// \[kg·m²\] largest plausible principal moment of inertia (a 26 m coach body: about 2e6).
 pub const MAX_INERTIA: f64 = 1e8;
+/// \[N/m\] largest plausible translational stiffness of a force element (each axis of a
+/// bushing, a series, stick or mount stiffness) and largest slope of a force table. The
+/// stiffest shipped elements are about 4e7 N/m (a primary spring's kx, 3.1e7; the last segment
+/// of the Manchester bump stop, 4.0e7), and a wheel–rail contact, the stiffest link of a
+/// vehicle, is about 1e9. A larger value is a typing or unit error; left in, it swamps the
+/// other elements in the static solve (1e20 N/m primary springs were reported as a body
+/// without support) and shortens the stable step of an explicit integrator.
+pub const MAX_STIFFNESS: f64 = 1e10;
+/// \[N·m/rad\] largest plausible rotational stiffness: [`MAX_STIFFNESS`] at a lever of 1 m
+/// (an anti-roll bar is about 1e6 N·m/rad, a side bearer's stick stiffness about 1e7).
+pub const MAX_ROTATIONAL_STIFFNESS: f64 = 1e10;
+/// \[N·s/m\] largest plausible viscous damping and largest slope of a damper's force–velocity
+/// table. Railway dampers have 1e3 to 1e6 N·s/m (the shipped yaw damper 2.5e5); beyond 1e9 a
+/// value is a typing or unit error, and its time constant m/c on a body of a tonne is below
+/// 1 µs.
+pub const MAX_DAMPING: f64 = 1e9;
+/// \[N·m·s/rad\] largest plausible rotational damping: [`MAX_DAMPING`] at a lever of 1 m.
+pub const MAX_ROTATIONAL_DAMPING: f64 = 1e9;
+/// \[s\] shortest relaxation time τ = c/k of a damper in series with a spring (a
+/// `series_spring_damper`, or a `damper` with a mount stiffness, τ from its table's smallest
+/// slope). The damper's elongation relaxes with e^(−t/τ); an explicit integrator is stable for
+/// steps up to about 2τ (2.8τ for RK4), so a τ of 1e-24 s stalls a run at t = 0 and one below
+/// the smallest normal number gives NaN. Real suspension dampers on their rubber mounts have τ
+/// of 1 to 100 ms (the shipped yaw damper: 250e3 / 6e6 = 42 ms; a blow-off branch 2.8 ms), so
+/// 10 µs is two orders below any of them and still leaves a step of 20 µs. A stiffer mount adds
+/// nothing: the damper alone is the better model.
+pub const MIN_SERIES_RELAXATION: f64 = 1e-5;
+/// \[N\] largest plausible |force| in a force or damper table (a buffer's end force is about
+/// 1e6 N; the Manchester bump stop ends at 2.3e5 N).
+pub const MAX_TABLE_FORCE: f64 = 1e8;
+/// \[m\] largest plausible |deflection| in a force table (suspension strokes are about 0.1 m).
+pub const MAX_TABLE_DEFLECTION: f64 = 1.0;
+/// \[m/s\] largest plausible |velocity| in a damper table (damper velocities are about 1 m/s).
+pub const MAX_TABLE_VELOCITY: f64 = 100.0;
 /// Built-in wheel profile names (besides `"cone:λ"`).
 pub const BUILTIN_WHEEL_PROFILES: [&str; 1] = ["s1002"];
 /// The reserved name of the track-following frame, usable as a force element's end.
@@ -684,8 +718,55 @@ fn friction_limit_keys(rotational: bool) -> Vec<&'static str> {
     }
 }
 
+/// The plausible upper bound and the unit of a stiffness or damping key (`None` for other keys).
+fn upper_bound(key: &str) -> Option<(f64, &'static str)> {
+    match key {
+        "stiffness_n_per_m" => Some((MAX_STIFFNESS, "N/m")),
+        "rotational_stiffness_nm_per_rad" => Some((MAX_ROTATIONAL_STIFFNESS, "N·m/rad")),
+        "damping_ns_per_m" => Some((MAX_DAMPING, "N·s/m")),
+        "rotational_damping_nms_per_rad" => Some((MAX_ROTATIONAL_DAMPING, "N·m·s/rad")),
+        _ => None,
+    }
+}
+
+/// What to do about a stiffness or damping above its bound, for a message.
+fn bound_remedy(key: &str) -> &'static str {
+    if key.contains("stiffness") {
+        "check the unit; to hold a degree of freedom rigid, freeze it instead"
+    } else {
+        "check the unit"
+    }
+}
+
+/// A computed number for a message, to 4 significant digits (`1.667e-7`, `100`, not
+/// `100.00000000000001`).
+fn computed(x: f64) -> String {
+    short_number(format!("{x:.3e}").parse().unwrap_or(x))
+}
+
 /// Centre of gravity \[m\] and largest distance \[m\] of an attachment point from it.
 type Reach = ([f64; 3], f64);
+
+/// A table's points for [`Compiler::table_slopes`]: abscissae in file units (`x_scale` turns
+/// them into SI), values in N and the span of each value.
+struct TableSlopes<'a> {
+    /// Abscissae, file units.
+    x: &'a [f64],
+    /// \[SI per file unit\] 1e-3 for mm.
+    x_scale: f64,
+    /// \[N\] values.
+    y: &'a [f64],
+    /// Span of each value (an added origin takes the first one's).
+    spans: &'a [Range<usize>],
+    /// Key of the abscissae.
+    x_key: &'a str,
+    /// Unit of the abscissae in the file.
+    x_unit: &'a str,
+    /// \[N/m or N·s/m\] largest slope.
+    max: f64,
+    /// Unit of the slope.
+    slope_unit: &'a str,
+}
 
 /// The compile pass: one sink, every problem recorded.
 struct Compiler<'a> {
@@ -747,6 +828,33 @@ impl Compiler<'_> {
             );
             None
         }
+    }
+
+    /// Whether every value of a stiffness or damping key is within its plausible bound
+    /// ([`upper_bound`]); reports the first one above it.
+    fn within_bound(&mut self, v: &Range<usize>, values: &[f64], label: &str, key: &str) -> bool {
+        let Some((max, unit)) = upper_bound(key) else {
+            return true;
+        };
+        let Some(x) = values.iter().find(|x| **x > max) else {
+            return true;
+        };
+        let shown = if values.len() == 1 {
+            String::new()
+        } else {
+            format!(" {values:?}:")
+        };
+        self.err(
+            v,
+            key,
+            format!(
+                "{label}: {key}{shown} {} {unit} is implausible (expected at most {} {unit}; {})",
+                short_number(*x),
+                short_number(max),
+                bound_remedy(key)
+            ),
+        );
+        false
     }
 
     fn compile(&mut self, spec: &VehicleSpec, base_dir: &Path) -> VehicleModel {
@@ -1507,7 +1615,9 @@ impl Compiler<'_> {
             return Some([0.0; 3]);
         };
         match *v.get_ref() {
-            NumberOrTriple::Three(a) if a.iter().all(|x| x.is_finite() && *x >= 0.0) => Some(a),
+            NumberOrTriple::Three(a) if a.iter().all(|x| x.is_finite() && *x >= 0.0) => {
+                self.within_bound(&v.span(), &a, label, key).then_some(a)
+            }
             NumberOrTriple::Three(a) => {
                 self.err(
                     &v.span(),
@@ -1543,7 +1653,7 @@ impl Compiler<'_> {
             NumberOrTriple::One(x)
                 if x.is_finite() && (x > 0.0 || (!strictly_positive && x == 0.0)) =>
             {
-                Some(x)
+                self.within_bound(&v.span(), &[x], label, key).then_some(x)
             }
             NumberOrTriple::One(x) => {
                 let want = if strictly_positive {
@@ -1708,6 +1818,24 @@ impl Compiler<'_> {
                     "N·s/m",
                     true,
                 );
+                if let (Some(k), Some(c), Some(cv)) = (k, c, &f.damping_ns_per_m) {
+                    let tau = c / k;
+                    if tau < MIN_SERIES_RELAXATION {
+                        self.err(
+                            &cv.span(),
+                            "damping_ns_per_m",
+                            format!(
+                                "{label}: relaxation time damping_ns_per_m / stiffness_n_per_m = {} N·s/m / {} N/m = {} s is below {} s (an explicit integrator's stable step is about 2τ, so a run would stall); raise damping_ns_per_m to at least {} N·s/m, or, for a mount this stiff, model the damper alone (type = \"bushing\" with damping_ns_per_m)",
+                                short_number(c),
+                                short_number(k),
+                                computed(tau),
+                                short_number(MIN_SERIES_RELAXATION),
+                                computed(MIN_SERIES_RELAXATION * k)
+                            ),
+                        );
+                        return None;
+                    }
+                }
                 Some(ForceLaw::SeriesSpringDamper {
                     axis: axis?,
                     stiffness: k?,
@@ -1760,6 +1888,11 @@ impl Compiler<'_> {
                     (Some(v), Some(fo)) => self.damper_table(v, fo, symmetric, label),
                     _ => None,
                 };
+                if let (Some(Some(k)), Some(t), Some(kv)) = (stiffness, &t, &f.stiffness_n_per_m)
+                    && !self.damper_relaxation(t, k, &kv.span(), label)
+                {
+                    return None;
+                }
                 Some(ForceLaw::Damper {
                     axis: axis?,
                     table: t?,
@@ -2148,6 +2281,104 @@ impl Compiler<'_> {
         })
     }
 
+    /// Whether every value of the table key `key` lies within ±`max` (file units, `unit`);
+    /// reports the first one outside.
+    fn table_range(
+        &mut self,
+        list: &Spanned<Vec<Spanned<f64>>>,
+        key: &str,
+        max: f64,
+        unit: &str,
+        label: &str,
+    ) -> bool {
+        let Some(v) = list.get_ref().iter().find(|v| v.get_ref().abs() > max) else {
+            return true;
+        };
+        self.err(
+            &v.span(),
+            key,
+            format!(
+                "{label}: {key} value {} {unit} is implausible (expected within ±{} {unit})",
+                short_number(*v.get_ref()),
+                short_number(max)
+            ),
+        );
+        false
+    }
+
+    /// Whether the slope of every segment of a table is finite and at most `max` in magnitude
+    /// (SI); reports the first segment above it, at the value that ends it.
+    fn table_slopes(&mut self, t: &TableSlopes<'_>, label: &str) -> bool {
+        for i in 1..t.x.len() {
+            let dx = (t.x[i] - t.x[i - 1]) * t.x_scale;
+            let dy = t.y[i] - t.y[i - 1];
+            // abscissae too close to be told apart in SI make the slope infinite
+            let slope = if dx > 0.0 { dy / dx } else { f64::INFINITY };
+            if slope.abs() <= t.max {
+                continue;
+            }
+            self.err(
+                &t.spans[i],
+                "force_n",
+                format!(
+                    "{label}: force_n: the slope between {} and {} {} ({}) is {} {}, implausibly steep (expected at most {} {}; check the units of {} and force_n)",
+                    short_number(t.x[i - 1]),
+                    short_number(t.x[i]),
+                    t.x_unit,
+                    t.x_key,
+                    computed(slope.abs()),
+                    t.slope_unit,
+                    short_number(t.max),
+                    t.slope_unit,
+                    t.x_key
+                ),
+            );
+            return false;
+        }
+        true
+    }
+
+    /// Whether a damper table in series with the mount stiffness `k` \[N/m\] relaxes no faster
+    /// than [`MIN_SERIES_RELAXATION`]: τ = (the table's smallest slope) / k; reports it at
+    /// `span`, the mount stiffness's value.
+    fn damper_relaxation(
+        &mut self,
+        t: &DamperTable,
+        k: f64,
+        span: &Range<usize>,
+        label: &str,
+    ) -> bool {
+        let Some((i, slope)) = t
+            .velocity
+            .windows(2)
+            .zip(t.force.windows(2))
+            .map(|(v, f)| (f[1] - f[0]) / (v[1] - v[0]))
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+        else {
+            return true;
+        };
+        let tau = slope / k;
+        if tau >= MIN_SERIES_RELAXATION {
+            return true;
+        }
+        self.err(
+            span,
+            "stiffness_n_per_m",
+            format!(
+                "{label}: relaxation time (slope of velocity_m_per_s/force_n) / stiffness_n_per_m = {} N·s/m / {} N/m = {} s (between {} and {} m/s) is below {} s (an explicit integrator's stable step is about 2τ, so a run would stall); a mount this stiff is better modelled by the damper alone (drop stiffness_n_per_m), or lower stiffness_n_per_m to at most {} N/m, or raise the table's damping",
+                computed(slope),
+                short_number(k),
+                computed(tau),
+                short_number(t.velocity[i]),
+                short_number(t.velocity[i + 1]),
+                short_number(MIN_SERIES_RELAXATION),
+                computed(slope / MIN_SERIES_RELAXATION)
+            ),
+        );
+        false
+    }
+
     fn damper_table(
         &mut self,
         v: &Spanned<Vec<Spanned<f64>>>,
@@ -2162,7 +2393,14 @@ impl Compiler<'_> {
             Some(" (a damper's force grows with its velocity and must be invertible)"),
             label,
         )?;
+        let in_range = self.table_range(v, "velocity_m_per_s", MAX_TABLE_VELOCITY, "m/s", label)
+            & self.table_range(f, "force_n", MAX_TABLE_FORCE, "N", label);
+        if !in_range {
+            return None;
+        }
+        let mut spans: Vec<Range<usize>> = f.get_ref().iter().map(|x| x.span()).collect();
         if symmetric && velocity[0] > 0.0 {
+            spans.insert(0, spans[0].clone());
             if force[0] <= 0.0 {
                 self.err(
                     &f.span(),
@@ -2176,6 +2414,19 @@ impl Compiler<'_> {
             }
             velocity.insert(0, 0.0);
             force.insert(0, 0.0);
+        }
+        let slopes = TableSlopes {
+            x: &velocity,
+            x_scale: 1.0,
+            y: &force,
+            spans: &spans,
+            x_key: "velocity_m_per_s",
+            x_unit: "m/s",
+            max: MAX_DAMPING,
+            slope_unit: "N·s/m",
+        };
+        if !self.table_slopes(&slopes, label) {
+            return None;
         }
         let t = DamperTable {
             velocity,
@@ -2205,19 +2456,40 @@ impl Compiler<'_> {
         symmetric: bool,
         label: &str,
     ) -> Option<ForceTable> {
-        let (d_mm, mut force) = self.table_points(
+        let (mut d_mm, mut force) = self.table_points(
             (d, "deflection_mm", "deflection"),
             (f, "force_n", "force"),
             symmetric,
             None,
             label,
         )?;
-        let mut deflection: Vec<f64> = d_mm.iter().map(|x| x * 1e-3).collect();
-        if symmetric && deflection[0] > 0.0 {
-            // Pin the mirrored law through the origin so that F(0) = 0 and it stays odd.
-            deflection.insert(0, 0.0);
-            force.insert(0, 0.0);
+        let in_range =
+            self.table_range(d, "deflection_mm", MAX_TABLE_DEFLECTION * 1e3, "mm", label)
+                & self.table_range(f, "force_n", MAX_TABLE_FORCE, "N", label);
+        if !in_range {
+            return None;
         }
+        let mut spans: Vec<Range<usize>> = f.get_ref().iter().map(|x| x.span()).collect();
+        if symmetric && d_mm[0] > 0.0 {
+            // Pin the mirrored law through the origin so that F(0) = 0 and it stays odd.
+            d_mm.insert(0, 0.0);
+            force.insert(0, 0.0);
+            spans.insert(0, spans[0].clone());
+        }
+        let slopes = TableSlopes {
+            x: &d_mm,
+            x_scale: 1e-3,
+            y: &force,
+            spans: &spans,
+            x_key: "deflection_mm",
+            x_unit: "mm",
+            max: MAX_STIFFNESS,
+            slope_unit: "N/m",
+        };
+        if !self.table_slopes(&slopes, label) {
+            return None;
+        }
+        let deflection: Vec<f64> = d_mm.iter().map(|x| x * 1e-3).collect();
         Some(ForceTable {
             deflection,
             force,

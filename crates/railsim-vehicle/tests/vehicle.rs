@@ -857,3 +857,333 @@ position_m = [0, 0, 0.6]
     let v = compile(&format!("{head}{WS}")).unwrap();
     assert_eq!(v.wheelsets()[0].torque_reaction, None);
 }
+
+/// The 1-based line of the first line of `text` containing `needle`.
+fn line_of(text: &str, needle: &str) -> usize {
+    1 + text
+        .lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("no line with {needle:?}"))
+}
+
+/// A body, the wheelset and a bushing between them: every `[x, y, z]` key once, each line
+/// unique.
+fn every_triple_key() -> String {
+    format!(
+        r#"name = "triples"
+[[body]]
+name = "frame"
+mass_kg = 2000
+inertia_kgm2 = [1000, 1000, 2000]
+products_kgm2 = [0, 0, 0]
+position_m = [0, 0, 0.6]
+{WS}
+[[force]]
+name = "spring"
+type = "bushing"
+body1 = "frame"
+body2 = "ws"
+point_m = [0, 1, 0.5]
+point2_m = [0, 1, 0.46]
+orientation_deg = [0, 0, 0]
+stiffness_n_per_m = [1e6, 1e6, 1e6]
+"#
+    )
+}
+
+/// (found by fuzzing: `inertia_kgm2 = [56800, 1970000, 1970000, 1]` compiled, the fourth
+/// number silently dropped) Every `[x, y, z]` key refuses any length but 3, located at the
+/// array, naming the key and the length found; so does a bushing's triple.
+#[test]
+fn arrays_of_three_numbers_refuse_any_other_length() {
+    let good = every_triple_key();
+    compile(&good).unwrap_or_else(|e| panic!("{e}"));
+    let keys = [
+        ("inertia_kgm2 = [1000, 1000, 2000]", "body 'frame'"),
+        ("products_kgm2 = [0, 0, 0]", "body 'frame'"),
+        ("position_m = [0, 0, 0.6]", "body 'frame'"),
+        ("inertia_kgm2 = [1120, 112, 1120]", "wheelset 'ws'"),
+        ("position_m = [0, 0, 0.46]", "wheelset 'ws'"),
+        ("point_m = [0, 1, 0.5]", "force 'spring'"),
+        ("point2_m = [0, 1, 0.46]", "force 'spring'"),
+        ("orientation_deg = [0, 0, 0]", "force 'spring'"),
+        ("stiffness_n_per_m = [1e6, 1e6, 1e6]", "force 'spring'"),
+    ];
+    for (line, label) in keys {
+        let key = line.split(' ').next().unwrap();
+        let n = line_of(&good, line);
+        for (array, found) in [
+            ("[1, 2, 3, 4]", "found 4 numbers"),
+            ("[1, 2]", "found 2 numbers"),
+            ("[]", "found 0 numbers"),
+        ] {
+            let text = good.replace(line, &format!("{key} = {array}"));
+            let p = problems(&text);
+            expect(
+                &p,
+                n,
+                &[label, key, "expected an array of 3 numbers", found],
+            );
+            // reported once, as a wrong value, not again as a missing key
+            assert!(
+                !p.iter()
+                    .any(|s| s.contains(&format!("missing key '{key}'"))),
+                "{p:?}"
+            );
+        }
+    }
+    // a bushing's key that takes one number or three names both
+    let text = good.replace(
+        "stiffness_n_per_m = [1e6, 1e6, 1e6]",
+        "stiffness_n_per_m = \"stiff\"",
+    );
+    let p = problems(&text);
+    expect(
+        &p,
+        line_of(&good, "stiffness_n_per_m"),
+        &[
+            "stiffness_n_per_m",
+            "expected a number or an array of 3 numbers",
+        ],
+    );
+}
+
+/// A vehicle of the wheelset and one `[[force]]` to the track made of `keys`.
+fn with_force(keys: &str) -> String {
+    format!(
+        "{WS}\n[[force]]\nname = \"e\"\nbody1 = \"track\"\nbody2 = \"ws\"\npoint_m = [0, 0, 0.46]\n{keys}\n"
+    )
+}
+
+/// (found by fuzzing: a series spring-damper of 1e15 N/m and 1e-9 N·s/m hung a run at t = 0,
+/// 1e-300 N·s/m gave NaN) The relaxation time c/k of a damper in series with a spring is at
+/// least 1e-5 s, for a series spring-damper and for a damper table on a mount stiffness.
+#[test]
+fn series_dampers_relax_no_faster_than_the_bound() {
+    let series = |k: &str, c: &str| {
+        with_force(&format!(
+            "type = \"series_spring_damper\"\ndirection = \"x\"\nstiffness_n_per_m = {k}\ndamping_ns_per_m = {c}"
+        ))
+    };
+    let text = series("1e7", "1");
+    let p = problems(&text);
+    expect(
+        &p,
+        line_of(&text, "damping_ns_per_m"),
+        &[
+            "force 'e'",
+            "relaxation time damping_ns_per_m / stiffness_n_per_m = 1 N·s/m / 1e7 N/m = 1e-7 s",
+            "below 1e-5 s",
+            "at least 100 N·s/m",
+            "model the damper alone",
+        ],
+    );
+    let text = series("6e6", "1e-300");
+    expect(
+        &problems(&text),
+        line_of(&text, "damping_ns_per_m"),
+        &["relaxation time", "below 1e-5 s"],
+    );
+    // the fuzzed case: the stiffness is refused first
+    let text = series("1e15", "1e-9");
+    expect(
+        &problems(&text),
+        line_of(&text, "stiffness_n_per_m"),
+        &[
+            "stiffness_n_per_m 1e15 N/m is implausible",
+            "at most 1e10 N/m",
+        ],
+    );
+    // at the bound it compiles
+    let v = compile(&series("1e7", "100")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(matches!(
+        v.forces()[0].law,
+        ForceLaw::SeriesSpringDamper { damping, .. } if damping == 100.0
+    ));
+
+    // a damper table of 100 N·s/m on a 2e7 N/m mount: τ = 5 µs
+    let damper = |k: &str| {
+        with_force(&format!(
+            "type = \"damper\"\ndirection = \"x\"\nvelocity_m_per_s = [-1, 0, 0.5, 1]\nforce_n = [-50e3, 0, 50, 60e3]\nstiffness_n_per_m = {k}"
+        ))
+    };
+    let text = damper("2e7");
+    expect(
+        &problems(&text),
+        line_of(&text, "stiffness_n_per_m"),
+        &[
+            "force 'e'",
+            "relaxation time",
+            "= 100 N·s/m / 2e7 N/m = 5e-6 s (between 0 and 0.5 m/s)",
+            "drop stiffness_n_per_m",
+            "at most 1e7 N/m",
+        ],
+    );
+    let v = compile(&damper("1e7")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(v.internal_states().len(), 1);
+    // without the mount the same table has no state and no bound on its slope's time scale
+    let v = compile(&damper("1e7").replace("stiffness_n_per_m = 1e7", ""))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(v.internal_states().is_empty());
+}
+
+/// (found by fuzzing: a damper table of ±1e300 N at ±1e-300 m/s gave NaN at t = 0) Table values
+/// and slopes are bounded: forces within ±1e8 N, velocities within ±100 m/s, deflections within
+/// ±1000 mm, damper slopes at most 1e9 N·s/m and force-table slopes at most 1e10 N/m.
+#[test]
+fn absurd_table_values_and_slopes_are_located() {
+    let damper = |v: &str, f: &str| {
+        with_force(&format!(
+            "type = \"damper\"\ndirection = \"y\"\nvelocity_m_per_s = {v}\nforce_n = {f}"
+        ))
+    };
+    let text = damper("[-1e-300, 1e-300]", "[-1e300, 1e300]");
+    let p = problems(&text);
+    expect(
+        &p,
+        line_of(&text, "force_n"),
+        &[
+            "force 'e'",
+            "force_n value -1e300 N is implausible",
+            "within ±1e8 N",
+        ],
+    );
+    let text = damper("[-1e-12, 1e-12]", "[-1e3, 1e3]");
+    expect(
+        &problems(&text),
+        line_of(&text, "force_n"),
+        &[
+            "force_n: the slope between -1e-12 and 1e-12 m/s (velocity_m_per_s) is 1e15 N·s/m",
+            "at most 1e9 N·s/m",
+        ],
+    );
+    let text = damper("[-1000, 1000]", "[-1e3, 1e3]");
+    expect(
+        &problems(&text),
+        line_of(&text, "velocity_m_per_s"),
+        &[
+            "velocity_m_per_s value -1000 m/s is implausible",
+            "±100 m/s",
+        ],
+    );
+    // a steep but plausible table compiles
+    compile(&damper("[-0.001, 0.001]", "[-1e5, 1e5]")).unwrap_or_else(|e| panic!("{e}"));
+
+    let stop = |d: &str, f: &str| {
+        with_force(&format!(
+            "type = \"table\"\ndirection = \"y\"\nsymmetric = true\ndeflection_mm = {d}\nforce_n = {f}"
+        ))
+    };
+    let text = stop("[0, 1e-300]", "[0, 1e300]");
+    expect(
+        &problems(&text),
+        line_of(&text, "force_n"),
+        &["force_n value 1e300 N is implausible"],
+    );
+    let text = stop("[0, 1e-300]", "[0, 1000]");
+    expect(
+        &problems(&text),
+        line_of(&text, "force_n"),
+        &[
+            "force_n: the slope between 0 and 1e-300 mm (deflection_mm) is 1e306 N/m",
+            "implausibly steep",
+            "at most 1e10 N/m",
+        ],
+    );
+    // the mirrored table's added origin (0, 0) is checked too: 1e5 N over 1 µm is 1e11 N/m
+    let text = stop("[1e-3, 2]", "[1e5, 2e5]");
+    expect(
+        &problems(&text),
+        line_of(&text, "force_n"),
+        &["force_n: the slope between 0 and 0.001 mm", "1e11 N/m"],
+    );
+    let text = stop("[0, 2000]", "[0, 1e3]");
+    expect(
+        &problems(&text),
+        line_of(&text, "deflection_mm"),
+        &["deflection_mm value 2000 mm is implausible", "±1000 mm"],
+    );
+}
+
+/// (found by fuzzing: 1e20 N/m primary springs were reported as "body 'bogie_front' has no
+/// support in roll" by the static solve) Stiffness and damping above their plausible bounds are
+/// refused at the key; the shipped vehicle still compiles and stands with every primary
+/// stiffness at the bound.
+#[test]
+fn implausible_stiffness_and_damping_are_located() {
+    let manchester =
+        std::fs::read_to_string(vehicles_dir().join("manchester_vehicle1.toml")).unwrap();
+    let primary = "stiffness_n_per_m = [31.391e6, 3.884e6, 1.22e6]";
+    let text = manchester.replacen(primary, "stiffness_n_per_m = [1e20, 1e20, 1e20]", 1);
+    let p = problems(&text);
+    expect(
+        &p,
+        line_of(&manchester, primary),
+        &[
+            "force 'primary_",
+            "stiffness_n_per_m [1e20, 1e20, 1e20]: 1e20 N/m is implausible",
+            "at most 1e10 N/m",
+            "freeze it",
+        ],
+    );
+    let text = manchester.replace(primary, "stiffness_n_per_m = [1e10, 1e10, 1e10]");
+    let v = compile(&text).unwrap_or_else(|e| panic!("{e}"));
+    let eq = v.static_equilibrium().unwrap_or_else(|e| panic!("{e}"));
+    let weight = v.total_mass() * v.gravity();
+    assert!((eq.total_wheel_load() - weight).abs() < 1e-6 * weight);
+
+    for (keys, key, needle) in [
+        (
+            "type = \"bushing\"\ndamping_ns_per_m = [0, 2e9, 0]",
+            "damping_ns_per_m",
+            "2e9 N·s/m is implausible (expected at most 1e9 N·s/m",
+        ),
+        (
+            "type = \"bushing\"\nrotational_stiffness_nm_per_rad = [0, 0, 1e11]",
+            "rotational_stiffness_nm_per_rad",
+            "1e11 N·m/rad is implausible (expected at most 1e10 N·m/rad",
+        ),
+        (
+            "type = \"bushing\"\nrotational_damping_nms_per_rad = [5e9, 0, 0]",
+            "rotational_damping_nms_per_rad",
+            "5e9 N·m·s/rad is implausible (expected at most 1e9 N·m·s/rad",
+        ),
+        (
+            "type = \"anti_roll_bar\"\nrotational_stiffness_nm_per_rad = 1e12",
+            "rotational_stiffness_nm_per_rad",
+            "1e12 N·m/rad is implausible",
+        ),
+        (
+            "type = \"friction\"\ndirection = \"y\"\nstiffness_n_per_m = 2e10\nfriction_force_n = 100",
+            "stiffness_n_per_m",
+            "2e10 N/m is implausible",
+        ),
+        (
+            "type = \"planar_friction\"\nplane = \"xy\"\nstiffness_n_per_m = 2e10\nfriction_force_n = 100",
+            "stiffness_n_per_m",
+            "2e10 N/m is implausible",
+        ),
+        (
+            "type = \"rotational_friction\"\nabout = \"z\"\nrotational_stiffness_nm_per_rad = 2e10\nfriction_moment_nm = 100",
+            "rotational_stiffness_nm_per_rad",
+            "2e10 N·m/rad is implausible",
+        ),
+        (
+            "type = \"damper\"\ndirection = \"y\"\nvelocity_m_per_s = [-1, 1]\nforce_n = [-1e3, 1e3]\nstiffness_n_per_m = 2e10",
+            "stiffness_n_per_m",
+            "2e10 N/m is implausible",
+        ),
+        (
+            "type = \"series_spring_damper\"\ndirection = \"y\"\nstiffness_n_per_m = 1e6\ndamping_ns_per_m = 2e9",
+            "damping_ns_per_m",
+            "2e9 N·s/m is implausible",
+        ),
+    ] {
+        let text = with_force(keys);
+        expect(
+            &problems(&text),
+            line_of(&text, key),
+            &["force 'e'", key, needle],
+        );
+    }
+}
