@@ -333,6 +333,16 @@ pub fn synthesize(p: &SyntheticParams) -> IrregularitySeries {
     IrregularitySeries::new(s, values)
 }
 
+/// \[mm\] largest irregularity a measured CSV may give in any channel: poor track stays within
+/// about 30 mm (EN 13848-5's immediate-action limits are below that); beyond it the value is a
+/// unit or data error, and a wheelset would be pushed off the rails.
+pub const CSV_MAX_VALUE_MM: f64 = 50.0;
+/// \[m\] closest spacing of a measured CSV's rows (recording cars sample every 0.25–0.5 m).
+pub const CSV_MIN_SPACING_M: f64 = 1e-3;
+/// \[mm/m\] steepest change of a channel between two rows (10 %: a step that the vehicle would
+/// meet as an impact, not an irregularity).
+pub const CSV_MAX_SLOPE_MM_PER_M: f64 = 100.0;
+
 /// The columns a measured CSV must have, in this order.
 pub const CSV_COLUMNS: [&str; 5] = [
     "distance_m",
@@ -437,6 +447,51 @@ pub fn parse_csv(text: &str, file: &str) -> Result<IrregularitySeries, TrackErro
                     row[0]
                 ),
             ));
+            continue;
+        }
+        if let Some(&last) = s.last()
+            && row[0] - last < CSV_MIN_SPACING_M
+        {
+            errors.push(err(
+                lineno,
+                fields[0].1,
+                format!(
+                    "distance_m = {}: rows closer than {CSV_MIN_SPACING_M} m (previous row {last})",
+                    row[0]
+                ),
+            ));
+            continue;
+        }
+        for c in 1..5 {
+            let v = row[c];
+            if v.abs() > CSV_MAX_VALUE_MM {
+                ok = false;
+                errors.push(err(
+                    lineno,
+                    fields[c].1,
+                    format!(
+                        "{} = {v}: expected an irregularity within ±{CSV_MAX_VALUE_MM} mm (a unit error?)",
+                        CSV_COLUMNS[c]
+                    ),
+                ));
+            } else if let (Some(&last), Some(&prev)) = (s.last(), values[c - 1].last()) {
+                let slope = (v - prev * 1e3) / (row[0] - last);
+                if slope.abs() > CSV_MAX_SLOPE_MM_PER_M {
+                    ok = false;
+                    errors.push(err(
+                        lineno,
+                        fields[c].1,
+                        format!(
+                            "{} = {v}: changes by {:.3} mm over {:.4} m from the previous row, steeper than {CSV_MAX_SLOPE_MM_PER_M} mm/m",
+                            CSV_COLUMNS[c],
+                            v - prev * 1e3,
+                            row[0] - last
+                        ),
+                    ));
+                }
+            }
+        }
+        if !ok {
             continue;
         }
         s.push(row[0]);

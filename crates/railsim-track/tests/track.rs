@@ -535,6 +535,32 @@ fn measured_csv_is_read_and_errors_are_located() {
         "{}",
         msgs[2]
     );
+    // Values a fuzzing run passed to the dynamics, where they failed naming no file: a metre
+    // of irregularity (a unit error), a 10 mm step over 1e-300 m, rows 0.1 mm apart.
+    let absurd = "distance_m,lateral_mm,vertical_mm,cross_level_mm,gauge_mm\n\
+                  0,0,0,0,0\n1,1e9,0,0,0\n2,0,0,0,0\n3,0,0,0,0\n3.05,10,0,0,0\n\
+                  4,0,0,0,30\n4.0005,0,0,0,30\n";
+    let e = irregularity::parse_csv(absurd, "absurd.csv").unwrap_err();
+    let msgs: Vec<String> = e.errors.iter().map(|e| e.to_string()).collect();
+    assert_eq!(msgs.len(), 3, "{msgs:#?}");
+    assert!(
+        msgs[0].starts_with(
+            "absurd.csv:3:3: lateral_mm = 1000000000: expected an irregularity within ±50 mm"
+        ),
+        "{}",
+        msgs[0]
+    );
+    assert!(
+        msgs[1].starts_with("absurd.csv:6:6: lateral_mm = 10: changes by 10.000 mm over 0.0500 m")
+            && msgs[1].contains("steeper than 100 mm/m"),
+        "{}",
+        msgs[1]
+    );
+    assert!(
+        msgs[2].starts_with("absurd.csv:8:1: distance_m = 4.0005: rows closer than 0.001 m"),
+        "{}",
+        msgs[2]
+    );
     let e = irregularity::parse_csv("s,y\n", "h.csv").unwrap_err();
     assert!(
         e.errors[0]
