@@ -2,6 +2,7 @@
 //! deflection in the initial state, and the damping it brings to two-point flange contact.
 
 use railsim_sim::{Sample, Scene, Simulation};
+use railsim_track::RailSupport;
 
 mod common;
 use common::{run, scene};
@@ -25,6 +26,19 @@ fn manchester_on(track: &str, duration_s: f64, extra: &str) -> Scene {
     ))
 }
 
+/// \[m\] How far a wheelset's rails lie from their static balance k d = −(force on the wheel)
+/// (Y toward the field side): the largest of the four components.
+fn imbalance(w: &railsim_log::messages::WheelsetMessage, sup: &RailSupport) -> f64 {
+    let d = w.rail_displacement_m.expect("rail displacements logged");
+    let expected = [
+        w.y_left_n / sup.lateral_stiffness,
+        -w.q_left_n / sup.vertical_stiffness,
+        -w.y_right_n / sup.lateral_stiffness,
+        -w.q_right_n / sup.vertical_stiffness,
+    ];
+    (0..4).map(|k| (d[k] - expected[k]).abs()).fold(0.0, f64::max)
+}
+
 #[test]
 fn an_elastic_rail_support_starts_in_static_equilibrium() {
     let rigid = Simulation::new(&manchester_on("tracks/straight.toml", 1.0, "")).unwrap();
@@ -43,17 +57,7 @@ fn an_elastic_rail_support_starts_in_static_equilibrium() {
         .collect();
     for smp in &samples {
         for (w, q0) in smp.wheelsets.iter().zip(&q0) {
-            let d = w.rail_displacement_m.expect("rail displacements logged");
-            // The rail's static balance: k d = −(force on the wheel); Y toward the field side.
-            let expected = [
-                w.y_left_n / sup.lateral_stiffness,
-                -w.q_left_n / sup.vertical_stiffness,
-                -w.y_right_n / sup.lateral_stiffness,
-                -w.q_right_n / sup.vertical_stiffness,
-            ];
-            for k in 0..4 {
-                worst_rail = worst_rail.max((d[k] - expected[k]).abs());
-            }
+            worst_rail = worst_rail.max(imbalance(w, &sup));
             for (q, q0) in [w.q_left_n, w.q_right_n].into_iter().zip(q0) {
                 worst_q = worst_q.max((q / 54.5e3 - 1.0).abs());
                 worst_drift = worst_drift.max((q / q0 - 1.0).abs());
@@ -163,15 +167,7 @@ fn a_soft_lateral_rail_support_settles_in_static_balance() {
     let mut lateral = 0.0f64;
     for w in &samples[0].wheelsets {
         let d = w.rail_displacement_m.unwrap();
-        let expected = [
-            w.y_left_n / sup.lateral_stiffness,
-            -w.q_left_n / sup.vertical_stiffness,
-            -w.y_right_n / sup.lateral_stiffness,
-            -w.q_right_n / sup.vertical_stiffness,
-        ];
-        for k in 0..4 {
-            worst = worst.max((d[k] - expected[k]).abs());
-        }
+        worst = worst.max(imbalance(w, &sup));
         lateral = lateral.max(d[0].abs()).max(d[2].abs());
     }
     eprintln!(
