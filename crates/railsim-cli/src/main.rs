@@ -340,6 +340,26 @@ fn check_speeds(name: &str, speeds: &[f64]) -> Result<()> {
     Ok(())
 }
 
+/// An output file named by `option` must end in one of `allowed` (lower case, without the dot;
+/// the case of the file's extension does not matter): the format is chosen by it, and a file
+/// with another ending would not be read back as what it holds.
+fn check_extension(option: &str, path: &Path, allowed: &[&str]) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    if !allowed.contains(&ext.as_str()) {
+        let list: Vec<String> = allowed.iter().map(|e| format!(".{e}")).collect();
+        bail!(
+            "{option} {}: expected a file name ending in {}, found extension \"{ext}\"",
+            path.display(),
+            list.join(" or ")
+        );
+    }
+    Ok(())
+}
+
 /// `v` if it is finite and within `[lo, hi]`, else an error naming the option and the range.
 fn in_range(name: &str, v: f64, lo: f64, hi: f64) -> Result<f64> {
     if !(v.is_finite() && (lo..=hi).contains(&v)) {
@@ -441,17 +461,11 @@ fn parse_friction_by_angle(text: &str) -> Result<Friction> {
 }
 
 fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
-    if let (Some(out), None) = (&a.out, &a.cases) {
-        let ext = out
-            .extension()
-            .and_then(|e| e.to_str())
-            .unwrap_or("")
-            .to_ascii_lowercase();
-        if ext != "csv" && ext != "json" {
-            bail!(
-                "--out {}: expected a file name ending in .csv or .json, found extension \"{ext}\"",
-                out.display()
-            );
+    if let Some(out) = &a.out {
+        if a.cases.is_some() {
+            check_extension("--out", out, &["csv"])?;
+        } else {
+            check_extension("--out", out, &["csv", "json"])?;
         }
     }
     let pair = build_pair(&a.pair)?;

@@ -158,6 +158,9 @@ pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
     if a.animate.is_some() && about != Linearisation::Straight {
         bail!("--animate: animates a mode on straight track only, not with --radius-m");
     }
+    if a.animate.is_some() {
+        crate::check_extension("--out", &a.out, &["mcap"])?;
+    }
     eprintln!(
         "railsim modes: {} (contact model {}): eigenvalues of the vehicle linearised about {}",
         scene.name,

@@ -172,6 +172,26 @@ fn out_of_range_options_are_refused_before_any_work() {
             "--step-um: expected a number from 0.1 to 1000, found 1e-12",
         ),
         (
+            &[
+                "modes",
+                "--speed-kmh",
+                "280",
+                "--animate",
+                "1",
+                "--out",
+                "m.txt",
+            ][..],
+            "--out m.txt: expected a file name ending in .mcap, found extension \"txt\"",
+        ),
+        (
+            &["contact", "--cases", "c.csv", "--out", "x.txt"][..],
+            "--out x.txt: expected a file name ending in .csv, found extension \"txt\"",
+        ),
+        (
+            &["contact", "--out", "x.txt"][..],
+            "--out x.txt: expected a file name ending in .csv or .json, found extension \"txt\"",
+        ),
+        (
             &["modes", "--speed-kmh", "1e-9"][..],
             "--speed-kmh: expected a number from 0.01 to 1500",
         ),
