@@ -887,9 +887,31 @@ impl Compiler<'_> {
                 bodies.push(body);
             }
         }
-        let mut wheelsets = Vec::new();
+        let mut wheelsets: Vec<Wheelset> = Vec::new();
         for w in &spec.wheelset {
             if let Some(ws) = self.wheelset(w.get_ref(), &w.span(), &mut names, &bodies, base_dir) {
+                // Two wheelsets closer along the vehicle than their wheels' diameters would
+                // share the rails' contact points (a copied table whose position was not
+                // changed).
+                let clash = wheelsets.iter().find(|o| {
+                    (o.position[0] - ws.position[0]).abs() < o.nominal_radius + ws.nominal_radius
+                });
+                if let (Some(o), Some(v)) = (clash, &w.get_ref().position_m) {
+                    self.err(
+                        &v.span(),
+                        "position_m",
+                        format!(
+                            "wheelset '{}': position_m x = {} m is {} m from wheelset '{}' (x = {} m); expected wheelsets at least their wheels' radii apart ({} m)",
+                            ws.name,
+                            short_number(ws.position[0]),
+                            short_number((o.position[0] - ws.position[0]).abs()),
+                            o.name,
+                            short_number(o.position[0]),
+                            short_number(o.nominal_radius + ws.nominal_radius)
+                        ),
+                    );
+                    continue;
+                }
                 wheelsets.push(ws);
             }
         }

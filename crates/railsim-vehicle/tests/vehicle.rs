@@ -1187,3 +1187,21 @@ fn implausible_stiffness_and_damping_are_located() {
         );
     }
 }
+
+#[test]
+fn two_wheelsets_in_one_place_are_refused() {
+    // a copied [[wheelset]] table whose name was changed but not its position
+    let second = WS.replace("name = \"ws\"", "name = \"ws_copy\"");
+    let p = problems(&format!("name = \"two\"\n{WS}{second}"));
+    expect(
+        &p,
+        16,
+        &[
+            "wheelset 'ws_copy': position_m x = 0 m is 0 m from wheelset 'ws'",
+            "at least their wheels' radii apart (0.92 m)",
+        ],
+    );
+    // a bogie's wheelbase is fine
+    let apart = second.replace("position_m = [0, 0, 0.46]", "position_m = [2.5, 0, 0.46]");
+    assert!(compile(&format!("name = \"two\"\n{WS}{apart}")).is_ok());
+}
