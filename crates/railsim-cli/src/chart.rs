@@ -1,6 +1,8 @@
 //! Line charts to PNG (plotters' bitmap backend with a built-in font): `replay --plot` and the
 //! bifurcation diagram of `critical-speed --png`.
 
+use std::fs::File;
+use std::ops::Range;
 use std::path::Path;
 
 use anyhow::{Result, anyhow};
@@ -38,6 +40,13 @@ pub struct Labels<'a> {
     pub y: &'a str,
 }
 
+/// Checks that `png` is named `*.png` (in any case): the bitmap backend picks the image format
+/// by the extension, and refuses an unknown one only after the whole plot is drawn. `option`
+/// names where the file name came from, e.g. `--png`.
+pub fn check_png_name(option: &str, png: &Path) -> Result<()> {
+    crate::check_extension(option, png, &["png"])
+}
+
 /// The x and y ranges of the finite points of `series`, or `None` when there are none.
 pub fn bounds(series: &[Series]) -> Option<([f64; 2], [f64; 2])> {
     let (mut x, mut y) = (
@@ -71,7 +80,29 @@ pub fn line_chart(png: &Path, labels: &Labels<'_>, series: &[Series]) -> Result<
     let (y0, y1) = (y[0] - pad, y[1] + pad);
     register_font(FONT_FAMILY, FontStyle::Normal, FONT)
         .map_err(|_| anyhow!("the built-in font assets/DejaVuSans.ttf does not load"))?;
-    let draw_err = |e: &dyn std::fmt::Display| anyhow!("{}: drawing the plot: {e}", png.display());
+    check_png_name("--png", png)?;
+    // The bitmap backend writes the file only after drawing, and reports a failure to write it as
+    // a debug dump of error types this crate cannot name (`ImageError(IoError(Os { .. }))`):
+    // create the file first, so that a missing directory or a read-only file is said plainly.
+    File::create(png).map_err(|e| anyhow!("{}: creating the PNG: {e}", png.display()))?;
+    let drawn = draw(png, labels, series, x0..x1, y0..y1);
+    if drawn.is_err() {
+        // no empty or partial PNG is left behind
+        std::fs::remove_file(png).ok();
+    }
+    drawn
+}
+
+/// Draws the chart of [`line_chart`] with the given axis ranges and writes it to `png`.
+fn draw(
+    png: &Path,
+    labels: &Labels<'_>,
+    series: &[Series],
+    x: Range<f64>,
+    y: Range<f64>,
+) -> Result<()> {
+    let draw_err =
+        |e: &dyn std::fmt::Display| anyhow!("{}: drawing or writing the plot: {e}", png.display());
     let root = BitMapBackend::new(png, PLOT_SIZE).into_drawing_area();
     root.fill(&WHITE).map_err(|e| draw_err(&e))?;
     let mut chart = ChartBuilder::on(&root)
@@ -79,7 +110,7 @@ pub fn line_chart(png: &Path, labels: &Labels<'_>, series: &[Series]) -> Result<
         .margin(16)
         .x_label_area_size(50)
         .y_label_area_size(90)
-        .build_cartesian_2d(x0..x1, y0..y1)
+        .build_cartesian_2d(x, y)
         .map_err(|e| draw_err(&e))?;
     chart
         .configure_mesh()

@@ -107,6 +107,10 @@ pub struct CriticalArgs {
 }
 
 pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
+    // (before the study, which takes minutes)
+    if let Some(png) = &a.png {
+        crate::chart::check_png_name("--png", png)?;
+    }
     let path = a
         .scene
         .clone()

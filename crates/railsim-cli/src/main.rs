@@ -351,8 +351,13 @@ fn check_extension(option: &str, path: &Path, allowed: &[&str]) -> Result<()> {
         .to_ascii_lowercase();
     if !allowed.contains(&ext.as_str()) {
         let list: Vec<String> = allowed.iter().map(|e| format!(".{e}")).collect();
+        let found = if ext.is_empty() {
+            "no extension".to_owned()
+        } else {
+            format!("extension \"{ext}\"")
+        };
         bail!(
-            "{option} {}: expected a file name ending in {}, found extension \"{ext}\"",
+            "{option} {}: expected a file name ending in {}, found {found}",
             path.display(),
             list.join(" or ")
         );

@@ -141,6 +141,9 @@ fn shape_text(m: &Mode) -> String {
 }
 
 pub fn run_modes(a: &ModesArgs) -> Result<ExitCode> {
+    if let Some(png) = &a.png {
+        crate::chart::check_png_name("--png", png)?;
+    }
     let path = a
         .scene
         .clone()

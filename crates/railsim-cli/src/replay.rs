@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, anyhow, bail};
 
-use crate::chart::{Labels, Series, bounds, line_chart};
+use crate::chart::{Labels, Series, bounds, check_png_name, line_chart};
 use clap::Args;
 
 use railsim_log::export::{
@@ -108,6 +108,9 @@ fn rerun(reader: &railsim_log::LogReader) -> Result<ExitCode> {
 }
 
 pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
+    if let Some(png) = &a.png {
+        check_png_name("--png", png)?;
+    }
     let reader = open_log(&a.log)?;
     if let Some(note) = reader.truncation() {
         eprintln!("railsim: warning: {} is truncated: {note}", a.log.display());

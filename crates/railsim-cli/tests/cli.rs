@@ -192,6 +192,10 @@ fn out_of_range_options_are_refused_before_any_work() {
             "--out x.txt: expected a file name ending in .csv or .json, found extension \"txt\"",
         ),
         (
+            &["critical-speed", "--png", "branch.jpg"][..],
+            "--png branch.jpg: expected a file name ending in .png, found extension \"jpg\"",
+        ),
+        (
             &["modes", "--speed-kmh", "1e-9"][..],
             "--speed-kmh: expected a number from 0.01 to 1500",
         ),

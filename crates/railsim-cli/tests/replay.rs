@@ -369,6 +369,156 @@ fn bad_input_exits_2_with_a_message() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A log cut to any length up to 100 bytes (inside the magic, the MCAP header or the
+/// `railsim_log` metadata record) and a finished log whose footer puts the summary beyond the
+/// footer: exit 2 with a message naming the file and its size, never a bare OS error (a log cut
+/// to 8 or 10 bytes said `seeking the summary: Invalid argument (os error 22)`).
+#[test]
+fn a_cut_or_damaged_log_exits_2_naming_the_file_and_its_size() {
+    let dir = temp_dir("short");
+    let bytes = std::fs::read(sample_log(&dir)).unwrap();
+    let cut = dir.join("cut.mcap");
+    for len in 0..=100 {
+        std::fs::write(&cut, &bytes[..len]).unwrap();
+        let (code, out, err) = railsim(&["replay", cut.to_str().unwrap()]);
+        assert_eq!(code, 2, "cut at {len}: {out}{err}");
+        assert!(
+            err.starts_with(&format!(
+                "railsim: {}: not a complete railsim log",
+                cut.display()
+            )) && err.contains(&format!("the file is {len} bytes long"))
+                && err.contains("expected at least the MCAP magic")
+                && !err.contains("os error"),
+            "cut at {len}: {err}"
+        );
+    }
+
+    // The footer's summary start (its first 8 body bytes) damaged.
+    let footer = bytes.len() - 37;
+    assert_eq!(bytes[footer], 0x02, "no footer record at {footer}");
+    let damaged = dir.join("damaged.mcap");
+    for summary_start in [u64::MAX, 1 << 63, bytes.len() as u64 + 100, footer as u64] {
+        let mut b = bytes.clone();
+        b[footer + 9..footer + 17].copy_from_slice(&summary_start.to_le_bytes());
+        std::fs::write(&damaged, &b).unwrap();
+        let (code, out, err) = railsim(&["replay", damaged.to_str().unwrap()]);
+        assert_eq!(code, 2, "summary at {summary_start}: {out}{err}");
+        assert!(
+            err.starts_with(&format!(
+                "railsim: {}: not a complete MCAP file",
+                damaged.display()
+            )) && err.contains("its footer is damaged")
+                && err.contains(&format!("the file is {} bytes long", bytes.len()))
+                && err.contains(&format!("puts the summary at byte {summary_start}"))
+                && !err.contains("os error"),
+            "summary at {summary_start}: {err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `--png` takes a `.png` name (any case), checked before the log is read; a file that cannot
+/// be created is said plainly. Before, `--png out/a.txt` drew the whole plot and then failed
+/// with `ImageError(Unsupported(UnsupportedError { .. }))`.
+#[test]
+fn the_plot_file_must_be_a_png_that_can_be_created() {
+    let dir = temp_dir("png");
+    let log = sample_log(&dir);
+    let log = log.to_str().unwrap();
+    let plot = |png: &Path| {
+        railsim(&[
+            "replay",
+            log,
+            "--plot",
+            "/wheelsets/0:y_over_q_left",
+            "--png",
+            png.to_str().unwrap(),
+        ])
+    };
+    let txt = dir.join("a.txt");
+    let (code, _, err) = plot(&txt);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(
+        err.trim_end(),
+        format!(
+            "railsim: --png {}: expected a file name ending in .png, found extension \"txt\"",
+            txt.display()
+        )
+    );
+    assert!(!txt.exists());
+    // checked before the log is opened
+    let (code, _, err) = railsim(&[
+        "replay",
+        dir.join("missing.mcap").to_str().unwrap(),
+        "--plot",
+        "/wheelsets/0:y_over_q_left",
+        "--png",
+        txt.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--png") && !err.contains("missing.mcap"),
+        "{err}"
+    );
+    let (code, _, err) = plot(&dir.join("plot"));
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("found no extension"), "{err}");
+
+    let upper = dir.join("A.PNG");
+    let (code, _, err) = plot(&upper);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(&std::fs::read(&upper).unwrap()[..8], b"\x89PNG\r\n\x1a\n");
+
+    let nowhere = dir.join("no_such_dir").join("a.png");
+    let (code, _, err) = plot(&nowhere);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.starts_with(&format!(
+            "railsim: {}: creating the PNG: ",
+            nowhere.display()
+        )) && !err.contains("Error("),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The value of the `integrator` line of the scene listing of `log`.
+fn listed_integrator(log: &Path) -> String {
+    let (code, out, err) = railsim(&["replay", log.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    out.lines()
+        .find_map(|l| {
+            let (key, value) = l.split_once(" = ")?;
+            (key.trim() == "integrator").then(|| value.to_owned())
+        })
+        .unwrap_or_else(|| panic!("no integrator line:\n{out}"))
+}
+
+/// The scene listing gives the integrator in the scene file's terms (`[integrator]` in
+/// docs/formats/scene.md), not as the debug dump of `railsim_ode::Method` that `railsim run`
+/// stores (`DormandPrince { rtol: 0.0001, atol: 1e-6, h0: None, h_max: inf }`).
+#[test]
+fn the_scene_listing_gives_the_integrator_in_scene_file_terms() {
+    let dir = temp_dir("integrator");
+    let log = dir.join("i.mcap");
+    // as `railsim run` stores it
+    let (code, _, err) = railsim(&[
+        "run",
+        "scenes/free_wheelset_klingel.toml",
+        "--duration-s",
+        "0.05",
+        "--out",
+        log.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        listed_integrator(&log),
+        "dopri5, rtol 1e-7, atol 1e-9, max_step_s unlimited"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// Output into a pipe whose reader has gone (`railsim replay LOG | head`): a quiet, successful
 /// end, not a panic (`println!` panics on the broken pipe).
 #[test]

@@ -9,12 +9,12 @@ use std::path::{Path, PathBuf};
 use mcap::records::Record;
 use mcap::sans_io::{
     IndexedReadEvent, IndexedReader, IndexedReaderOptions, LinearReadEvent, LinearReader,
-    LinearReaderOptions, SummaryReadEvent, SummaryReader,
+    LinearReaderOptions, SummaryReadEvent, SummaryReader, SummaryReaderOptions,
 };
 
 use crate::error::{LogError, Result};
 use crate::messages::LogMessage;
-use crate::writer::{SCENE_ATTACHMENT, SCENE_METADATA};
+use crate::writer::{FORMAT_METADATA, SCENE_ATTACHMENT, SCENE_METADATA};
 
 /// One channel of a log, with what the data section holds for it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -148,13 +148,47 @@ fn read_size(need: usize, pos: u64, len: u64) -> usize {
     need.min(left).max(1)
 }
 
-/// Reads the summary section, or `None` when the file has no valid footer.
-fn read_summary(path: &Path, file: &mut File) -> Result<Option<mcap::Summary>> {
-    let len = file
-        .metadata()
-        .map_err(io_err(path, "reading the summary"))?
-        .len();
-    let mut reader = SummaryReader::new();
+/// \[B\] the footer record (opcode, length, 20-byte body) and the closing magic: the last bytes
+/// of a finished MCAP file.
+const FOOTER_AND_MAGIC: u64 = 1 + 8 + 20 + 8;
+
+/// Reads the summary section of the `len`-byte file, or `None` when the file has no valid footer
+/// (it is too short for one, or its writer was killed before writing it). A footer that is
+/// present (its opcode and the closing magic in place) but puts the summary at or beyond its own
+/// start is damaged: an error.
+fn read_summary(path: &Path, file: &mut File, len: u64) -> Result<Option<mcap::Summary>> {
+    if len < mcap::MAGIC.len() as u64 + FOOTER_AND_MAGIC {
+        return Ok(None);
+    }
+    let footer = len - FOOTER_AND_MAGIC;
+    let mut tail = [0u8; FOOTER_AND_MAGIC as usize];
+    file.seek(SeekFrom::Start(footer))
+        .and_then(|_| file.read_exact(&mut tail))
+        .map_err(io_err(path, "reading the footer"))?;
+    // opcode, record length (8), summary start (8), summary offset start (8), CRC (4), magic
+    let summary_start = u64::from_le_bytes(std::array::from_fn(|i| tail[9 + i]));
+    if tail[0] == mcap::records::op::FOOTER
+        && tail[29..] == mcap::MAGIC[..]
+        && summary_start >= footer
+    {
+        return Err(corrupt(
+            path,
+            format!(
+                "not a complete MCAP file: its footer is damaged: the file is {len} bytes long \
+                 and its footer (at byte {footer}) puts the summary at byte {summary_start}"
+            ),
+            "a footer that points back at the summary section before it (or 0: no summary)",
+        ));
+    }
+    file.seek(SeekFrom::Start(0))
+        .map_err(io_err(path, "seeking the summary"))?;
+    // Given the file size, the reader asks for absolute positions only, within the file: the
+    // footer's, then the summary's. (Without it, it seeks 37 bytes back from the end, which a
+    // shorter file refuses with a bare OS error.)
+    let options = SummaryReaderOptions::default()
+        .with_file_size(len)
+        .with_record_length_limit(RECORD_LENGTH_LIMIT);
+    let mut reader = SummaryReader::new_with_options(options);
     let mut pos: u64 = 0;
     while let Some(event) = reader.next_event() {
         match event {
@@ -174,6 +208,20 @@ fn read_summary(path: &Path, file: &mut File) -> Result<Option<mcap::Summary>> {
         }
     }
     Ok(reader.finish())
+}
+
+/// The error for a file that ends before the header every railsim log starts with (the MCAP
+/// magic and header and the `railsim_log` Metadata record, which [`crate::LogWriter::create`]
+/// writes and flushes first): a log cut short at its very start, or not a railsim log.
+fn too_short(path: &Path, len: u64, ends: &str) -> LogError {
+    corrupt(
+        path,
+        format!("not a complete railsim log (MCAP file): the file is {len} bytes long and {ends}"),
+        format!(
+            "at least the MCAP magic, the MCAP header and the '{FORMAT_METADATA}' metadata \
+             record that a railsim log starts with"
+        ),
+    )
 }
 
 /// Scans the file from the start, decompressing chunks one at a time, and hands every record to
@@ -252,9 +300,18 @@ fn scan(
 
 impl LogReader {
     /// Opens the log at `path`: a finished one, or one whose writer was killed.
+    ///
+    /// An unfinished file must hold at least the header a railsim log starts with (MCAP magic,
+    /// header and the `railsim_log` Metadata record, flushed when the log is created); a shorter
+    /// one, and a finished one whose footer points beyond itself, is a [`LogError::Corrupt`]
+    /// naming the file and its size.
     pub fn open(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref().to_path_buf();
         let mut file = File::open(&path).map_err(io_err(&path, "opening the log"))?;
+        let len = file
+            .metadata()
+            .map_err(io_err(&path, "reading the log"))?
+            .len();
         let mut magic = [0u8; 8];
         let mut got = 0;
         while got < magic.len() {
@@ -266,6 +323,14 @@ impl LogReader {
             }
             got += n;
         }
+        if got < magic.len() && magic[..got] == mcap::MAGIC[..got] {
+            let ends = if got == 0 { "before" } else { "inside" };
+            return Err(too_short(
+                &path,
+                len,
+                &format!("ends {ends} the 8 MCAP magic bytes"),
+            ));
+        }
         if magic[..got] != mcap::MAGIC[..] {
             return Err(corrupt(
                 &path,
@@ -273,9 +338,7 @@ impl LogReader {
                 format!("the MCAP magic bytes {:02x?}", mcap::MAGIC),
             ));
         }
-        file.seek(SeekFrom::Start(0))
-            .map_err(io_err(&path, "seeking the log"))?;
-        let summary = read_summary(&path, &mut file)?;
+        let summary = read_summary(&path, &mut file, len)?;
         drop(file);
 
         let mut schemas: HashMap<u16, (String, String, Vec<u8>)> = HashMap::new();
@@ -345,6 +408,15 @@ impl LogReader {
             Ok(())
         })?;
 
+        // A finished MCAP file from another writer is read as it is; an unfinished one must at
+        // least hold the header that railsim flushes when it creates a log.
+        if summary.is_none() && !metadata.contains_key(FORMAT_METADATA) {
+            return Err(too_short(
+                &path,
+                len,
+                &format!("has no footer and no complete '{FORMAT_METADATA}' metadata record"),
+            ));
+        }
         if let Some(stats) = summary.as_ref().and_then(|s| s.stats.as_ref())
             && stats.message_count != total
         {

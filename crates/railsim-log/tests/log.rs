@@ -570,6 +570,72 @@ fn truncated_at_any_byte_reads_a_prefix_or_fails_cleanly() {
     );
 }
 
+/// A file shorter than the header a railsim log starts with (MCAP magic and header and the
+/// `railsim_log` metadata record, flushed when the log is created) is an error naming the file
+/// and its size; so is a finished log whose footer puts the summary beyond the footer. Before,
+/// a file of 8 to 36 bytes and a summary start beyond 2^63 gave `seeking the summary: Invalid
+/// argument (os error 22)`, and a file of 37 bytes or more opened as an empty truncated log.
+#[test]
+fn short_files_and_damaged_footers_fail_naming_the_file_and_its_size() {
+    let (_, bytes) = small_chunk_log("short_source.mcap");
+    let cut = temp_path("short.mcap");
+    let mut first_readable = None;
+    for len in 0..bytes.len() {
+        std::fs::write(&cut, &bytes[..len]).unwrap();
+        match LogReader::open(&cut) {
+            Ok(reader) => {
+                // the first readable cut holds the whole railsim_log record, and is truncated
+                assert!(
+                    reader.metadata().contains_key("railsim_log"),
+                    "cut at {len}"
+                );
+                assert!(reader.truncation().is_some(), "cut at {len}");
+                first_readable = Some(len);
+                break;
+            }
+            Err(e) => {
+                let message = e.to_string();
+                assert!(matches!(e, LogError::Corrupt { .. }), "cut at {len}: {e:?}");
+                assert!(
+                    message.contains("short.mcap: not a complete railsim log")
+                        && message.contains(&format!("the file is {len} bytes long"))
+                        && message.contains("expected at least the MCAP magic")
+                        && !message.contains("os error"),
+                    "cut at {len}: {message}"
+                );
+            }
+        }
+    }
+    // past the magic (8), the MCAP header and the railsim_log record's three entries
+    let first_readable = first_readable.expect("no cut was readable");
+    assert!(
+        first_readable > 100,
+        "a cut at {first_readable} bytes opens"
+    );
+
+    let footer = bytes.len() - 37;
+    assert_eq!(bytes[footer], 0x02, "no footer record at {footer}");
+    let damaged = temp_path("bad_footer.mcap");
+    for summary_start in [u64::MAX, 1 << 63, bytes.len() as u64, footer as u64] {
+        let mut b = bytes.clone();
+        b[footer + 9..footer + 17].copy_from_slice(&summary_start.to_le_bytes());
+        std::fs::write(&damaged, &b).unwrap();
+        let Err(e) = LogReader::open(&damaged) else {
+            panic!("a footer putting the summary at byte {summary_start} opens");
+        };
+        let message = e.to_string();
+        assert!(matches!(e, LogError::Corrupt { .. }), "{e:?}");
+        assert!(
+            message.contains("bad_footer.mcap: not a complete MCAP file: its footer is damaged")
+                && message.contains(&format!("the file is {} bytes long", bytes.len()))
+                && message.contains(&format!("at byte {footer}"))
+                && message.contains(&format!("puts the summary at byte {summary_start}"))
+                && !message.contains("os error"),
+            "{message}"
+        );
+    }
+}
+
 /// Randomly damaged logs (bytes overwritten, a range deleted, random bytes inserted): opening and
 /// reading every topic gives data or an error, never a panic or an allocation abort. Before, a
 /// damaged record length made the reader ask for (and allocate) up to exabytes: 30 of 300

@@ -1280,7 +1280,10 @@ impl Recorder {
             .scene_entry("speed_m_s", format!("{}", scene.speed.speed_at(0.0)))
             .scene_entry("duration_s", format!("{}", scene.duration()))
             .scene_entry("contact_model", scene.contact.model.name())
-            .scene_entry("integrator", format!("{:?}", scene.integrator))
+            .scene_entry(
+                "integrator",
+                crate::scene::integrator_text(&scene.integrator),
+            )
             .scene_entry("log_rate_hz", format!("{}", scene.log.rate_hz))
             .scene_entry("state_dim", format!("{}", model.dim()));
         if let Some(text) = sources.get("scene") {

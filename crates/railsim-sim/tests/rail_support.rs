@@ -36,7 +36,9 @@ fn imbalance(w: &railsim_log::messages::WheelsetMessage, sup: &RailSupport) -> f
         -w.y_right_n / sup.lateral_stiffness,
         -w.q_right_n / sup.vertical_stiffness,
     ];
-    (0..4).map(|k| (d[k] - expected[k]).abs()).fold(0.0, f64::max)
+    (0..4)
+        .map(|k| (d[k] - expected[k]).abs())
+        .fold(0.0, f64::max)
 }
 
 #[test]

@@ -802,3 +802,53 @@ fn friction_is_a_number_or_a_table_by_contact_angle() {
         expect(&p, 6, needles);
     }
 }
+
+/// A run's log stores its integrator in the scene file's terms (`railsim replay` lists it), not
+/// as Rust's debug form of the method (before stop 23 a `bs3` run stored its whole tableau).
+#[test]
+fn the_integrator_is_written_in_scene_file_terms() {
+    use railsim_sim::scene::integrator_text;
+    let cases = [
+        (
+            Method::dormand_prince(1e-4, 1e-6),
+            "dopri5, rtol 1e-4, atol 1e-6, max_step_s unlimited",
+        ),
+        (
+            Method::AdaptiveExplicit {
+                tableau: &railsim_ode::tableau::BS3,
+                rtol: 2.5e-5,
+                atol: 1e-8,
+                h0: None,
+                h_max: 0.001,
+            },
+            "bs3, rtol 2.5e-5, atol 1e-8, max_step_s 0.001",
+        ),
+        (Method::Rk4 { h: 5e-4 }, "rk4, step_s 5e-4"),
+        (
+            Method::Radau5Fixed {
+                h: 1e-3,
+                rtol: 1e-6,
+                atol: 1e-8,
+            },
+            "radau5 with a fixed step, step_s 0.001, rtol 1e-6, atol 1e-8",
+        ),
+    ];
+    for (m, text) in cases {
+        assert_eq!(integrator_text(&m), text, "{m:?}");
+    }
+    // every method the scene format offers
+    for (method, keys) in [
+        ("dopri5", "rtol = 1e-5\nmax_step_s = 0.01"),
+        ("bs3", "rtol = 1e-5"),
+        ("radau5", "rtol = 1e-5"),
+        ("rk4", "step_s = 1e-3"),
+    ] {
+        let s = compile(&format!(
+            "{GOOD}[integrator]\nmethod = \"{method}\"\n{keys}\n"
+        ))
+        .unwrap_or_else(|e| panic!("{e}"));
+        let text = integrator_text(&s.integrator);
+        assert!(text.starts_with(&format!("{method}, ")), "{text}");
+        assert!(!text.contains('{'), "{text}");
+    }
+}
