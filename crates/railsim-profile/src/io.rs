@@ -356,7 +356,22 @@ pub fn parse_simpack(
             expected: "'point.end' closing the point block".into(),
         });
     }
+    let read = pts.len();
     let (pts, lines) = process(pts, lines, &pr);
+    // Few points left by the file's own processing (a bound, a rotation that turns the profile
+    // out of the bound, a minimum distance): say so, the points are in the file.
+    if pts.len() < 4 && read >= 4 {
+        return Err(ProfileError::InvalidValue {
+            source_name: src.into(),
+            line: text.lines().count(),
+            key: "point.dist.min, rotate, bound.y".into(),
+            found: format!(
+                "{} of the {read} points read left after the file's processing",
+                pts.len()
+            ),
+            expected: "at least 4 profile points (check the processing keys)".into(),
+        });
+    }
     // Canonical (y field, z down, file units) -> crate frame (z up, metres).
     let pts: Vec<[f64; 2]> = pts
         .iter()

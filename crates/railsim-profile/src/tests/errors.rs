@@ -214,3 +214,26 @@ fn absurd_coordinates() {
     // a whole rail, 172 mm high, is well within the limit
     assert!(wheel("0 0\n1 -172\n2 -172.5\n3 -100\n").is_ok());
 }
+
+/// Points read but dropped by the file's own processing keys (here a y bound that keeps two of
+/// six) are reported as such, not as a file with too few points.
+#[test]
+fn points_left_out_by_the_processing_keys() {
+    let text = HEAD.replace(
+        "  point.begin\n",
+        "  bound.y.min = 0\n  bound.y.max = 1.5\n  point.begin\n",
+    ) + "0 0\n1 0.1\n2 0.3\n3 0.6\n4 1.0\n5 1.5\n  point.end\nspline.end\n";
+    let e = parse_simpack(&text, "profiles/x.prw", ProfileKind::Wheel).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("2 of the 6 points read left after the file's processing")
+            && msg.contains("point.dist.min, rotate, bound.y"),
+        "{msg}"
+    );
+    // with too few points in the file itself the message stays the plain one
+    let e = wheel("0 0\n1 0.1\n").unwrap_err();
+    assert!(
+        matches!(e, ProfileError::TooFewPoints { found: 2, .. }),
+        "{e:?}"
+    );
+}
