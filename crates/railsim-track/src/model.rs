@@ -223,31 +223,16 @@ impl TrackModel {
         for (i, seg) in spec.segment.iter().enumerate() {
             inputs.push(check_segment(&mut sink, i + 1, seg, min_radius));
         }
-        // Transitions take curvature and cant from their neighbours.
+        // Transitions take curvature and cant from their neighbours; two adjacent transitions
+        // meet at zero curvature and cant (a reverse curve's inflection: a transition's own
+        // values are zero until it is given its neighbours').
         let n = inputs.len();
         for i in 0..n {
-            let SegmentKind::Transition(shape) = inputs[i].kind else {
+            if !matches!(inputs[i].kind, SegmentKind::Transition(_)) {
                 continue;
-            };
+            }
             let prev = if i > 0 { Some(inputs[i - 1]) } else { None };
             let next = inputs.get(i + 1).copied();
-            for (nb, j) in [(prev, i.wrapping_sub(1)), (next, i + 1)] {
-                if let Some(nb) = nb
-                    && let SegmentKind::Transition(next_shape) = nb.kind
-                    && j > i
-                {
-                    sink.invalid(
-                        &span_of(&spec.segment[j].get_ref().kind),
-                        "type",
-                        format!(
-                            "segment {} ({}): follows another transition ({}); put a tangent or curve between transitions",
-                            j + 1,
-                            next_shape.name(),
-                            shape.name()
-                        ),
-                    );
-                }
-            }
             let k0 = prev.map_or(0.0, |p| p.curvature.1);
             let c0 = prev.map_or(0.0, |p| p.cant.1);
             let k1 = next.map_or(0.0, |p| p.curvature.0);
