@@ -912,14 +912,12 @@ fn settle_on_rails(
     ws: &mut Workspace,
 ) -> Result<Settled, String> {
     use faer::linalg::solvers::Solve;
-    let mut support = [[0.0; 4]; 2];
-    let settled = settle(model, job, support, ws)?;
+    let settled = settle(model, job, [[0.0; 4]; 2], ws)?;
     let Some(sup) = model.rail_support else {
         return Ok(settled);
     };
     let k = [sup.lateral_stiffness, sup.vertical_stiffness];
-    // the deflections (left y, z, right y, z) and the residual x + F(x)/k at them
-    let pack = |sp: &[[f64; 4]; 2]| [sp[0][0], sp[0][1], sp[1][0], sp[1][1]];
+    // the deflections x (left y, z, right y, z; from zero) and the residual x + F(x)/k at them
     let unpack = |x: &[f64; 4]| [[x[0], x[1], 0.0, 0.0], [x[2], x[3], 0.0, 0.0]];
     let residual = |x: &[f64; 4], s: &Settled| {
         let mut r = [0.0; 4];
@@ -930,7 +928,7 @@ fn settle_on_rails(
         }
         r
     };
-    let mut x = pack(&support);
+    let mut x = [0.0; 4];
     let mut current = settled;
     const H: f64 = 1e-7;
     for _ in 0..20 {
@@ -959,7 +957,7 @@ fn settle_on_rails(
             x[row] += d;
             change = change.max(d.abs());
         }
-        support = unpack(&x);
+        let support = unpack(&x);
         current = settle(model, job, support, ws)?;
         if change < 1e-9 {
             return Ok(Settled { support, ..current });

@@ -29,70 +29,6 @@ pub const MIN_SPEED_KMH: f64 = 0.01;
 /// \[s\] smallest `max_step_s` accepted (below it a run of seconds takes millions of steps).
 pub const MIN_MAX_STEP_S: f64 = 1e-6;
 
-/// An integrator in the terms of a scene file's `[integrator]` table (docs/formats/scene.md),
-/// e.g. `dopri5, rtol 1e-7, atol 1e-9, max_step_s unlimited`: what a run's log stores and
-/// `railsim replay` lists.
-pub fn integrator_text(m: &Method) -> String {
-    let max_step = |h: f64| {
-        if h.is_finite() {
-            format!("max_step_s {}", short_number(h))
-        } else {
-            "max_step_s unlimited".to_owned()
-        }
-    };
-    // the scene file has no initial step; a method built in code may fix one
-    let initial = |h0: Option<f64>| {
-        h0.map_or(String::new(), |h| {
-            format!(", initial step {} s", short_number(h))
-        })
-    };
-    match *m {
-        Method::Rk4 { h } => format!("rk4, step_s {}", short_number(h)),
-        Method::ExplicitFixed { tableau, h } => format!(
-            "{} with a fixed step, step_s {}",
-            tableau.name.to_ascii_lowercase(),
-            short_number(h)
-        ),
-        Method::DormandPrince {
-            rtol,
-            atol,
-            h0,
-            h_max,
-        } => format!(
-            "dopri5, rtol {rtol:e}, atol {atol:e}, {}{}",
-            max_step(h_max),
-            initial(h0)
-        ),
-        Method::AdaptiveExplicit {
-            tableau,
-            rtol,
-            atol,
-            h0,
-            h_max,
-        } => format!(
-            "{}, rtol {rtol:e}, atol {atol:e}, {}{}",
-            tableau.name.to_ascii_lowercase(),
-            max_step(h_max),
-            initial(h0)
-        ),
-        Method::Radau5 {
-            rtol,
-            atol,
-            h0,
-            h_max,
-            ..
-        } => format!(
-            "radau5, rtol {rtol:e}, atol {atol:e}, {}{}",
-            max_step(h_max),
-            initial(h0)
-        ),
-        Method::Radau5Fixed { h, rtol, atol } => format!(
-            "radau5 with a fixed step, step_s {}, rtol {rtol:e}, atol {atol:e}",
-            short_number(h)
-        ),
-    }
-}
-
 /// \[s\] longest duration accepted (one day).
 pub const MAX_DURATION_S: f64 = 86_400.0;
 /// \[-\] range of the relative tolerance of the adaptive integrators.
@@ -2075,6 +2011,70 @@ impl MinByStart for Range<usize> {
         } else {
             other.clone()
         }
+    }
+}
+
+/// An integrator in the terms of a scene file's `[integrator]` table (docs/formats/scene.md),
+/// e.g. `dopri5, rtol 1e-7, atol 1e-9, max_step_s unlimited`: what a run's log stores and
+/// `railsim replay` lists.
+pub fn integrator_text(m: &Method) -> String {
+    let max_step = |h: f64| {
+        if h.is_finite() {
+            format!("max_step_s {}", short_number(h))
+        } else {
+            "max_step_s unlimited".to_owned()
+        }
+    };
+    // the scene file has no initial step; a method built in code may fix one
+    let initial = |h0: Option<f64>| {
+        h0.map_or(String::new(), |h| {
+            format!(", initial step {} s", short_number(h))
+        })
+    };
+    match *m {
+        Method::Rk4 { h } => format!("rk4, step_s {}", short_number(h)),
+        Method::ExplicitFixed { tableau, h } => format!(
+            "{} with a fixed step, step_s {}",
+            tableau.name.to_ascii_lowercase(),
+            short_number(h)
+        ),
+        Method::DormandPrince {
+            rtol,
+            atol,
+            h0,
+            h_max,
+        } => format!(
+            "dopri5, rtol {rtol:e}, atol {atol:e}, {}{}",
+            max_step(h_max),
+            initial(h0)
+        ),
+        Method::AdaptiveExplicit {
+            tableau,
+            rtol,
+            atol,
+            h0,
+            h_max,
+        } => format!(
+            "{}, rtol {rtol:e}, atol {atol:e}, {}{}",
+            tableau.name.to_ascii_lowercase(),
+            max_step(h_max),
+            initial(h0)
+        ),
+        Method::Radau5 {
+            rtol,
+            atol,
+            h0,
+            h_max,
+            ..
+        } => format!(
+            "radau5, rtol {rtol:e}, atol {atol:e}, {}{}",
+            max_step(h_max),
+            initial(h0)
+        ),
+        Method::Radau5Fixed { h, rtol, atol } => format!(
+            "radau5 with a fixed step, step_s {}, rtol {rtol:e}, atol {atol:e}",
+            short_number(h)
+        ),
     }
 }
 
