@@ -20,6 +20,7 @@ use railsim_contact::{
     ContactError, ContactWorkspace, PatchResult, Side, WarmStart, WheelsetPose, WheelsetVelocity,
 };
 use railsim_ode::{OdeSystem, RhsError};
+use railsim_track::TrackFrame;
 use railsim_vehicle::model::{Axis, ForceLaw, series_force, series_state_rate};
 use railsim_vehicle::suspension::{damper_series_law, friction_law, planar_friction_law};
 use rayon::prelude::*;
@@ -399,6 +400,71 @@ fn track_orientation(heading: f64, gradient: f64, roll: f64) -> M3 {
     )
 }
 
+/// The motion of a track frame carried along the track (global components).
+#[derive(Debug, Clone, Copy)]
+pub struct FrameMotion {
+    /// Orientation (columns: the frame's axes).
+    pub frame: M3,
+    /// \[1/m\] Darboux vector: the frame's angular velocity per metre run.
+    pub darboux: V3,
+    /// \[rad/s\] angular velocity.
+    pub omega: V3,
+    /// \[rad/s²\] angular acceleration.
+    pub alpha: V3,
+    /// \[m/s\] velocity of the origin.
+    pub vel_origin: V3,
+    /// \[m/s²\] acceleration of the origin.
+    pub accel_origin: V3,
+}
+
+/// The motion of the track frame `tf` when it moves along the track at `speed` \[m/s\] with
+/// `vdot` \[m/s²\] its rate.
+///
+/// The frame is `Rz(ψ) Ry(−atan g) Rx(φ)` (heading, gradient, roll), so its angular velocity
+/// per metre is the Darboux vector `D = κ e_z − α' l + φ' t`, with `l = Rz e_y` the heading's
+/// lateral axis, `t` the frame's tangent and `α' = g'/(1 + g²)` the rate of the inclination
+/// (`g'` the vertical curvature). Then `ω = v D`, `α = v̇ D + v² dD/ds`, the origin's velocity
+/// `v t` and its acceleration `v̇ t + v² D × t`, where `dD/ds` carries the rates of the
+/// components and of the axes they refer to (`dl/ds = κ e_z × l`, `dt/ds = D × t`):
+/// `dD/ds = κ' e_z − α'' l − α' κ e_z × l + φ'' t + φ' D × t`, with
+/// `α'' = −2 g g'²/(1 + g²)²`. Left out: the rate of the vertical curvature itself, zero inside
+/// a vertical curve and a jump at its ends (as κ' is at a clothoid's). Source: the kinematics
+/// of a frame moving along a space curve (Frenet–Serret / Darboux frame, e.g. do Carmo,
+/// *Differential Geometry of Curves and Surfaces*, 1976, §1-5), written here for this frame's
+/// angles.
+pub fn frame_motion(tf: &TrackFrame, speed: f64, vdot: f64) -> FrameMotion {
+    let frame = track_orientation(tf.heading, tf.gradient, tf.roll);
+    let tangent = [frame[0][0], frame[1][0], frame[2][0]];
+    let rz = rot_z(tf.heading);
+    let lateral = [rz[0][1], rz[1][1], rz[2][1]];
+    let up = [0.0, 0.0, 1.0];
+    let (g, gv) = (tf.gradient, tf.vertical_curvature);
+    let g2 = 1.0 + g * g;
+    let dalpha = gv / g2;
+    let darboux = add(
+        add(scale(tf.curvature, up), scale(-dalpha, lateral)),
+        scale(tf.droll_ds, tangent),
+    );
+    let d_tangent = cross(darboux, tangent);
+    let ddalpha = -2.0 * g * gv * gv / (g2 * g2);
+    let d_darboux = add(
+        add(
+            add(scale(tf.dcurvature_ds, up), scale(-ddalpha, lateral)),
+            scale(-dalpha * tf.curvature, cross(up, lateral)),
+        ),
+        add(scale(tf.droll_ds2, tangent), scale(tf.droll_ds, d_tangent)),
+    );
+    FrameMotion {
+        frame,
+        darboux,
+        omega: scale(speed, darboux),
+        alpha: add(scale(vdot, darboux), scale(speed * speed, d_darboux)),
+        vel_origin: scale(speed, tangent),
+        // the frame's own ẍ·t is the member's longitudinal acceleration, left out here
+        accel_origin: add(scale(vdot, tangent), scale(speed * speed, d_tangent)),
+    }
+}
+
 impl<'m> Dynamics<'m> {
     /// The model with a fresh workspace.
     pub fn new(model: &'m SimModel) -> Self {
@@ -428,34 +494,14 @@ impl Dynamics<'_> {
             // moving at V + ẋ: its coordinate x is the frame's lead, so the contact always sees
             // the track where the member is.
             let tf = m.track.frame_at(s + mm.p0[0] + q[0]);
-            let speed = v + qd[0];
-            let frame = track_orientation(tf.heading, tf.gradient, tf.roll);
-            let tangent = [frame[0][0], frame[1][0], frame[2][0]];
-            // Darboux vector: κ about the vertical, the gradient's rate about the heading's
-            // lateral axis, the roll's rate about the tangent.
-            let rz = rot_z(tf.heading);
-            let lateral = [rz[0][1], rz[1][1], rz[2][1]];
-            let dalpha = tf.vertical_curvature / (1.0 + tf.gradient * tf.gradient);
-            let darboux = add(
-                add([0.0, 0.0, tf.curvature], scale(-dalpha, lateral)),
-                scale(tf.droll_ds, tangent),
-            );
-            let omega_frame = scale(speed, darboux);
-            // v̇ D + v² dD/ds with the rates of the curvature and the roll rate (the turning of
-            // the axes the Darboux vector's components refer to is left out)
-            let alpha_frame = add(
-                add(
-                    scale(vdot, darboux),
-                    [0.0, 0.0, speed * speed * tf.dcurvature_ds],
-                ),
-                scale(speed * speed * tf.droll_ds2, tangent),
-            );
-            let vel_origin = scale(speed, tangent);
-            // The frame's own ẍ·t is the member's longitudinal acceleration, left out here.
-            let accel_origin = add(
-                scale(vdot, tangent),
-                scale(speed * speed, cross(darboux, tangent)),
-            );
+            let FrameMotion {
+                frame,
+                darboux,
+                omega: omega_frame,
+                alpha: alpha_frame,
+                vel_origin,
+                accel_origin,
+            } = frame_motion(&tf, v + qd[0], vdot);
             let wheelset = mm.is_wheelset();
             if wheelset {
                 q[4] = 0.0;

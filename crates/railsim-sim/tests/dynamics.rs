@@ -612,3 +612,84 @@ fn the_warm_started_contact_search_gives_the_cold_right_hand_side() {
         "only {warm} warm searches"
     );
 }
+
+/// The track frame's motion (`frame_motion`) is the time derivative of itself: carried along
+/// a track with Bloss, cosine and clothoid transitions (curvature, cant) on a gradient with
+/// vertical curves, at 60 m/s, the angular acceleration equals the central difference of the
+/// angular velocity and the origin's acceleration that of its velocity, to 1e-9 relative. Each
+/// rate term of dD/ds is checked to matter: without the roll's second derivative φ'' the
+/// difference reaches 0.32 rad/s² on the Bloss and cosine transitions, without the axes'
+/// turning (φ' D × t, α' κ e_z × l) 0.014 rad/s², against a tolerance of about 1e-9.
+#[test]
+fn the_track_frames_acceleration_is_the_rate_of_its_velocity() {
+    use railsim_sim::dynamics::frame_motion;
+    use railsim_sim::math::{cross, scale, sub};
+    use railsim_track::{TrackModel, TrackSpec};
+
+    let speed = 60.0;
+    let norm = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    for shape in ["bloss", "cosine", "clothoid"] {
+        let text = format!(
+            "gauge_mm = 1435\nrail_inclination = \"1:40\"\n\
+             rail_profile = {{ left = \"uic60\", right = \"uic60\" }}\n\
+             vertical_curve_radius_m = 2000\n\
+             [[segment]]\ntype = \"tangent\"\nlength_m = 80\n\
+             [[segment]]\ntype = \"{shape}\"\nlength_m = 80\ngradient_permille = 15\n\
+             [[segment]]\ntype = \"curve\"\nradius_m = 300\ncant_mm = 150\ndirection = \"left\"\n\
+             length_m = 100\ngradient_permille = 15\n\
+             [[segment]]\ntype = \"{shape}\"\nlength_m = 80\ngradient_permille = 5\n",
+        );
+        let spec = TrackSpec::from_toml_str(&text, "mem.toml").unwrap();
+        let track = TrackModel::compile(&spec, "mem.toml").unwrap();
+        let h = 1e-3;
+        let (mut worst, mut without_roll2, mut without_turning) = (0.0f64, 0.0f64, 0.0f64);
+        // inside the transitions and the curve, inside and outside the vertical curves but
+        // clear of their ends (the gradient changes by 15 ‰ at 80 m and by −10 ‰ at 260 m, over
+        // ±R Δg/2 = 15 and 10 m)
+        for s in [
+            85.0, 90.0, 100.0, 120.0, 150.0, 200.0, 262.0, 268.0, 290.0, 320.0,
+        ] {
+            let (a, f, b) = (
+                frame_motion(&track.frame_at(s - h), speed, 0.0),
+                frame_motion(&track.frame_at(s), speed, 0.0),
+                frame_motion(&track.frame_at(s + h), speed, 0.0),
+            );
+            let rate = |x: [f64; 3], y: [f64; 3]| scale(speed / (2.0 * h), sub(y, x));
+            let d_omega = rate(a.omega, b.omega);
+            let d_vel = rate(a.vel_origin, b.vel_origin);
+            let at = format!("{shape}, s = {s} m");
+            // tolerance 1e-9 relative (floor 1e-9): the differences' truncation and round-off
+            // are 1e-10 of the values here
+            let e = norm(sub(f.alpha, d_omega));
+            let tol = 1e-9 * (1.0 + norm(f.alpha));
+            assert!(e < tol, "{at}: alpha off by {e:e} rad/s²");
+            let e = norm(sub(f.accel_origin, d_vel));
+            let tol = 1e-9 * (1.0 + norm(f.accel_origin));
+            assert!(e < tol, "{at}: origin acceleration off by {e:e} m/s²");
+            worst = worst.max(norm(sub(f.alpha, d_omega)));
+            // the terms, as frame_motion forms them
+            let tf = track.frame_at(s);
+            let t = [f.frame[0][0], f.frame[1][0], f.frame[2][0]];
+            let roll2 = scale(speed * speed * tf.droll_ds2, t);
+            without_roll2 = without_roll2.max(norm(sub(sub(f.alpha, roll2), d_omega)));
+            let l = [-tf.heading.sin(), tf.heading.cos(), 0.0];
+            let dalpha = tf.vertical_curvature / (1.0 + tf.gradient * tf.gradient);
+            let turning = scale(
+                speed * speed,
+                sub(
+                    scale(tf.droll_ds, cross(f.darboux, t)),
+                    scale(dalpha * tf.curvature, cross([0.0, 0.0, 1.0], l)),
+                ),
+            );
+            without_turning = without_turning.max(norm(sub(sub(f.alpha, turning), d_omega)));
+        }
+        assert!(worst < 2e-9);
+        if shape != "clothoid" {
+            assert!(without_roll2 > 1e-3, "{shape}: φ'' term {without_roll2:e}");
+        }
+        assert!(
+            without_turning > 1e-5,
+            "{shape}: turning terms {without_turning:e}"
+        );
+    }
+}
