@@ -113,7 +113,10 @@ pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
     }
     let reader = open_log(&a.log)?;
     if let Some(note) = reader.truncation() {
-        eprintln!("railsim: warning: {} is truncated: {note}", a.log.display());
+        eprintln!(
+            "railsim: warning: {} was read without its summary: {note}",
+            a.log.display()
+        );
     }
     let range = time_range(a.from_s, a.to_s)?;
     check_topics(&reader, &a.topics)?;
@@ -266,7 +269,7 @@ fn list(reader: &LogReader, query: &Query) -> Result<()> {
     let status = if reader.is_complete() {
         "finished"
     } else {
-        "truncated, read up to its last complete chunk"
+        "read without its summary, up to its last complete chunk"
     };
     outln!(
         "log {} ({status}): {} messages on {} channels",

@@ -106,6 +106,7 @@ pub struct LogReader {
     by_id: HashMap<u16, usize>,
     metadata: BTreeMap<String, BTreeMap<String, String>>,
     attachments: Vec<(String, String, Vec<u8>)>,
+    finished: bool,
     truncation: Option<String>,
 }
 
@@ -152,13 +153,33 @@ fn read_size(need: usize, pos: u64, len: u64) -> usize {
 /// of a finished MCAP file.
 const FOOTER_AND_MAGIC: u64 = 1 + 8 + 20 + 8;
 
-/// Reads the summary section of the `len`-byte file, or `None` when the file has no valid footer
-/// (it is too short for one, or its writer was killed before writing it). A footer that is
+/// What the end of a file says about its summary.
+enum Tail {
+    /// The summary, found through the footer.
+    Summary(mcap::Summary),
+    /// A footer (its opcode and the closing magic in place) that records no summary section
+    /// (summary start 0, allowed by MCAP): a finished file without a summary.
+    NoSummary,
+    /// A footer in place whose summary does not read: the footer's summary start is damaged or
+    /// the summary section is.
+    Unreadable {
+        /// \[B\] where the footer is
+        footer: u64,
+        /// \[B\] where it puts the summary
+        summary_start: u64,
+        /// the summary reader's error
+        error: String,
+    },
+    /// No footer: the writer stopped before finishing (or the file is too short for one).
+    Unfinished,
+}
+
+/// Reads the summary section of the `len`-byte file through its footer. A footer that is
 /// present (its opcode and the closing magic in place) but puts the summary at or beyond its own
 /// start is damaged: an error.
-fn read_summary(path: &Path, file: &mut File, len: u64) -> Result<Option<mcap::Summary>> {
+fn read_summary(path: &Path, file: &mut File, len: u64) -> Result<Tail> {
     if len < mcap::MAGIC.len() as u64 + FOOTER_AND_MAGIC {
-        return Ok(None);
+        return Ok(Tail::Unfinished);
     }
     let footer = len - FOOTER_AND_MAGIC;
     let mut tail = [0u8; FOOTER_AND_MAGIC as usize];
@@ -167,10 +188,11 @@ fn read_summary(path: &Path, file: &mut File, len: u64) -> Result<Option<mcap::S
         .map_err(io_err(path, "reading the footer"))?;
     // opcode, record length (8), summary start (8), summary offset start (8), CRC (4), magic
     let summary_start = u64::from_le_bytes(std::array::from_fn(|i| tail[9 + i]));
-    if tail[0] == mcap::records::op::FOOTER
-        && tail[29..] == mcap::MAGIC[..]
-        && summary_start >= footer
-    {
+    let has_footer = tail[0] == mcap::records::op::FOOTER && tail[29..] == mcap::MAGIC[..];
+    if !has_footer {
+        return Ok(Tail::Unfinished);
+    }
+    if summary_start >= footer {
         return Err(corrupt(
             path,
             format!(
@@ -179,6 +201,9 @@ fn read_summary(path: &Path, file: &mut File, len: u64) -> Result<Option<mcap::S
             ),
             "a footer that points back at the summary section before it (or 0: no summary)",
         ));
+    }
+    if summary_start == 0 {
+        return Ok(Tail::NoSummary);
     }
     file.seek(SeekFrom::Start(0))
         .map_err(io_err(path, "seeking the summary"))?;
@@ -190,6 +215,11 @@ fn read_summary(path: &Path, file: &mut File, len: u64) -> Result<Option<mcap::S
         .with_record_length_limit(RECORD_LENGTH_LIMIT);
     let mut reader = SummaryReader::new_with_options(options);
     let mut pos: u64 = 0;
+    let unreadable = |error: String| Tail::Unreadable {
+        footer,
+        summary_start,
+        error,
+    };
     while let Some(event) = reader.next_event() {
         match event {
             Ok(SummaryReadEvent::ReadRequest(need)) => {
@@ -203,11 +233,13 @@ fn read_summary(path: &Path, file: &mut File, len: u64) -> Result<Option<mcap::S
                 pos = file.seek(to).map_err(io_err(path, "seeking the summary"))?;
                 reader.notify_seeked(pos);
             }
-            // No footer, or a damaged one: treat the file as unfinished and scan it.
-            Err(_) => return Ok(None),
+            Err(e) => return Ok(unreadable(e.to_string())),
         }
     }
-    Ok(reader.finish())
+    Ok(match reader.finish() {
+        Some(summary) => Tail::Summary(summary),
+        None => unreadable("no summary records there".to_owned()),
+    })
 }
 
 /// The error for a file that ends before the header every railsim log starts with (the MCAP
@@ -338,8 +370,11 @@ impl LogReader {
                 format!("the MCAP magic bytes {:02x?}", mcap::MAGIC),
             ));
         }
-        let summary = read_summary(&path, &mut file, len)?;
+        let tail = read_summary(&path, &mut file, len)?;
         drop(file);
+        // A finished file is scanned strictly (any error is corruption); one without a readable
+        // summary like a killed run's, up to its last complete chunk.
+        let finished = matches!(tail, Tail::Summary(_) | Tail::NoSummary);
 
         let mut schemas: HashMap<u16, (String, String, Vec<u8>)> = HashMap::new();
         let mut channels: Vec<ChannelInfo> = Vec::new();
@@ -347,7 +382,7 @@ impl LogReader {
         let mut metadata = BTreeMap::new();
         let mut attachments = Vec::new();
         let mut total: u64 = 0;
-        let end = scan(&path, summary.is_some(), |record| {
+        let end = scan(&path, finished, |record| {
             match record {
                 Record::Schema { header, data } => {
                     schemas
@@ -410,13 +445,32 @@ impl LogReader {
 
         // A finished MCAP file from another writer is read as it is; an unfinished one must at
         // least hold the header that railsim flushes when it creates a log.
-        if summary.is_none() && !metadata.contains_key(FORMAT_METADATA) {
+        if !finished && !metadata.contains_key(FORMAT_METADATA) {
             return Err(too_short(
                 &path,
                 len,
                 &format!("has no footer and no complete '{FORMAT_METADATA}' metadata record"),
             ));
         }
+        let (summary, truncation) = match tail {
+            Tail::Summary(summary) => (Some(summary), end.truncation),
+            Tail::NoSummary | Tail::Unfinished => (None, end.truncation),
+            // (the scan ran as for a killed run; the footer says the file is whole, so the note
+            // is about the footer)
+            Tail::Unreadable {
+                footer,
+                summary_start,
+                error,
+            } => (
+                None,
+                Some(format!(
+                    "its footer (at byte {footer}) is in place but puts the summary at byte \
+                     {summary_start}, where no summary reads ({error}): the footer or the summary \
+                     is damaged; the data section was read on its own, up to its last complete \
+                     chunk"
+                )),
+            ),
+        };
         if let Some(stats) = summary.as_ref().and_then(|s| s.stats.as_ref())
             && stats.message_count != total
         {
@@ -442,7 +496,8 @@ impl LogReader {
             by_id,
             metadata,
             attachments,
-            truncation: end.truncation,
+            finished,
+            truncation,
         })
     }
 
@@ -451,12 +506,14 @@ impl LogReader {
         &self.path
     }
 
-    /// Whether the log was finished (has a summary and footer).
+    /// Whether the log was finished: it has a footer and its summary reads, or the footer
+    /// records no summary (allowed by MCAP; railsim's writer always writes one).
     pub fn is_complete(&self) -> bool {
-        self.summary.is_some()
+        self.finished
     }
 
-    /// For an unfinished log, how the readable part ends.
+    /// For a log read without its summary, why and how: an unfinished log (the writer was
+    /// killed), and how its readable part ends; or a footer in place whose summary does not read.
     pub fn truncation(&self) -> Option<&str> {
         self.truncation.as_deref()
     }

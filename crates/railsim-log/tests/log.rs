@@ -780,3 +780,42 @@ fn wheelset_messages_without_wear_numbers_read_as_zero() {
     let bad = old.replace("\"t_s\"", "\"bogus\":1,\"t_s\"");
     assert!(serde_json::from_str::<WheelsetMessage>(&bad).is_err());
 }
+
+/// A footer in place (opcode and closing magic) whose summary start is damaged but points inside
+/// the file is not read as a killed run: the data are read on their own and the note names the
+/// footer, where it puts the summary and the reader's error. A footer recording no summary
+/// (start 0, allowed by MCAP) is a finished file without one. Before, both read as "the writer
+/// stopped before finishing".
+#[test]
+fn a_footer_pointing_at_no_summary_is_reported_as_damaged_not_as_a_killed_run() {
+    let (path, bytes) = small_chunk_log("footer_source.mcap");
+    let whole = LogReader::open(&path).unwrap();
+    let all: Vec<(u64, WheelsetMessage)> = whole.read_topic("/wheelsets/1", None).unwrap();
+    let footer = bytes.len() - 37;
+    let start = u64::from_le_bytes(bytes[footer + 9..footer + 17].try_into().unwrap());
+    let damaged = temp_path("footer_inside.mcap");
+    for summary_start in [100, start - 10, start + 3, footer as u64 - 5] {
+        let mut b = bytes.clone();
+        b[footer + 9..footer + 17].copy_from_slice(&summary_start.to_le_bytes());
+        std::fs::write(&damaged, &b).unwrap();
+        let reader = LogReader::open(&damaged).unwrap();
+        assert!(!reader.is_complete());
+        let note = reader.truncation().expect("a note");
+        assert!(
+            note.contains(&format!("footer (at byte {footer}) is in place"))
+                && note.contains(&format!("puts the summary at byte {summary_start}"))
+                && note.contains("the footer or the summary is damaged")
+                && !note.contains("writer stopped"),
+            "{summary_start}: {note}"
+        );
+        let read: Vec<(u64, WheelsetMessage)> = reader.read_topic("/wheelsets/1", None).unwrap();
+        assert_eq!(read.len(), all.len(), "{summary_start}");
+    }
+    let mut b = bytes.clone();
+    b[footer + 9..footer + 17].copy_from_slice(&0u64.to_le_bytes());
+    std::fs::write(&damaged, &b).unwrap();
+    let reader = LogReader::open(&damaged).unwrap();
+    assert!(reader.is_complete() && reader.truncation().is_none());
+    let read: Vec<(u64, WheelsetMessage)> = reader.read_topic("/wheelsets/1", None).unwrap();
+    assert_eq!(read.len(), all.len());
+}
