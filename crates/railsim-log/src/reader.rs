@@ -156,7 +156,7 @@ const FOOTER_AND_MAGIC: u64 = 1 + 8 + 20 + 8;
 /// What the end of a file says about its summary.
 enum Tail {
     /// The summary, found through the footer.
-    Summary(mcap::Summary),
+    Summary(Box<mcap::Summary>),
     /// A footer (its opcode and the closing magic in place) that records no summary section
     /// (summary start 0, allowed by MCAP): a finished file without a summary.
     NoSummary,
@@ -237,7 +237,7 @@ fn read_summary(path: &Path, file: &mut File, len: u64) -> Result<Tail> {
         }
     }
     Ok(match reader.finish() {
-        Some(summary) => Tail::Summary(summary),
+        Some(summary) => Tail::Summary(Box::new(summary)),
         None => unreadable("no summary records there".to_owned()),
     })
 }
@@ -453,7 +453,7 @@ impl LogReader {
             ));
         }
         let (summary, truncation) = match tail {
-            Tail::Summary(summary) => (Some(summary), end.truncation),
+            Tail::Summary(summary) => (Some(*summary), end.truncation),
             Tail::NoSummary | Tail::Unfinished => (None, end.truncation),
             // (the scan ran as for a killed run; the footer says the file is whole, so the note
             // is about the footer)
