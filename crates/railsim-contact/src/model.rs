@@ -1159,11 +1159,16 @@ fn solve_halfspace(
         let (j, fr_) = bracket(&mut cursor, l);
         let p = crate::patch::lerp_pair(&pairs[j], &pairs[(j + 1).min(hi)], fr_);
         let creep = input.kin.creepages([p.x, p.a[0], p.a[1]], fr.t, p.n);
+        // The row is solved about the locus point where its creepages are taken, `lead` ahead of
+        // the reference point (solved about the reference point, the spin term phi x counted the
+        // yawed locus' lead twice, as STRIPES' strips once did); the moment is
+        // carried back.
+        let lead = p.x - fr.wheel_point[0];
         let p0 = stripes::peak_for_line_load(q, hl, opts.bound);
         let st = fastsim_strip(
             0.0,
             dy,
-            xc,
+            xc - lead,
             hl,
             p0,
             opts.bound,
@@ -1174,7 +1179,7 @@ fn solve_halfspace(
         );
         f.fx += st.fx;
         f.fs += st.fy;
-        f.mz += st.mz - l * st.fx;
+        f.mz += st.mz + lead * st.fy - l * st.fx;
         n_adh += st.n_adhesion;
         n_cells += st.n_cells;
     }
