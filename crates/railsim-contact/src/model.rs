@@ -1166,20 +1166,21 @@ fn solve_halfspace(
         let lead = p.x - fr.wheel_point[0];
         let p0 = stripes::peak_for_line_load(q, hl, opts.bound);
         let st = fastsim_strip(
-            0.0,
+            l,
             dy,
             xc - lead,
             hl,
             p0,
             opts.bound,
-            &creep,
+            &stripes::spin_split(&creep, l),
             &flex,
             input.pair.friction.at_normal(p.n),
             opts.fastsim_nx,
         );
         f.fx += st.fx;
         f.fs += st.fy;
-        f.mz += st.mz + lead * st.fy - l * st.fx;
+        // (the moment already holds the lever l of the row's longitudinal force)
+        f.mz += st.mz + lead * st.fy;
         n_adh += st.n_adhesion;
         n_cells += st.n_cells;
     }

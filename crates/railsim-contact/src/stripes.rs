@@ -600,22 +600,27 @@ pub fn solve(
         let creep: Creepages = input.kin.creepages([p.x, p.a[0], p.a[1]], t, p.n);
         let mu = input.pair.friction.at_normal(p.n);
         let flex = blend.at(&creep);
+        // The strip at lateral coordinate l: its longitudinal creepage ξ_i = ξ − φ l is split
+        // back into the reference point's ξ and the spin's −φ l, which FASTSIM takes with L3
+        // and FaStrip with C23 (docs/models/contact.md §6).
+        let c = spin_split(&creep, s.l);
         let st = match &fastrip {
             Some(patch) => {
                 let p0 = peak_for_line_load(s.q, s.a, TractionBound::Elliptic);
-                fastrip_strip(0.0, s.w, 0.0, s.a, p0, &creep, &flex, patch, mu, nx).0
+                fastrip_strip(s.l, s.w, 0.0, s.a, p0, &c, &flex, patch, mu, nx).0
             }
             None => {
                 let p0 = peak_for_line_load(s.q, s.a, bound);
-                fastsim_strip(0.0, s.w, 0.0, s.a, p0, bound, &creep, &flex, mu, nx)
+                fastsim_strip(s.l, s.w, 0.0, s.a, p0, bound, &c, &flex, mu, nx)
             }
         };
         f.fx += st.fx;
         f.fs += st.fy * (t[0] * fr.t[0] + t[1] * fr.t[1]);
         f.fn_ += st.fy * (t[0] * fr.n[0] + t[1] * fr.n[1]);
         // the strip solved about its own centre, where its creepages are taken (solved at
-        // its offset `s.x` from the reference point, the spin term phi x counted the lead twice)
-        f.mz += st.mz + s.x * st.fy - s.l * st.fx;
+        // its offset `s.x` from the reference point, the spin term phi x counted the lead twice);
+        // its moment already holds the lever l of its longitudinal force
+        f.mz += st.mz + s.x * st.fy;
         n_adh += st.n_adhesion;
         n_cells += st.n_cells;
     }
@@ -625,6 +630,20 @@ pub fn solve(
         0.0
     };
     Ok(f)
+}
+
+/// The creepages of a strip or row at lateral coordinate `l` \[m\] from the patch's reference
+/// point, taken at its own point, with the spin's share of its longitudinal creepage moved back
+/// to the reference point: `ξ = ξ_i + φ l`, so that a strip solver given `y = l` forms the rigid
+/// slip `ξ − φ l` with the spin's own flexibility or coefficient (FASTSIM: `ξ/L1 − φ y/L3`,
+/// Kalker 1982; FaStrip: `ξ' − φ' y/a` with φ' built on C23, CONTACT's `modif_fastrip`,
+/// contact-theory note §3.2–3.3). Taken whole as the strip's `ξ_i` (before stop 24), the spin's
+/// longitudinal slip had the longitudinal flexibility L1 (coefficient C11).
+pub(crate) fn spin_split(creep: &Creepages, l: f64) -> Creepages {
+    Creepages {
+        xi: creep.xi + creep.phi * l,
+        ..*creep
+    }
 }
 
 /// The pairs a well's STRIPES solution runs over: the interpenetrating run that holds the well

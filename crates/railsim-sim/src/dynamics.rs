@@ -400,6 +400,25 @@ fn track_orientation(heading: f64, gradient: f64, roll: f64) -> M3 {
     )
 }
 
+/// The rates of a body's relative angular velocity `rel` \[rad/s\] (components in its track
+/// frame) from Euler's equations `I ω̇ + ω × I ω = M` with `ω = w + rel`: `w` and `wd` are the
+/// frame's angular velocity and acceleration, `moment` the moment about the centre of gravity,
+/// `inertia` and its inverse in frame axes (all frame components). Since the frame turns at `w`,
+/// `ω̇ = wd + d(rel)/dt + w × rel`.
+pub fn relative_angular_acceleration(
+    inertia: &M3,
+    inertia_inv: &M3,
+    w: V3,
+    wd: V3,
+    rel: V3,
+    moment: V3,
+) -> V3 {
+    let om = add(w, rel);
+    let h = mul(inertia, om);
+    let od = mul(inertia_inv, sub(moment, cross(om, h)));
+    sub(sub(od, wd), cross(w, rel))
+}
+
 /// The motion of a track frame carried along the track (global components).
 #[derive(Debug, Clone, Copy)]
 pub struct FrameMotion {
@@ -966,12 +985,16 @@ impl Dynamics<'_> {
             }
             match mm.kind {
                 MemberKind::Body => {
-                    let om = add(w, [k.qd[3], k.qd[4], k.qd[5]]);
-                    let h = mul(&mm.inertia, om);
-                    let od = mul(&mm.inertia_inv, sub(m_l, cross(om, h)));
-                    for j in 0..3 {
-                        acc[3 + j] = od[j] - wd[j];
-                    }
+                    let rel = [k.qd[3], k.qd[4], k.qd[5]];
+                    let od = relative_angular_acceleration(
+                        &mm.inertia,
+                        &mm.inertia_inv,
+                        w,
+                        wd,
+                        rel,
+                        m_l,
+                    );
+                    acc[3..6].copy_from_slice(&od);
                 }
                 MemberKind::Wheelset { .. } => {
                     // Axisymmetric rotor in its non-spinning axle frame (carrier ω_c):
@@ -981,8 +1004,11 @@ impl Dynamics<'_> {
                     let spin_abs = w[1] + k.qd[4];
                     let h = [ii[0] * wc[0], ii[1] * spin_abs, ii[2] * wc[2]];
                     let rhs = sub(m_l, cross(wc, h));
+                    // the roll and yaw rates are components in the frame, which turns at ω_F
+                    // (the spin's own term is of the order left out of `spin_abs`)
+                    let turn = cross(w, [k.qd[3], 0.0, k.qd[5]]);
                     for j in 0..3 {
-                        acc[3 + j] = rhs[j] / ii[j] - wd[j];
+                        acc[3 + j] = rhs[j] / ii[j] - wd[j] - if j == 1 { 0.0 } else { turn[j] };
                     }
                 }
             }

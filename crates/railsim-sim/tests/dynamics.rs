@@ -693,3 +693,59 @@ fn the_track_frames_acceleration_is_the_rate_of_its_velocity() {
         );
     }
 }
+
+/// A body's relative angular velocity is held in its track frame's components, and the frame
+/// turns: free of moments, a body of isotropic inertia keeps its absolute angular velocity while
+/// the frame turns steadily under it (ω_F = (0.01, 0.02, 0.05) rad/s, a frame's rates in a
+/// curve with cant change), so its relative rates must turn at −ω_F in the frame. Integrated
+/// over 20 s (RK4, 10 ms), the absolute angular velocity stays fixed to 1e-10 rad/s. Without the
+/// term ω_F × ω_rel in `relative_angular_acceleration` (missing before stop 24) it turns with the
+/// frame: 2.4e-2 rad/s off after 20 s.
+#[test]
+fn a_free_body_keeps_its_angular_velocity_while_its_frame_turns() {
+    use railsim_sim::dynamics::relative_angular_acceleration;
+    use railsim_sim::math::{add, mul, scale, sub};
+
+    let inertia = [[80.0e3, 0.0, 0.0], [0.0, 80.0e3, 0.0], [0.0, 0.0, 80.0e3]];
+    let inv = [
+        [1.0 / 80.0e3, 0.0, 0.0],
+        [0.0, 1.0 / 80.0e3, 0.0],
+        [0.0, 0.0, 1.0 / 80.0e3],
+    ];
+    let w = [0.01, 0.02, 0.05];
+    let rate =
+        |rel: [f64; 3]| relative_angular_acceleration(&inertia, &inv, w, [0.0; 3], rel, [0.0; 3]);
+    // the frame's orientation: a steady turn about w (Rodrigues)
+    let frame_at = |t: f64| {
+        let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+        let (k, th) = ([w[0] / n, w[1] / n, w[2] / n], n * t);
+        let (c, s) = (th.cos(), th.sin());
+        let mut r = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                let kk = [[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]][i][j];
+                r[i][j] = c * f64::from(u8::from(i == j)) + s * kk + (1.0 - c) * k[i] * k[j];
+            }
+        }
+        r
+    };
+    let mut rel = [0.02, -0.01, 0.015];
+    let absolute = |t: f64, rel: [f64; 3]| mul(&frame_at(t), add(w, rel));
+    let start = absolute(0.0, rel);
+    let h = 0.01;
+    let mut worst = 0.0f64;
+    for n in 0..2000 {
+        let k1 = rate(rel);
+        let k2 = rate(add(rel, scale(0.5 * h, k1)));
+        let k3 = rate(add(rel, scale(0.5 * h, k2)));
+        let k4 = rate(add(rel, scale(h, k3)));
+        let sum = add(add(k1, scale(2.0, k2)), add(scale(2.0, k3), k4));
+        rel = add(rel, scale(h / 6.0, sum));
+        let d = sub(absolute((n + 1) as f64 * h, rel), start);
+        worst = worst.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+    }
+    assert!(
+        worst < 1e-10,
+        "the absolute angular velocity drifts by {worst:e} rad/s"
+    );
+}
