@@ -562,7 +562,7 @@ impl WheelRailContact {
                 side,
                 pose,
                 &frame,
-                creep,
+                &kin,
                 forces,
                 penetration,
                 &ws.pairs,
@@ -935,7 +935,7 @@ impl WheelRailContact {
         side: Side,
         pose: &WheelsetPose,
         fr: &PatchFrame,
-        creep: Creepages,
+        kin: &WheelKinematics,
         f: PatchForces,
         penetration: f64,
         pairs: &[IsoPair],
@@ -963,6 +963,9 @@ impl WheelRailContact {
         // Spin moment about the reference point: shift by the lateral offset of the points.
         let dl = (rp.b[0] - fr.rail_point[0]) * fr.t[0] + (rp.b[1] - fr.rail_point[1]) * fr.t[1];
         fr_ref.mz = f.mz + dl * f.fx;
+        // and the creepages there (the patch's own solution used the rigid pair's, or each
+        // strip's; before stop 24 the rigid pair's were reported)
+        let creep = kin.creepages([rp.x, rp.a[0], rp.a[1]], t_ref, n_ref);
         PatchResult {
             y_rail_profile: self.pair.rail_profile_y(rp.b[0], rp.b[1]),
             y_wheel_profile: self.pair.wheel.eval(rp.s_w).p[0],
