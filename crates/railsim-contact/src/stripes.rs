@@ -601,8 +601,8 @@ pub fn solve(
         let mu = input.pair.friction.at_normal(p.n);
         let flex = blend.at(&creep);
         // The strip at lateral coordinate l: its longitudinal creepage ξ_i = ξ − φ l is split
-        // back into the reference point's ξ and the spin's −φ l, which FASTSIM takes with L3
-        // and FaStrip with C23 (docs/models/contact.md §6).
+        // back into the frame point's ξ and the spin's −φ l, which FASTSIM takes with L3 and
+        // FaStrip with C23 (docs/models/contact.md §6).
         let c = spin_split(&creep, s.l);
         let st = match &fastrip {
             Some(patch) => {
@@ -632,9 +632,10 @@ pub fn solve(
     Ok(f)
 }
 
-/// The creepages of a strip or row at lateral coordinate `l` \[m\] from the patch's reference
-/// point, taken at its own point, with the spin's share of its longitudinal creepage moved back
-/// to the reference point: `ξ = ξ_i + φ l`, so that a strip solver given `y = l` forms the rigid
+/// The creepages of a strip or row at lateral coordinate `l` \[m\] from the patch frame's point
+/// (the zone's rigid pair, as `Strip::l`), taken at its own point, with the spin's share of its
+/// longitudinal creepage moved back to that point: `ξ = ξ_i + φ l`, so that a strip solver given
+/// `y = l` forms the rigid
 /// slip `ξ − φ l` with the spin's own flexibility or coefficient (FASTSIM: `ξ/L1 − φ y/L3`,
 /// Kalker 1982; FaStrip: `ξ' − φ' y/a` with φ' built on C23, CONTACT's `modif_fastrip`,
 /// contact-theory note §3.2–3.3). Taken whole as the strip's `ξ_i` (before stop 24), the spin's
