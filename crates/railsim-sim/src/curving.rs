@@ -3,8 +3,9 @@
 //! once it runs steadily in the curve: per wheelset the lateral displacement and the angle of
 //! attack, per wheel Y, Q, Y/Q and the wear number Tγ, per axle the track-shift force, and the
 //! carbody's lateral reading. This is the curving table of vehicle dynamics (e.g. Iwnicki (ed.),
-//! *Handbook of Railway Vehicle Dynamics*, ch. on curving; EN 14363's quasi-static quantities
-//! Y_qst, Q_qst are such means), computed by time integration of the full model
+//! *Handbook of Railway Vehicle Dynamics*, ch. on curving; in a steady state these means are
+//! EN 14363's quasi-static Y_qst, Q_qst, which the standard defines as medians over the curve),
+//! computed by time integration of the full model
 //! ([`steady_curving`]: the run itself shows whether the vehicle settles, `lateral_swing`) or
 //! directly as the steady state of the same equations ([`quasi_static_curving`]: Newton on the
 //! whole state, 10–30 times faster, for curves that have a steady state and contact forces
