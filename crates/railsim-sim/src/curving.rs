@@ -831,12 +831,8 @@ fn newton_held(
         }
         iterations += 1;
         let jac = jacobian(&mut sys, t, &x, &steps).map_err(|e| e.0)?;
-        let mut b = faer::Mat::<f64>::zeros(n, 1);
-        for i in 0..n {
-            b[(i, 0)] = -f[i];
-        }
         let lu = jac.partial_piv_lu();
-        let dx = lu.solve(&b);
+        let dx = lu.solve(faer::Mat::<f64>::from_fn(n, 1, |i, _| -f[i]));
         last_lu = Some(lu);
         if (0..n).any(|i| !dx[(i, 0)].is_finite()) {
             return Err(
@@ -868,13 +864,9 @@ fn newton_held(
     // Converged to the tolerance, possibly just: one more step with the last Jacobian (no new
     // one; kept only if it lowers the largest residual) takes the typical residual well below
     // it, so that a run started here does not drift by what the tolerance allows.
+    // (`f` holds the residual at `x`: the line search's last, accepted evaluation)
     if let Some(lu) = last_lu {
-        sys.rhs(t, &x, &mut f).map_err(|e| e.0)?;
-        let mut b = faer::Mat::<f64>::zeros(n, 1);
-        for i in 0..n {
-            b[(i, 0)] = -f[i];
-        }
-        let dx = lu.solve(&b);
+        let dx = lu.solve(faer::Mat::<f64>::from_fn(n, 1, |i, _| -f[i]));
         for i in 0..n {
             xt[i] = x[i] + dx[(i, 0)];
         }

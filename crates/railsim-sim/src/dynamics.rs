@@ -1006,9 +1006,10 @@ impl Dynamics<'_> {
                     let rhs = sub(m_l, cross(wc, h));
                     // the roll and yaw rates are components in the frame, which turns at ω_F
                     // (the spin's own term is of the order left out of `spin_abs`)
-                    let turn = cross(w, [k.qd[3], 0.0, k.qd[5]]);
+                    let mut turn = cross(w, [k.qd[3], 0.0, k.qd[5]]);
+                    turn[1] = 0.0;
                     for j in 0..3 {
-                        acc[3 + j] = rhs[j] / ii[j] - wd[j] - if j == 1 { 0.0 } else { turn[j] };
+                        acc[3 + j] = rhs[j] / ii[j] - wd[j] - turn[j];
                     }
                 }
             }
