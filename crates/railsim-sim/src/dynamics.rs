@@ -419,6 +419,29 @@ pub fn relative_angular_acceleration(
     sub(sub(od, wd), cross(w, rel))
 }
 
+/// The rates of a wheelset's roll, spin and yaw rates `rel` = (φ̇, Ω, ψ̇) \[rad/s\] (components
+/// in its track frame) for an axisymmetric rotor with principal moments `ii` = (I_x, I_y, I_z),
+/// in its non-spinning axle frame (the carrier, rate ω_c = (w_x + φ̇, w_y, w_z + ψ̇)):
+/// ḣ + ω_c × h = M with h = (I_x ω_c,x, I_y Ω_abs, I_z ω_c,z), Ω_abs = w_y + Ω. `w`, `wd` are
+/// the frame's angular velocity and acceleration, `moment` the moment about the centre of
+/// gravity (frame components). The roll and yaw rates are components in the frame, which turns
+/// at `w`, hence −w × (φ̇, 0, ψ̇) as in [`relative_angular_acceleration`]; the spin's own share of
+/// that term is of the order left out of Ω_abs (angle × w) and is left out with it. Gives the
+/// gyroscopic couples I_y Ω ψ̇ in roll and −I_y Ω φ̇ in yaw (Iwnicki (ed.), *Handbook of Railway
+/// Vehicle Dynamics*, ch. 7); docs/models/dynamics.md, "Equations of motion".
+pub fn wheelset_angular_acceleration(ii: V3, w: V3, wd: V3, rel: V3, moment: V3) -> V3 {
+    let wc = [w[0] + rel[0], w[1], w[2] + rel[2]];
+    let h = [ii[0] * wc[0], ii[1] * (w[1] + rel[1]), ii[2] * wc[2]];
+    let rhs = sub(moment, cross(wc, h));
+    let mut turn = cross(w, [rel[0], 0.0, rel[2]]);
+    turn[1] = 0.0;
+    let mut od = [0.0; 3];
+    for j in 0..3 {
+        od[j] = rhs[j] / ii[j] - wd[j] - turn[j];
+    }
+    od
+}
+
 /// The motion of a track frame carried along the track (global components).
 #[derive(Debug, Clone, Copy)]
 pub struct FrameMotion {
@@ -997,20 +1020,10 @@ impl Dynamics<'_> {
                     acc[3..6].copy_from_slice(&od);
                 }
                 MemberKind::Wheelset { .. } => {
-                    // Axisymmetric rotor in its non-spinning axle frame (carrier ω_c):
-                    // dh/dt + ω_c × h = M, h = (Ix ωx, Iy Ω_abs, Iz ωz).
                     let ii = [mm.inertia[0][0], mm.inertia[1][1], mm.inertia[2][2]];
-                    let wc = [w[0] + k.qd[3], w[1], w[2] + k.qd[5]];
-                    let spin_abs = w[1] + k.qd[4];
-                    let h = [ii[0] * wc[0], ii[1] * spin_abs, ii[2] * wc[2]];
-                    let rhs = sub(m_l, cross(wc, h));
-                    // the roll and yaw rates are components in the frame, which turns at ω_F
-                    // (the spin's own term is of the order left out of `spin_abs`)
-                    let mut turn = cross(w, [k.qd[3], 0.0, k.qd[5]]);
-                    turn[1] = 0.0;
-                    for j in 0..3 {
-                        acc[3 + j] = rhs[j] / ii[j] - wd[j] - turn[j];
-                    }
+                    let rel = [k.qd[3], k.qd[4], k.qd[5]];
+                    let od = wheelset_angular_acceleration(ii, w, wd, rel, m_l);
+                    acc[3..6].copy_from_slice(&od);
                 }
             }
             // absolute accelerations, for the samples' accelerometers only

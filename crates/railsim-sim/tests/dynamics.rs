@@ -749,3 +749,92 @@ fn a_free_body_keeps_its_angular_velocity_while_its_frame_turns() {
         "the absolute angular velocity drifts by {worst:e} rad/s"
     );
 }
+
+/// The wheelset's rotor equation in a turning frame: an isotropic rotor with no spin relative to
+/// its frame and no moment keeps its absolute angular velocity, so its roll and yaw rates (frame
+/// components) change at −ω̇_F − ω_F × rel. Without the frame-turning term the roll and yaw rates
+/// are off by ω_F × rel, about 1e-3 rad/s² here.
+#[test]
+fn a_wheelsets_roll_and_yaw_rates_follow_its_turning_frame() {
+    use railsim_sim::dynamics::wheelset_angular_acceleration;
+    use railsim_sim::math::{cross, sub};
+
+    let ii = [600.0; 3];
+    let w = [0.01, 0.02, 0.05];
+    let wd = [1e-3, -2e-3, 3e-3];
+    let rel = [0.02, 0.0, -0.015];
+    let od = wheelset_angular_acceleration(ii, w, wd, rel, [0.0; 3]);
+    let exact = sub(sub([0.0; 3], wd), cross(w, rel));
+    for j in [0, 2] {
+        assert!(
+            (od[j] - exact[j]).abs() < 1e-15,
+            "axis {j}: {} rad/s² against {}",
+            od[j],
+            exact[j]
+        );
+    }
+}
+
+/// The gyroscopic couples of a spinning wheelset (Iwnicki (ed.), Handbook of Railway Vehicle
+/// Dynamics, ch. 7): I_y Ω ψ̇ in roll and −I_y Ω φ̇ in yaw on a straight track, and the roll
+/// couple of magnitude I_y Ω V/R that holds a wheelset curving steadily on radius R.
+#[test]
+fn a_spinning_wheelset_feels_the_gyroscopic_couples() {
+    use railsim_sim::dynamics::wheelset_angular_acceleration;
+
+    // the wheelset of vehicles/manchester_vehicle1.toml: I_x = I_z = 1120 kg m², I_y = 112 kg m²;
+    // 55 m/s on r0 = 0.46 m
+    let ii = [1120.0, 112.0, 1120.0];
+    // (rolling forward along x with z up: Ω = +V/r0)
+    let spin = 55.0 / 0.46;
+    let (roll_rate, yaw_rate) = (0.03, -0.02);
+    let od = wheelset_angular_acceleration(
+        ii,
+        [0.0; 3],
+        [0.0; 3],
+        [roll_rate, spin, yaw_rate],
+        [0.0; 3],
+    );
+    let expect = [
+        ii[1] * spin * yaw_rate / ii[0],
+        0.0,
+        -ii[1] * spin * roll_rate / ii[2],
+    ];
+    for j in 0..3 {
+        assert!(
+            (od[j] - expect[j]).abs() < 1e-12 * expect[0].abs(),
+            "axis {j}: {} rad/s² against {}",
+            od[j],
+            expect[j]
+        );
+    }
+    // Steady curving: the frame turns at V/R about z and carries the angular momentum I_y Ω e_y
+    // round with it; the wheelset stays still in the frame only under the roll moment that is the
+    // rate of that momentum, (V/R) e_z × I_y Ω e_y = −I_y Ω V/R e_x.
+    let kappa_v = 55.0 / 1200.0;
+    let couple = -ii[1] * spin * kappa_v;
+    let held = wheelset_angular_acceleration(
+        ii,
+        [0.0, 0.0, kappa_v],
+        [0.0; 3],
+        [0.0, spin, 0.0],
+        [couple, 0.0, 0.0],
+    );
+    assert!(
+        held.iter().all(|a| a.abs() < 1e-12),
+        "a steadily curving wheelset under its gyroscopic couple accelerates by {held:?} rad/s²"
+    );
+    let free = wheelset_angular_acceleration(
+        ii,
+        [0.0, 0.0, kappa_v],
+        [0.0; 3],
+        [0.0, spin, 0.0],
+        [0.0; 3],
+    );
+    assert!(
+        (free[0] + couple / ii[0]).abs() < 1e-12,
+        "without the couple its roll accelerates by {} rad/s², not {}",
+        free[0],
+        -couple / ii[0]
+    );
+}
