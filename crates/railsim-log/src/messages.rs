@@ -75,13 +75,14 @@ pub struct BodyState {
     pub t_s: f64,
     /// Body name as in the vehicle model.
     pub name: String,
-    /// \[m\] position of the body reference point in the track frame T
+    /// \[m\] position of the body reference point: its nominal position in the vehicle plus its
+    /// coordinates in its own track-following frame T (x along the track, so not the distance s)
     pub position: [f64; 3],
-    /// \[1\] orientation of the body frame relative to the track frame T
+    /// \[1\] orientation of the body frame relative to its track-following frame T
     pub orientation: Quaternion,
-    /// \[m/s\] velocity of the body reference point, components in T
+    /// \[m/s\] absolute velocity of the body reference point, components in T
     pub velocity: [f64; 3],
-    /// \[rad/s\] angular velocity of the body, components in T
+    /// \[rad/s\] absolute angular velocity of the body, components in T
     pub angular_velocity: [f64; 3],
 }
 

@@ -458,9 +458,14 @@ impl Integrator {
                     continue;
                 }
                 Newton::Slow(hhfac) => {
+                    // Hairer & Wanner's RADAU5: a shorter step, with a new Jacobian unless the
+                    // one in use is fresh (only the iteration matrices are then refactored).
                     self.stats.newton_failures += 1;
                     w.reject = true;
                     self.h *= hhfac;
+                    if !w.jac_fresh {
+                        w.need_jac = true;
+                    }
                     continue;
                 }
                 Newton::Diverged => {
@@ -517,10 +522,19 @@ impl Integrator {
                     w.e1.solve(&mut w.err);
                     err = crate::integrator::wrms(&w.err, &self.x, &w.xs, &self.atol_v, rtol);
                 }
-                if !err.is_finite() {
-                    return Err(check_finite(&w.err, t)
-                        .err()
-                        .unwrap_or(StopReason::NonFinite { t, index: 0 }));
+                // A non-finite estimate comes from a trial state the model cannot evaluate: an
+                // overshoot, retried shorter like the other trial failures. (A finite estimate
+                // whose norm overflows is an ordinary rejection, by the largest factor.)
+                if let Err(e) = check_finite(&w.err, t) {
+                    retry_shorter(
+                        &mut self.stats,
+                        &mut self.h,
+                        h,
+                        &mut w.reject,
+                        &mut trial,
+                        e,
+                    );
+                    continue;
                 }
                 let err = err.max(1e-10);
                 let fac =

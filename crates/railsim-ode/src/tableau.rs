@@ -177,8 +177,8 @@ pub const DOPRI5_DENSE: [f64; 7] = [
 mod tests {
     use super::*;
 
-    /// Order conditions up to order 5 for trees that single out typos in a and b
-    /// (Hairer, Nørsett & Wanner, Table II.2.2).
+    /// Order conditions up to order 5, every rooted tree (1, 1, 2, 4 and 9 of orders 1–5;
+    /// Hairer, Nørsett & Wanner, Table II.2.2).
     fn check_order(t: &ButcherTableau, b: &[f64], p: u32, tol: f64) {
         let s = t.stages();
         let a = |i: usize, j: usize| if j < i { t.a[i][j] } else { 0.0 };
@@ -217,6 +217,17 @@ mod tests {
             conds.push((
                 sum(&|i| (0..s).map(|j| a(i, j) * aac(j)).sum::<f64>()),
                 1.0 / 120.0,
+            ));
+            // the other four of the nine trees of order 5
+            conds.push((sum(&|i| t.c[i] * ac(i, 2)), 1.0 / 15.0));
+            conds.push((sum(&|i| t.c[i] * aac(i)), 1.0 / 30.0));
+            conds.push((
+                sum(&|i| (0..s).map(|j| a(i, j) * t.c[j] * ac(j, 1)).sum::<f64>()),
+                1.0 / 40.0,
+            ));
+            conds.push((
+                sum(&|i| (0..s).map(|j| a(i, j) * ac(j, 2)).sum::<f64>()),
+                1.0 / 60.0,
             ));
         }
         for (k, (lhs, rhs)) in conds.iter().enumerate() {

@@ -99,7 +99,7 @@ pub struct SpeedProfileSpec {
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
-    /// `"linear"`, `"polach"`, `"fastsim"`, `"stripes"` or `"halfspace"` (required in the table).
+    /// `"linear"`, `"polach"`, `"fastsim"`, `"stripes"` (default) or `"halfspace"`.
     #[serde(default)]
     pub model: Option<Spanned<String>>,
     /// \[mm\] arc-length step of the contact search near contact; default 1.0.
@@ -128,7 +128,7 @@ pub struct ContactSpec {
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IntegratorSpec {
-    /// `"dopri5"`, `"rk4"` or `"radau5"` (required in the table).
+    /// `"dopri5"`, `"bs3"`, `"rk4"` or `"radau5"` (required in the table).
     #[serde(default)]
     pub method: Option<Spanned<String>>,
     /// \[-\] relative tolerance (`dopri5`, `bs3`, `radau5`); default 1e-6.
@@ -156,7 +156,8 @@ pub struct LogSpec {
     /// \[Hz\] logging rate; default 200.
     #[serde(default)]
     pub rate_hz: Option<Spanned<f64>>,
-    /// Topics to log: any of `bodies`, `contact`, `wheelsets`, `tf`; default all.
+    /// Topics to log: any of `bodies`, `bogie_frames`, `carbody`, `contact`, `elements`,
+    /// `wheelsets`, `tf`; default all but `elements`.
     #[serde(default)]
     pub topics: Option<Spanned<Vec<Spanned<String>>>>,
 }

@@ -49,8 +49,8 @@ pub struct TrackSpec {
     #[serde(default)]
     pub rail_support: Option<Spanned<RailSupportSpec>>,
     /// Sections with other rails, in track order: from `start_m` on (to the next section or
-    /// the end) the rails have the section's profile and inclination; the top-level
-    /// `rail_profile` and `rail_inclination` hold from s = 0 to the first section.
+    /// the end) the rails have the section's profiles, inclination, gauge and friction; the
+    /// top-level values hold from s = 0 to the first section.
     #[serde(default)]
     pub rail_section: Vec<Spanned<RailSectionSpec>>,
     /// Line index of the text this spec was read from (empty when built in code).
@@ -112,12 +112,12 @@ pub struct RailSupportSpec {
 }
 
 /// One alignment segment. Which keys are required depends on `type`:
-/// `tangent` and `clothoid` take `length_m` (and `gradient_permille`); `curve` also takes
+/// `tangent` and the transitions take `length_m` (and `gradient_permille`); `curve` also takes
 /// `radius_m`, `direction` and `cant_mm`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SegmentSpec {
-    /// `"tangent"`, `"clothoid"` or `"curve"`.
+    /// `"tangent"`, `"clothoid"`, `"bloss"`, `"cosine"` (transitions) or `"curve"`.
     #[serde(rename = "type")]
     pub kind: Spanned<String>,
     /// \[m\] length along the track (plan projection).

@@ -65,7 +65,7 @@ pub struct BodySpec {
     /// Unique name among bodies and wheelsets (required).
     #[serde(default)]
     pub name: Option<Spanned<String>>,
-    /// \[kg\] mass (required, > 0).
+    /// \[kg\] mass (required, 1 to 1e6).
     #[serde(default)]
     pub mass_kg: Option<Spanned<f64>>,
     /// \[kg·m²\] moments of inertia `[Ixx, Iyy, Izz]` about the centre of gravity, vehicle axes
@@ -169,13 +169,16 @@ pub struct ForceSpec {
     /// vehicle axes (R = Rz(yaw)·Ry(pitch)·Rx(roll)); default zero.
     #[serde(default, deserialize_with = "three_numbers")]
     pub orientation_deg: Option<Spanned<[f64; 3]>>,
-    /// Local axis a `table` or `series_spring_damper` acts along: `"x"`, `"y"` or `"z"`.
+    /// Local axis a `table`, `series_spring_damper`, `damper` or `friction` acts along: `"x"`, `"y"`
+    /// or `"z"`.
     #[serde(default)]
     pub direction: Option<Spanned<String>>,
-    /// \[N/m\] bushing: `[kx, ky, kz]`; series spring-damper: the series spring, one number.
+    /// \[N/m\] bushing: `[kx, ky, kz]`; series spring-damper: the series spring, one number; damper:
+    /// the optional mount stiffness in series; friction: the stick stiffness.
     #[serde(default)]
     pub stiffness_n_per_m: Option<Spanned<NumberOrTriple>>,
-    /// \[N·s/m\] bushing: `[cx, cy, cz]`; series spring-damper: the damper, one number.
+    /// \[N·s/m\] bushing: `[cx, cy, cz]`; series spring-damper: the damper, one number
+    /// (docs/formats/vehicle.md lists every element's keys).
     #[serde(default)]
     pub damping_ns_per_m: Option<Spanned<NumberOrTriple>>,
     /// \[N·m/rad\] bushing: `[krx, kry, krz]`; anti-roll bar: one number (about x).
