@@ -194,9 +194,10 @@ struct ContactArgs {
     model: ModelName,
     /// Tangential solution of `stripes` (per strip: fastrip, fastsim; or exact: Kalker's
     /// steady-rolling solution on a grid over the patch, the reference level, about a thousand
-    /// times slower) and `halfspace` (FASTSIM per grid row unless exact).
-    #[arg(long, value_enum, default_value = "fastrip")]
-    tangential: TangentialName,
+    /// times slower) and `halfspace` (FASTSIM per grid row unless exact); default fastrip. The
+    /// Hertz models have their own.
+    #[arg(long, value_enum)]
+    tangential: Option<TangentialName>,
     /// Travelling step of the isosceles pairs inside contact zones (mm), the contact model's
     /// default; narrow zones are refined to at least 12 pairs whatever the step.
     #[arg(long, default_value_t = 1.0)]
@@ -232,7 +233,11 @@ struct ContactArgs {
     z_mm: Option<f64>,
     /// Batch mode: a CSV of cases with CONTACT's column names (side, y_ws_mm, yaw_ws_rad,
     /// roll_ws_rad, vpitch_rad_s, and fz_target_N or z_ws_mm), in CONTACT's conventions.
-    #[arg(long, requires = "out")]
+    #[arg(
+        long,
+        requires = "out",
+        conflicts_with_all = ["side", "y_mm", "yaw_mrad", "roll_mrad", "speed_m_s", "spin_rad_s", "load_kn", "z_mm"]
+    )]
     cases: Option<PathBuf>,
     /// Write the results: .csv or .json (batch mode: CSV, one row per case and patch).
     #[arg(long)]
@@ -343,7 +348,7 @@ fn check_speeds(name: &str, speeds: &[f64]) -> Result<()> {
 /// An output file named by `option` must end in one of `allowed` (lower case, without the dot;
 /// the case of the file's extension does not matter): the format is chosen by it, and a file
 /// with another ending would not be read back as what it holds.
-fn check_extension(option: &str, path: &Path, allowed: &[&str]) -> Result<()> {
+pub(crate) fn check_extension(option: &str, path: &Path, allowed: &[&str]) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -360,6 +365,25 @@ fn check_extension(option: &str, path: &Path, allowed: &[&str]) -> Result<()> {
             "{option} {}: expected a file name ending in {}, found {found}",
             path.display(),
             list.join(" or ")
+        );
+    }
+    Ok(())
+}
+
+/// An error if `out`, the output of `option`, is one of the command's `inputs` (writing it
+/// would destroy the input). An output that does not exist yet is no input.
+pub(crate) fn check_not_input(option: &str, out: &Path, inputs: &[&Path]) -> Result<()> {
+    let Ok(o) = out.canonicalize() else {
+        return Ok(());
+    };
+    if let Some(i) = inputs
+        .iter()
+        .find(|i| i.canonicalize().is_ok_and(|c| c == o))
+    {
+        bail!(
+            "{option} {}: this is an input of the command ({}), which the output would overwrite; expected another file",
+            out.display(),
+            i.display()
         );
     }
     Ok(())
@@ -472,11 +496,19 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
         } else {
             check_extension("--out", out, &["csv", "json"])?;
         }
+        let inputs = [&a.cases, &a.pair.wheel, &a.pair.rail];
+        let inputs: Vec<&Path> = inputs.into_iter().flatten().map(PathBuf::as_path).collect();
+        check_not_input("--out", out, &inputs)?;
+    }
+    if a.tangential.is_some() && !matches!(a.model, ModelName::Stripes | ModelName::Halfspace) {
+        bail!(
+            "--tangential applies only to --model stripes or halfspace (the Hertz models have their own tangential solution)"
+        );
     }
     let pair = build_pair(&a.pair)?;
     let mut opts = ContactOptions {
         model: a.model.into(),
-        tangential: a.tangential.into(),
+        tangential: a.tangential.unwrap_or(TangentialName::Fastrip).into(),
         hertz_search: a.hertz_search.into(),
         ..Default::default()
     };
@@ -745,6 +777,21 @@ fn run_batch(
         std::fs::read_to_string(cases).with_context(|| format!("reading {}", cases.display()))?;
     let name = cases.display().to_string();
     let list = parse_cases_csv(&text, &name)?;
+    // the single-case --spin-rad-s's range: a wheelset spinning more than ten times as fast as
+    // it rolls is a unit or sign error (creepages of thousands)
+    let r0 = contact.pair.r0;
+    for (label, case) in &list {
+        let limit = 10.0 * case.speed_mm_s * 1e-3 / r0;
+        if case.vpitch_rad_s.abs() > limit {
+            bail!(
+                "{name}: case {label}: vpitch_rad_s = {} is implausible, expected within ±{} rad/s (ten times the rolling rate speed / r0 = {} mm/s / {} mm)",
+                railsim_profile::short_number(case.vpitch_rad_s),
+                railsim_profile::short_number(limit),
+                case.speed_mm_s,
+                r0 * 1e3
+            );
+        }
+    }
     let mut s = BATCH_COLUMNS.join(",");
     s.push('\n');
     let mut rows: Vec<ContactRow> = Vec::new();

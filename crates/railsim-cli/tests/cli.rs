@@ -211,6 +211,24 @@ fn out_of_range_options_are_refused_before_any_work() {
             &["critical-speed", "--from-kmh", "1e9"][..],
             "--from-kmh: expected a number from 0.01 to 1500, found 1e9",
         ),
+        (
+            &["run", "--out", "run.toml"][..],
+            "--out run.toml: expected a file name ending in .mcap, found extension \"toml\"",
+        ),
+        (
+            &["critical-speed", "--out", "ramp.csv"][..],
+            "--out ramp.csv: expected a file name ending in .mcap",
+        ),
+        (
+            &["contact", "--model", "polach", "--tangential", "exact"][..],
+            "--tangential applies only to --model stripes or halfspace",
+        ),
+        (
+            &[
+                "contact", "--cases", "c.csv", "--out", "x.csv", "--y-mm", "5",
+            ][..],
+            "cannot be used with",
+        ),
     ] {
         let (code, _, err) = railsim(args);
         assert_eq!(code, 2, "{args:?}: {err}");
@@ -247,10 +265,12 @@ fn conicity_checks_the_amplitudes_before_printing() {
 }
 
 /// An error whose text already ends with its cause is printed once, not twice
-/// (`railsim run --out DIR`).
+/// (`railsim run --out DIR.mcap`, a directory).
 #[test]
 fn an_error_prints_its_cause_once() {
-    let dir = std::env::temp_dir();
+    // a directory with a log's name
+    let dir = std::env::temp_dir().join(format!("railsim-cause-{}.mcap", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
     let (code, _, err) = railsim(&[
         "run",
         "scenes/free_wheelset_klingel.toml",
@@ -264,6 +284,7 @@ fn an_error_prints_its_cause_once() {
     let line = err.lines().last().unwrap();
     assert!(line.contains("creating the log"), "{err}");
     assert_eq!(line.matches("os error").count(), 1, "{line}");
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// `railsim critical-speed`: a short ramp that stays above the critical speed writes its half
@@ -739,5 +760,65 @@ fn friction_by_angle_lubricates_the_flange() {
     let (code, _, err) = railsim(&["contact", "--friction-by-angle", "20:0.3,10:0.2"]);
     assert_ne!(code, 0);
     assert!(err.contains("strictly increasing contact angles"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// An output path that names one of the command's inputs is refused before anything is
+/// written: the case table and the profile stay as they were.
+#[test]
+fn an_output_that_would_overwrite_an_input_is_refused() {
+    let dir = std::env::temp_dir().join(format!("railsim-cli-overwrite-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = dir.join("cases.csv");
+    let text =
+        "side,y_ws_mm,yaw_ws_rad,roll_ws_rad,vpitch_rad_s,fz_target_N\nright,0,0,0,-4.348,10000\n";
+    std::fs::write(&cases, text).unwrap();
+    let c = cases.to_str().unwrap();
+    let (code, _, err) = railsim(&["contact", "--cases", c, "--out", c]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("this is an input of the command") && err.contains("cases.csv"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&cases).unwrap(), text);
+    // a case table that names a column twice
+    let dup = dir.join("dup.csv");
+    std::fs::write(
+        &dup,
+        "side,y_ws_mm,yaw_ws_rad,roll_ws_rad,vpitch_rad_s,Y_WS_MM,fz_target_N\nright,0,0,0,-4.348,5,10000\n",
+    )
+    .unwrap();
+    let out = dir.join("out.csv");
+    let (code, _, err) = railsim(&[
+        "contact",
+        "--cases",
+        dup.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("column 'Y_WS_MM' appears twice (again as column 6)"),
+        "{err}"
+    );
+    // a spin in the wrong unit
+    let fast = dir.join("fast.csv");
+    std::fs::write(
+        &fast,
+        "side,y_ws_mm,yaw_ws_rad,roll_ws_rad,vpitch_rad_s,fz_target_N\nright,0,0,0,-1e9,10000\n",
+    )
+    .unwrap();
+    let (code, _, err) = railsim(&[
+        "contact",
+        "--cases",
+        fast.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("case 1: vpitch_rad_s = -1e9 is implausible"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

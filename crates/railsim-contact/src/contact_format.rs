@@ -159,6 +159,19 @@ pub fn parse_cases_csv(
         .next()
         .ok_or_else(|| err(1, "the file is empty: expected a header line".into()))?;
     let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    if let Some((k, dup)) = cols
+        .iter()
+        .enumerate()
+        .find(|(k, c)| !c.is_empty() && cols[..*k].iter().any(|p| p.eq_ignore_ascii_case(c)))
+    {
+        return Err(err(
+            hline,
+            format!(
+                "column '{dup}' appears twice (again as column {}): expected each column once",
+                k + 1
+            ),
+        ));
+    }
     let find = |name: &str| cols.iter().position(|c| c.eq_ignore_ascii_case(name));
     let need = |name: &'static str| {
         find(name).ok_or_else(|| {

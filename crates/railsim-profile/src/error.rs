@@ -75,6 +75,18 @@ pub enum ProfileError {
         /// \[mm\] the largest magnitude accepted
         limit_mm: f64,
     },
+    /// The profile spans too little laterally to be a wheel or rail profile in millimetres.
+    #[error("{source_name}: the profile spans only {} mm laterally (y from {} to {} mm), expected at least {limit_mm} mm (coordinates in metres where millimetres are expected?)", short_number(.y_max_mm - .y_min_mm), short_number(*.y_min_mm), short_number(*.y_max_mm))]
+    TooNarrow {
+        /// file or profile name
+        source_name: String,
+        /// \[mm\] smallest y
+        y_min_mm: f64,
+        /// \[mm\] largest y
+        y_max_mm: f64,
+        /// \[mm\] the narrowest extent accepted
+        limit_mm: f64,
+    },
     /// Fewer than four points.
     #[error("{source_name}: expected at least 4 profile points, found {found}")]
     TooFewPoints {

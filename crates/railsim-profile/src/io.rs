@@ -473,6 +473,8 @@ pub fn parse_table_mm(
     kind: ProfileKind,
 ) -> Result<Profile, ProfileError> {
     let src = source_name;
+    // (a byte-order mark, as spreadsheet programs write, is not part of the first line)
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut pts = Vec::new();
     let mut lines = Vec::new();
     let mut first = true;

@@ -177,6 +177,10 @@ impl Profile {
 /// \[m\] largest coordinate magnitude of a profile point: wheel and rail profiles (a whole rail
 /// is 172 mm high) lie well within it; a larger value is a unit or data error.
 pub const MAX_COORDINATE: f64 = 1.0;
+/// \[m\] narrowest lateral extent of a profile: a rail head is some 70 mm wide and a wheel's
+/// tread and flange some 130 mm; a profile narrower than this is a unit error (metres read as
+/// millimetres) or a fragment that cannot carry a contact.
+pub const MIN_WIDTH: f64 = 0.02;
 
 pub(crate) fn validate(
     name: &str,
@@ -245,6 +249,20 @@ pub(crate) fn validate(
             index: i,
             y_mm: b[0] * 1000.0,
             prev_y_mm: a[0] * 1000.0,
+        });
+    }
+    // (after the point-wise checks, which name a line)
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p[0]), hi.max(p[0]))
+        });
+    if hi - lo < MIN_WIDTH {
+        return Err(ProfileError::TooNarrow {
+            source_name: name.into(),
+            y_min_mm: lo * 1e3,
+            y_max_mm: hi * 1e3,
+            limit_mm: MIN_WIDTH * 1e3,
         });
     }
     Ok(())

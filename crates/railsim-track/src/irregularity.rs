@@ -1,6 +1,7 @@
 //! Track irregularities: measured series (CSV) or synthetic series from the ERRI B176
 //! spectra, stored as uniformly or non-uniformly sampled series and interpolated by cubic
-//! Hermite polynomials.
+//! Hermite polynomials: on a synthetic series with the exact slopes of its cosine sum, on a
+//! measured one with the slopes of the parabolas through three neighbouring samples.
 //!
 //! # Spectra
 //! One-sided PSDs in the angular wavenumber Ω \[rad/m\], S in m²/(rad/m), so that the variance
@@ -155,20 +156,13 @@ pub struct IrregularitySeries {
 }
 
 impl IrregularitySeries {
-    /// Series from samples (`s` strictly increasing, ≥ 2 samples). Slopes are the centred
-    /// finite differences (one-sided at the ends), so the interpolant is C¹.
+    /// Series from samples (`s` strictly increasing, ≥ 2 samples). A sample's slope is that of
+    /// the parabola through it and its two neighbours, (h₂d₁ + h₁d₂)/(h₁ + h₂) with d the
+    /// divided differences on either side (the centred difference on a uniform grid; one-sided
+    /// at the ends), so the interpolant is C¹ and exact for quadratics on any spacing.
     pub fn new(s: Vec<f64>, values: [Vec<f64>; 4]) -> IrregularitySeries {
         let n = s.len();
-        let step = if n >= 2 {
-            let h = (s[n - 1] - s[0]) / (n - 1) as f64;
-            let uniform = s
-                .iter()
-                .enumerate()
-                .all(|(i, &si)| (si - (s[0] + i as f64 * h)).abs() <= 1e-9 * h.max(1.0));
-            uniform.then_some(h)
-        } else {
-            None
-        };
+        let step = uniform_step(&s);
         let slopes = std::array::from_fn(|c| {
             let v = &values[c];
             (0..n)
@@ -179,8 +173,12 @@ impl IrregularitySeries {
                         (v[1] - v[0]) / (s[1] - s[0])
                     } else if i == n - 1 {
                         (v[n - 1] - v[n - 2]) / (s[n - 1] - s[n - 2])
-                    } else {
+                    } else if step.is_some() {
                         (v[i + 1] - v[i - 1]) / (s[i + 1] - s[i - 1])
+                    } else {
+                        let (h1, h2) = (s[i] - s[i - 1], s[i + 1] - s[i]);
+                        let (d1, d2) = ((v[i] - v[i - 1]) / h1, (v[i + 1] - v[i]) / h2);
+                        (h2 * d1 + h1 * d2) / (h1 + h2)
                     }
                 })
                 .collect()
@@ -191,6 +189,34 @@ impl IrregularitySeries {
             values,
             slopes,
         }
+    }
+
+    /// Series from samples and their exact slopes \[-\] (a synthetic series, whose derivative is
+    /// known in closed form).
+    pub fn with_slopes(
+        s: Vec<f64>,
+        values: [Vec<f64>; 4],
+        slopes: [Vec<f64>; 4],
+    ) -> IrregularitySeries {
+        IrregularitySeries {
+            step: uniform_step(&s),
+            s,
+            values,
+            slopes,
+        }
+    }
+
+    /// The series faded in and out by a raised cosine over `taper` \[m\] at both ends of its
+    /// range (a measured series that does not start and end at zero).
+    pub fn tapered(self, taper: f64) -> IrregularitySeries {
+        let (s0, s1) = (self.s[0], self.s[self.s.len() - 1]);
+        let values = self.values.map(|v| {
+            v.iter()
+                .zip(&self.s)
+                .map(|(&x, &si)| x * fade(si - s0, s1 - si, taper).0)
+                .collect()
+        });
+        IrregularitySeries::new(self.s, values)
     }
 
     /// \[m\] sample positions.
@@ -247,6 +273,36 @@ impl IrregularitySeries {
     }
 }
 
+/// The grid step if `s` is uniform (to 1e-9 of the step), else `None`.
+fn uniform_step(s: &[f64]) -> Option<f64> {
+    let n = s.len();
+    if n < 2 {
+        return None;
+    }
+    let h = (s[n - 1] - s[0]) / (n - 1) as f64;
+    s.iter()
+        .enumerate()
+        .all(|(i, &si)| (si - (s[0] + i as f64 * h)).abs() <= 1e-9 * h.max(1.0))
+        .then_some(h)
+}
+
+/// The raised-cosine fade (g, dg/ds) at a point `from_start` and `to_end` \[m\] inside a
+/// series' range: g = (1 − cos(π d/taper))/2 with d the distance to the nearer end, 1 beyond
+/// `taper` (and for `taper` = 0).
+fn fade(from_start: f64, to_end: f64, taper: f64) -> (f64, f64) {
+    let (d, sign) = if from_start <= to_end {
+        (from_start, 1.0)
+    } else {
+        (to_end, -1.0)
+    };
+    if taper > 0.0 && d < taper {
+        let a = PI * d / taper;
+        (0.5 - 0.5 * a.cos(), sign * 0.5 * PI / taper * a.sin())
+    } else {
+        (1.0, 0.0)
+    }
+}
+
 /// Parameters of a synthetic irregularity, in SI.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SyntheticParams {
@@ -298,21 +354,25 @@ pub fn synthesize(p: &SyntheticParams) -> IrregularitySeries {
     let w_min = 2.0 * PI / p.wavelength_max;
     let w_max = 2.0 * PI / p.wavelength_min;
     let dw = (w_max - w_min) / p.components as f64;
+    let mut slopes: [Vec<f64>; 4] = Default::default();
     let values = Channel::ALL.map(|channel| {
         let mut rng = SplitMix64::new(channel_seed(p.seed, channel));
         let mut out = vec![0.0; n];
+        let mut slope = vec![0.0; n];
         for k in 0..p.components {
             let w = w_min + (k as f64 + rng.next_f64()) * dw;
             let theta = 2.0 * PI * rng.next_f64();
             let amp = (2.0 * p.spectrum.psd(channel, w) * dw).sqrt();
-            // cos(w·iΔ + θ) by complex rotation, re-anchored every 64 samples.
+            // cos(w·iΔ + θ) and its derivative −w sin(w·iΔ + θ) by complex rotation,
+            // re-anchored every 64 samples.
             let (rs, rc) = (w * step).sin_cos();
             let mut i = 0;
             while i < n {
                 let (mut sn, mut cs) = (w * i as f64 * step + theta).sin_cos();
                 let end = (i + 64).min(n);
-                for o in &mut out[i..end] {
+                for (o, d) in out[i..end].iter_mut().zip(&mut slope[i..end]) {
                     *o += amp * cs;
+                    *d -= amp * w * sn;
                     let c2 = cs * rc - sn * rs;
                     sn = sn * rc + cs * rs;
                     cs = c2;
@@ -321,16 +381,16 @@ pub fn synthesize(p: &SyntheticParams) -> IrregularitySeries {
             }
         }
         if p.taper > 0.0 {
-            for (o, &si) in out.iter_mut().zip(&s) {
-                let d = (si - p.start).min(p.start + p.length - si);
-                if d < p.taper {
-                    *o *= 0.5 - 0.5 * (PI * d / p.taper).cos();
-                }
+            for ((o, d), &si) in out.iter_mut().zip(&mut slope).zip(&s) {
+                let (g, dg) = fade(si - p.start, p.start + p.length - si, p.taper);
+                *d = *d * g + *o * dg;
+                *o *= g;
             }
         }
+        slopes[channel as usize] = slope;
         out
     });
-    IrregularitySeries::new(s, values)
+    IrregularitySeries::with_slopes(s, values, slopes)
 }
 
 /// \[mm\] largest irregularity a measured CSV may give in any channel: poor track stays within
@@ -342,6 +402,11 @@ pub const CSV_MIN_SPACING_M: f64 = 1e-3;
 /// \[mm/m\] steepest change of a channel between two rows (10 %: a step that the vehicle would
 /// meet as an impact, not an irregularity).
 pub const CSV_MAX_SLOPE_MM_PER_M: f64 = 100.0;
+
+/// \[mm\] largest value a measured CSV may start or end with when the track file sets no
+/// `taper_m`: outside its range the irregularity is zero, and the vehicle meets the end value as
+/// a step.
+pub const CSV_END_MAX_MM: f64 = 0.1;
 
 /// The columns a measured CSV must have, in this order.
 pub const CSV_COLUMNS: [&str; 5] = [
@@ -372,6 +437,8 @@ pub fn parse_csv(text: &str, file: &str) -> Result<IrregularitySeries, TrackErro
         col,
         message,
     };
+    // (a byte-order mark, as spreadsheet programs write, is not part of the header)
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut s = Vec::new();
     let mut values: [Vec<f64>; 4] = Default::default();
     let mut header_seen = false;

@@ -21,6 +21,11 @@ pub const HARD_MIN_RADIUS_M: f64 = 50.0;
 pub const MAX_CANT_MM: f64 = 200.0;
 /// \[‰\] steepest gradient accepted.
 pub const MAX_GRADIENT_PERMILLE: f64 = 100.0;
+/// \[m\] longest tangent or circular curve accepted (a longer one is a unit or data error).
+pub const MAX_SEGMENT_LENGTH_M: f64 = 1e6;
+/// \[m\] longest transition accepted: real transitions are at most a few hundred metres, and a
+/// transition's geometry is integrated along its length when the track is built.
+pub const MAX_TRANSITION_LENGTH_M: f64 = 1e4;
 
 /// Built-in rail profile names.
 pub const BUILTIN_RAIL_PROFILES: [&str; 1] = ["uic60"];
@@ -767,11 +772,25 @@ fn check_segment(
         ),
         Some(v) => {
             let l = *v.get_ref();
+            let max = match kind {
+                Some(SegmentKind::Transition(_)) => MAX_TRANSITION_LENGTH_M,
+                _ => MAX_SEGMENT_LENGTH_M,
+            };
             if !(l.is_finite() && l > 0.0) {
                 sink.invalid(
                     &span_of(v),
                     "length_m",
                     format!("{label}: length_m = {l} must be positive"),
+                );
+            } else if l > max {
+                sink.invalid(
+                    &span_of(v),
+                    "length_m",
+                    format!(
+                        "{label}: length_m = {} is longer than the {} m accepted for this segment type",
+                        short_number(l),
+                        short_number(max)
+                    ),
                 );
             } else {
                 out.length = l;
@@ -900,7 +919,7 @@ fn check_irregularities(
     let kind = p.kind.get_ref().as_str();
     let used: &[&str] = match kind {
         "none" => &[],
-        "measured" => &["file"],
+        "measured" => &["file", "taper_m"],
         "synthetic" => &[
             "spectrum",
             "seed",
@@ -970,11 +989,56 @@ fn check_irregularities(
                 );
                 return None;
             }
-            match irregularity::read_csv(&path, &display) {
-                Ok(series) => Some(series),
+            let series = match irregularity::read_csv(&path, &display) {
+                Ok(series) => series,
                 Err(e) => {
                     sink.errors.extend(e.errors);
-                    None
+                    return None;
+                }
+            };
+            let (s0, s1) = {
+                let s = series.positions();
+                (s[0], s[s.len() - 1])
+            };
+            match &p.taper_m {
+                Some(v) => {
+                    let t = *v.get_ref();
+                    let max = (s1 - s0) / 2.0;
+                    if !(t.is_finite() && t >= 0.0 && t <= max) {
+                        sink.invalid(
+                            &span_of(v),
+                            "taper_m",
+                            format!("irregularities: taper_m = {} must be between 0 and half the length of the data in {display} ({} m)", short_number(t), short_number(max)),
+                        );
+                        return None;
+                    }
+                    Some(series.tapered(t))
+                }
+                None => {
+                    // Outside its range the irregularity is zero: data that do not end there
+                    // would meet the vehicle as a step.
+                    let ends = [(s0, 0usize), (s1, series.positions().len() - 1)];
+                    for (ch, name) in irregularity::CSV_COLUMNS[1..].iter().enumerate() {
+                        let v = series.channel(irregularity::Channel::ALL[ch]);
+                        for (at, k) in ends {
+                            if v[k].abs() * 1e3 > irregularity::CSV_END_MAX_MM {
+                                sink.invalid(
+                                    &span_of(file),
+                                    "file",
+                                    format!(
+                                        "irregularities: {display}: {name} = {} at distance_m = {} (its {} row): outside its range the irregularity is zero, so a vehicle would meet a {} mm step there; expected the data to start and end within {} mm of zero, or set taper_m to fade them in and out",
+                                        short_number(v[k] * 1e3),
+                                        short_number(at),
+                                        if k == 0 { "first" } else { "last" },
+                                        short_number(v[k].abs() * 1e3),
+                                        irregularity::CSV_END_MAX_MM
+                                    ),
+                                );
+                                return None;
+                            }
+                        }
+                    }
+                    Some(series)
                 }
             }
         }
@@ -1108,7 +1172,12 @@ fn check_irregularities(
                     }
                     t
                 }
-                None => 0.0,
+                // a fade over the longest wavelength (within half the series) by default, so
+                // that the series does not start and end with a step
+                None => match (lmax, length) {
+                    (Some(b), Some(l)) => b.min(l / 2.0),
+                    _ => 0.0,
+                },
             };
             let components = match (&p.components, lmin, lmax, length) {
                 (Some(v), ..) => {

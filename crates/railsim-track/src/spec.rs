@@ -140,7 +140,7 @@ pub struct SegmentSpec {
 }
 
 /// The `[irregularities]` table. Keys used depend on `type`:
-/// `none`; `measured` (`file`); `synthetic` (`spectrum`, `seed`, `wavelength_min_m`,
+/// `none`; `measured` (`file`, optional `taper_m`); `synthetic` (`spectrum`, `seed`, `wavelength_min_m`,
 /// `wavelength_max_m`, optional `step_m`, `components`, `taper_m`, `start_m`, `length_m`).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -170,7 +170,8 @@ pub struct IrregularitySpec {
     /// 2π / (2 · length).
     #[serde(default)]
     pub components: Option<Spanned<u64>>,
-    /// \[m\] length of the raised-cosine fade-in and fade-out at both ends; default 0.
+    /// \[m\] length of the raised-cosine fade-in and fade-out at both ends; synthetic: default
+    /// `wavelength_max_m` (at most half the series); measured: default none.
     #[serde(default)]
     pub taper_m: Option<Spanned<f64>>,
     /// \[m\] where the generated series starts; default 0.

@@ -26,6 +26,13 @@ pub const Z_RANGE: (f64, f64) = (-0.5, 6.0);
 pub const MASS_RANGE: (f64, f64) = (1.0, 1e6);
 /// \[kg·m²\] largest plausible principal moment of inertia (a 26 m coach body: about 2e6).
 pub const MAX_INERTIA: f64 = 1e8;
+/// \[kg·m²\] smallest plausible principal moment of inertia (the lightest body accepted, 1 kg,
+/// at a radius of gyration of 3 cm); a smaller one is a unit error and makes the rotation so
+/// fast that a run cannot advance.
+pub const MIN_INERTIA: f64 = 1e-3;
+/// \[N·m\] largest plausible traction or brake torque on one axle (a heavy-haul locomotive's
+/// is some tens of kN·m).
+pub const MAX_AXLE_TORQUE: f64 = 1e6;
 /// \[N/m\] largest plausible translational stiffness of a force element (each axis of a
 /// bushing, a series, stick or mount stiffness) and largest slope of a force table. The
 /// stiffest shipped elements are about 4e7 N/m (a primary spring's kx, 3.1e7; the last segment
@@ -1107,6 +1114,18 @@ impl Compiler<'_> {
             );
             return None;
         }
+        if let Some(x) = d.iter().find(|x| **x < MIN_INERTIA) {
+            self.err(
+                &v.span(),
+                "inertia_kgm2",
+                format!(
+                    "{label}: inertia_kgm2 {d:?}: {} kg·m² is implausible (expected at least {} kg·m²; in kg·m², not t·m²?)",
+                    short_number(*x),
+                    short_number(MIN_INERTIA)
+                ),
+            );
+            return None;
+        }
         let mut a: Vec<f64> = t.iter().flatten().copied().collect();
         if cholesky(&mut a, 3).is_err() {
             self.err(
@@ -1281,12 +1300,18 @@ impl Compiler<'_> {
         };
         let torque = match &w.torque_nm {
             None => Some(0.0),
-            Some(v) if v.get_ref().is_finite() => Some(*v.get_ref()),
+            Some(v) if v.get_ref().is_finite() && v.get_ref().abs() <= MAX_AXLE_TORQUE => {
+                Some(*v.get_ref())
+            }
             Some(v) => {
                 self.err(
                     &v.span(),
                     "torque_nm",
-                    format!("{label}: torque_nm must be finite"),
+                    format!(
+                        "{label}: torque_nm = {} is implausible, expected within ±{} N·m (a locomotive's axle torque is some tens of kN·m)",
+                        short_number(*v.get_ref()),
+                        short_number(MAX_AXLE_TORQUE)
+                    ),
                 );
                 None
             }
@@ -1507,15 +1532,22 @@ impl Compiler<'_> {
             None => p1,
             Some(v) => self.finite3(v, &label, "point2_m"),
         };
-        for (p, end, key, value) in [
+        for (i, (p, end, key, value)) in [
             (p1, &e1, "point_m", &f.point_m),
             (p2, &e2, "point2_m", &f.point2_m),
-        ] {
+        ]
+        .into_iter()
+        .enumerate()
+        {
             let (Some(p), Some(v)) = (p, value.as_ref().or(f.point_m.as_ref())) else {
                 continue;
             };
             let key = if value.is_some() { key } else { "point_m" };
             if p[1].abs() > MAX_HALF_WIDTH || p[2] < Z_RANGE.0 || p[2] > Z_RANGE.1 {
+                // (body 2's end without point2_m is point_m again: reported once)
+                if i == 1 && value.is_none() {
+                    continue;
+                }
                 self.err(
                     &v.span(),
                     key,
@@ -2291,6 +2323,22 @@ impl Compiler<'_> {
                 format!(
                     "{label}: a symmetric table is given for {x_noun}s >= 0, but {x_key} starts at {}",
                     first.get_ref()
+                ),
+            );
+            ok = false;
+        }
+        // mirrored as an odd law, −F(−x): a value at 0 would be a step through zero
+        if symmetric
+            && let (Some(x0), Some(y0)) = (xv.first(), yv.first())
+            && *x0.get_ref() == 0.0
+            && *y0.get_ref() != 0.0
+        {
+            self.err(
+                &y0.span(),
+                y_key,
+                format!(
+                    "{label}: a symmetric table is mirrored as an odd law (−{y_noun}(−{x_noun})), so its {y_key} at {x_key} = 0 must be 0, found {} (a step through zero)",
+                    short_number(*y0.get_ref())
                 ),
             );
             ok = false;

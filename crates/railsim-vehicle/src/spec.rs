@@ -309,8 +309,14 @@ impl<'de> Visitor<'de> for ThreeVisitor {
         if n == 3 {
             Ok(NumberOrTriple::Three(a))
         } else {
+            // (where one number is accepted, say so: `[940e3]` for a key that takes `940e3`)
             Err(de::Error::custom(format!(
-                "expected an array of 3 numbers, found {n} number{}",
+                "expected {}, found an array of {n} number{}",
+                if self.or_one {
+                    "a number (written without brackets) or an array of 3 numbers"
+                } else {
+                    "an array of 3 numbers"
+                },
                 if n == 1 { "" } else { "s" }
             )))
         }
@@ -556,7 +562,7 @@ mod tests {
         assert_eq!(
             e,
             Some((
-                "expected an array of 3 numbers, found 4 numbers".to_owned(),
+                "expected an array of 3 numbers, found an array of 4 numbers".to_owned(),
                 Some(4..16)
             ))
         );
@@ -593,8 +599,11 @@ mod tests {
             Some(NumberOrTriple::Three([1.0, 2.0, 3.5]))
         );
         for (text, needle) in [
-            ("k = [1, 2, 3, 4]", "found 4 numbers"),
-            ("k = [1]", "found 1 number"),
+            ("k = [1, 2, 3, 4]", "found an array of 4 numbers"),
+            (
+                "k = [1]",
+                "a number (written without brackets) or an array of 3 numbers, found an array of 1 number",
+            ),
             ("k = \"x\"", "expected a number or an array of 3 numbers"),
             ("k = [1, \"x\", 3]", "invalid type"),
         ] {

@@ -913,17 +913,13 @@ fn arrays_of_three_numbers_refuse_any_other_length() {
         let key = line.split(' ').next().unwrap();
         let n = line_of(&good, line);
         for (array, found) in [
-            ("[1, 2, 3, 4]", "found 4 numbers"),
-            ("[1, 2]", "found 2 numbers"),
-            ("[]", "found 0 numbers"),
+            ("[1, 2, 3, 4]", "found an array of 4 numbers"),
+            ("[1, 2]", "found an array of 2 numbers"),
+            ("[]", "found an array of 0 numbers"),
         ] {
             let text = good.replace(line, &format!("{key} = {array}"));
             let p = problems(&text);
-            expect(
-                &p,
-                n,
-                &[label, key, "expected an array of 3 numbers", found],
-            );
+            expect(&p, n, &[label, key, "an array of 3 numbers", found]);
             // reported once, as a wrong value, not again as a missing key
             assert!(
                 !p.iter()
@@ -1204,4 +1200,68 @@ fn two_wheelsets_in_one_place_are_refused() {
     // a bogie's wheelbase is fine
     let apart = second.replace("position_m = [0, 0, 0.46]", "position_m = [2.5, 0, 0.46]");
     assert!(compile(&format!("name = \"two\"\n{WS}{apart}")).is_ok());
+}
+
+/// Values a robustness sweep found accepted although no vehicle has them: a symmetric table
+/// with a force at zero deflection (mirrored, a step through zero), moments of inertia in the
+/// wrong unit (the run could not advance), an axle torque of 1e12 N·m; and an implausible
+/// attachment point was reported twice.
+#[test]
+fn implausible_tables_inertias_and_torques_are_located() {
+    let text = r#"
+[[wheelset]]
+name = "ws"
+mass_kg = 1813
+inertia_kgm2 = [1e-6, 112, 1120]
+position_m = [0, 0, 0.46]
+nominal_radius_m = 0.46
+back_to_back_mm = 1360
+wheel_profile = { left = "s1002", right = "s1002" }
+torque_nm = 1e12
+
+[[force]]
+name = "stop"
+type = "table"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.5]
+direction = "y"
+symmetric = true
+deflection_mm = [0, 25, 30]
+force_n = [1e5, 1e5, 2e5]
+
+[[force]]
+name = "wide"
+type = "bushing"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 3, 0.5]
+stiffness_n_per_m = [1e6, 1e6, 1e6]
+"#;
+    let p = problems(text);
+    // an implausible point_m is reported once, though it is both bodies' attachment point
+    let wide: Vec<&String> = p.iter().filter(|m| m.contains("force 'wide'")).collect();
+    assert!(
+        wide.len() == 1 && wide[0].contains("point_m [0.0, 3.0, 0.5] is implausible"),
+        "{wide:#?}"
+    );
+    expect(
+        &p,
+        5,
+        &[
+            "inertia_kgm2",
+            "1e-6 kg·m² is implausible",
+            "at least 0.001",
+        ],
+    );
+    expect(&p, 10, &["torque_nm = 1e12 is implausible", "±1e6 N·m"]);
+    expect(
+        &p,
+        21,
+        &[
+            "symmetric table",
+            "force_n at deflection_mm = 0 must be 0",
+            "found 100000",
+        ],
+    );
 }

@@ -12,9 +12,9 @@ fn wheel(points: &str) -> Result<Profile, ProfileError> {
 
 #[test]
 fn good_minimal_file() {
-    let p = wheel("0 0\n1 0.1\n2 0.3 1.0 ! weight\n3 0.6\n").unwrap();
+    let p = wheel("0 0\n10 0.1\n20 0.3 1.0 ! weight\n30 0.6\n").unwrap();
     assert_eq!(p.points.len(), 4);
-    assert_eq!(p.points[1], [1e-3, -0.1e-3]);
+    assert_eq!(p.points[1], [10e-3, -0.1e-3]);
 }
 
 #[test]
@@ -168,10 +168,10 @@ fn simpack_processing_steps() {
     // mirror.z then canonical z-down -> z up: z = +z_file / 100.
     assert!((p.points[1][1] - 0.02).abs() < 1e-15);
     // rotate by 90 degrees in degrees units.
-    let text = "spline.begin\n units.ang = 'deg'\n rotate = 90\n point.begin\n0 0\n0 1\n0 2\n0 3\n point.end\nspline.end\n";
+    let text = "spline.begin\n units.ang = 'deg'\n rotate = 90\n point.begin\n0 0\n0 10\n0 20\n0 30\n point.end\nspline.end\n";
     let p = parse_simpack(text, "t.prr", ProfileKind::Rail).unwrap();
     assert!(
-        (p.points[0][0] + 0.003).abs() < 1e-12 && p.points[0][1].abs() < 1e-12,
+        (p.points[0][0] + 0.03).abs() < 1e-12 && p.points[0][1].abs() < 1e-12,
         "{:?}",
         p.points
     );
@@ -193,8 +193,15 @@ fn table_reader() {
         matches!(e, ProfileError::InvalidValue { line: 2, .. }),
         "{e:?}"
     );
+    // a byte-order mark before the header is not part of it
+    let bom = parse_table_mm(
+        "\u{feff}y_mm z_mm\n-10 1\n0 0\n10 1\n20 3\n",
+        "t.csv",
+        ProfileKind::Rail,
+    );
+    assert_eq!(bom.unwrap().points.len(), 4);
     // Descending rows are accepted and sorted.
-    let p = parse_table_mm("3 0\n2 1\n1 0\n0 1\n", "t.csv", ProfileKind::Rail).unwrap();
+    let p = parse_table_mm("30 0\n20 1\n10 0\n0 1\n", "t.csv", ProfileKind::Rail).unwrap();
     assert_eq!(p.points[0][0], 0.0);
 }
 
@@ -212,7 +219,7 @@ fn absurd_coordinates() {
         "profiles/x.prw:11: z = -1e300 mm (profile frame) is out of range, expected |z| <= 1000 mm"
     );
     // a whole rail, 172 mm high, is well within the limit
-    assert!(wheel("0 0\n1 -172\n2 -172.5\n3 -100\n").is_ok());
+    assert!(wheel("0 0\n10 -172\n20 -172.5\n30 -100\n").is_ok());
 }
 
 /// Points read but dropped by the file's own processing keys (here a y bound that keeps two of
@@ -236,4 +243,18 @@ fn points_left_out_by_the_processing_keys() {
         matches!(e, ProfileError::TooFewPoints { found: 2, .. }),
         "{e:?}"
     );
+}
+
+/// A profile given in metres where millimetres are expected spans a fraction of a millimetre: it
+/// is refused, naming the file and the span, instead of giving a plausible-looking contact.
+#[test]
+fn a_profile_in_metres_is_too_narrow() {
+    let e = wheel("0 0\n0.01 0.0001\n0.02 0.0003\n0.03 0.0006\n").unwrap_err();
+    assert!(matches!(e, ProfileError::TooNarrow { .. }), "{e:?}");
+    assert_eq!(
+        e.to_string(),
+        "profiles/x.prw: the profile spans only 0.03 mm laterally (y from 0 to 0.03 mm), expected at least 20 mm (coordinates in metres where millimetres are expected?)"
+    );
+    let e = parse_table_mm("0 0\n5 1\n10 0\n15 1\n", "t.csv", ProfileKind::Rail).unwrap_err();
+    assert!(matches!(e, ProfileError::TooNarrow { .. }), "{e:?}");
 }
