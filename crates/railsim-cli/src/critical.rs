@@ -124,7 +124,10 @@ pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
         ("--duration-s", a.duration_s),
     ] {
         if !(v.is_finite() && v > 0.0) {
-            bail!("{name}: expected a positive number, found {v}");
+            bail!(
+                "{name}: expected a positive number, found {}",
+                railsim_profile::short_number(v)
+            );
         }
     }
     // (a bracket narrower than 1e-4 of the speed is below what the growth rates resolve, and

@@ -1082,7 +1082,10 @@ impl Compiler<'_> {
                     self.err(
                         &v.span(),
                         "speed_kmh",
-                        format!("speed_kmh must be a speed from {lo} to {hi} km/h, found {x}"),
+                        format!(
+                            "speed_kmh must be a speed from {lo} to {hi} km/h, found {}",
+                            short_number(x)
+                        ),
                     );
                     None
                 }
@@ -1173,7 +1176,7 @@ impl Compiler<'_> {
                 self.err(
                     &x.span(),
                     "speed_kmh",
-                    format!("[speed_profile] speed_kmh values must be speeds from {MIN_SPEED_KMH} to {MAX_SPEED_KMH} km/h, found {y}"),
+                    format!("[speed_profile] speed_kmh values must be speeds from {MIN_SPEED_KMH} to {MAX_SPEED_KMH} km/h, found {}", short_number(y)),
                 );
                 ok = false;
             }
@@ -1851,7 +1854,8 @@ impl Compiler<'_> {
                 &start_span,
                 "start_m",
                 format!(
-                    "start_m = {start} m puts the wheelsets of vehicle '{}' at s = {:.2} .. {:.2} m, outside track '{}' (0 .. {len} m)",
+                    "start_m = {} m puts the wheelsets of vehicle '{}' at s = {:.2} .. {:.2} m, outside track '{}' (0 .. {len} m)",
+                    short_number(start),
                     vehicle.name(),
                     start + x_min,
                     start + x_max,

@@ -307,7 +307,7 @@ fn negative_speed_is_rejected() {
     expect(
         &p,
         3,
-        &["speed_kmh must be a speed from 0.01 to 1500 km/h, found 0.000000001"],
+        &["speed_kmh must be a speed from 0.01 to 1500 km/h, found 1e-9"],
     );
     let p = problems(
         "vehicle = \"../vehicles/wheelset_free.toml\"\ntrack = \"../tracks/straight.toml\"\nduration_s = 1\n[speed_profile]\ndistance_m = [0, 10]\nspeed_kmh = [10, -5]\n",

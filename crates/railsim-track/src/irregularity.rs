@@ -38,6 +38,7 @@ use std::path::Path;
 
 use crate::error::{TrackError, TrackErrors};
 use crate::math::SplitMix64;
+use railsim_spec::short_number;
 
 /// \[rad/m\] Ω_c of the ERRI B176 spectra.
 pub const ERRI_OMEGA_C: f64 = 0.8246;
@@ -510,8 +511,9 @@ pub fn parse_csv(text: &str, file: &str) -> Result<IrregularitySeries, TrackErro
                 lineno,
                 fields[0].1,
                 format!(
-                    "distance_m = {} must be greater than the previous row's {last}",
-                    row[0]
+                    "distance_m = {} must be greater than the previous row's {}",
+                    short_number(row[0]),
+                    short_number(last)
                 ),
             ));
             continue;
@@ -523,8 +525,9 @@ pub fn parse_csv(text: &str, file: &str) -> Result<IrregularitySeries, TrackErro
                 lineno,
                 fields[0].1,
                 format!(
-                    "distance_m = {}: rows closer than {CSV_MIN_SPACING_M} m (previous row {last})",
-                    row[0]
+                    "distance_m = {}: rows closer than {CSV_MIN_SPACING_M} m (previous row {})",
+                    short_number(row[0]),
+                    short_number(last)
                 ),
             ));
             continue;
@@ -537,8 +540,9 @@ pub fn parse_csv(text: &str, file: &str) -> Result<IrregularitySeries, TrackErro
                     lineno,
                     fields[c].1,
                     format!(
-                        "{} = {v}: expected an irregularity within ±{CSV_MAX_VALUE_MM} mm (a unit error?)",
-                        CSV_COLUMNS[c]
+                        "{} = {}: expected an irregularity within ±{CSV_MAX_VALUE_MM} mm (a unit error?)",
+                        CSV_COLUMNS[c],
+                        short_number(v)
                     ),
                 ));
             } else if let (Some(&last), Some(&prev)) = (s.last(), values[c - 1].last()) {

@@ -584,7 +584,7 @@ fn measured_csv_is_read_and_errors_are_located() {
     assert_eq!(msgs.len(), 3, "{msgs:#?}");
     assert!(
         msgs[0].starts_with(
-            "absurd.csv:3:3: lateral_mm = 1000000000: expected an irregularity within ±50 mm"
+            "absurd.csv:3:3: lateral_mm = 1e9: expected an irregularity within ±50 mm"
         ),
         "{}",
         msgs[0]
