@@ -155,16 +155,9 @@ pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
     if a.curve.radius_m.is_some() && a.method != MethodName::Linear {
         bail!("--radius-m: only the linear method (--method linear) linearises about a curve");
     }
-    if let Some(out) = &a.out {
-        crate::check_extension("--out", out, &["mcap"])?;
-    }
     let mut scene = Scene::from_file(&path)?;
     if let Some(out) = &a.out {
-        crate::check_not_input(
-            "--out",
-            out,
-            &[&path, &scene.vehicle_file, &scene.track_file],
-        )?;
+        crate::check_log_out(out, &path, &scene)?;
     }
     if let Some(m) = a.model {
         scene.contact.model = m.into();

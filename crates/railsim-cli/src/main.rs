@@ -389,6 +389,21 @@ pub(crate) fn check_not_input(option: &str, out: &Path, inputs: &[&Path]) -> Res
     Ok(())
 }
 
+/// `--out` of a command that writes an MCAP log of `scene` (read from `scene_path`): a `.mcap`
+/// file that is none of the scene's own files.
+pub(crate) fn check_log_out(
+    out: &Path,
+    scene_path: &Path,
+    scene: &railsim_sim::Scene,
+) -> Result<()> {
+    check_extension("--out", out, &["mcap"])?;
+    check_not_input(
+        "--out",
+        out,
+        &[scene_path, &scene.vehicle_file, &scene.track_file],
+    )
+}
+
 /// `v` if it is finite and within `[lo, hi]`, else an error naming the option and the range.
 fn in_range(name: &str, v: f64, lo: f64, hi: f64) -> Result<f64> {
     if !(v.is_finite() && (lo..=hi).contains(&v)) {

@@ -67,16 +67,9 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
     {
         anyhow::bail!("--duration-s: expected a positive number of seconds, found {d}");
     }
-    if let Some(out) = &a.out {
-        crate::check_extension("--out", out, &["mcap"])?;
-    }
     let scene = Scene::from_file(&path)?;
     if let Some(out) = &a.out {
-        crate::check_not_input(
-            "--out",
-            out,
-            &[&path, &scene.vehicle_file, &scene.track_file],
-        )?;
+        crate::check_log_out(out, &path, &scene)?;
     }
     let mut sim = Simulation::new(&scene)?;
     let opts = RunOptions {
