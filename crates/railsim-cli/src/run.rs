@@ -71,6 +71,15 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
     if let Some(out) = &a.out {
         crate::check_log_out(out, &path, &scene)?;
     }
+    if let Some(d) = a.duration_s
+        && d > scene.duration() * (1.0 + 1e-12)
+    {
+        anyhow::bail!(
+            "--duration-s {}: the scene ends after {} s (its duration_s, or its track and distance); expected at most that",
+            railsim_profile::short_number(d),
+            railsim_profile::short_number(scene.duration())
+        );
+    }
     let mut sim = Simulation::new(&scene)?;
     let opts = RunOptions {
         log_path: a.out.clone(),

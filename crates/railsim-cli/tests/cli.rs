@@ -212,6 +212,15 @@ fn out_of_range_options_are_refused_before_any_work() {
             "--from-kmh: expected a number from 0.01 to 1500, found 1e9",
         ),
         (
+            &[
+                "run",
+                "scenes/free_wheelset_klingel.toml",
+                "--duration-s",
+                "1e4",
+            ][..],
+            "--duration-s 10000: the scene ends after",
+        ),
+        (
             &["run", "--out", "run.toml"][..],
             "--out run.toml: expected a file name ending in .mcap, found extension \"toml\"",
         ),

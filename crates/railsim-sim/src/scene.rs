@@ -1732,6 +1732,17 @@ impl Compiler<'_> {
             }
             out.push(d);
         }
+        if ok && vehicle.dofs().iter().all(|d| out.contains(d)) {
+            self.err(
+                &f.span(),
+                "freeze",
+                format!(
+                    "freeze: every degree of freedom of vehicle '{}' the vehicle file leaves free is frozen, so nothing would move; expected at least one free",
+                    vehicle.name()
+                ),
+            );
+            ok = false;
+        }
         ok.then_some(out)
     }
 

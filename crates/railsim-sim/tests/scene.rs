@@ -407,6 +407,21 @@ fn bad_integrator_and_tolerances_are_rejected() {
     expect(&p, 7, &["max_step_s must lie in"]);
 }
 
+/// Freezing everything the vehicle leaves free gave the integrator's "state dimension must be
+/// positive" with no file or key.
+#[test]
+fn freezing_every_degree_of_freedom_is_located() {
+    let text = "vehicle = \"../vehicles/wheelset_free.toml\"\ntrack = \"../tracks/straight.toml\"\n\
+                speed_kmh = 100\nduration_s = 1\n\
+                freeze = [\"ws.x\", \"ws.y\", \"ws.z\", \"ws.roll\", \"ws.spin\", \"ws.yaw\"]\n";
+    let p = problems(text);
+    expect(
+        &p,
+        5,
+        &["freeze: every degree of freedom", "nothing would move"],
+    );
+}
+
 #[test]
 fn unknown_dof_in_freeze_gets_a_suggestion() {
     let p = problems(&format!(
