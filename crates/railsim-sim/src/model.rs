@@ -536,8 +536,23 @@ fn build_contact(
     material: Material,
     options: ContactOptions,
 ) -> Result<WheelRailContact, SimError> {
-    let wheel = wheel_profile(&w.profiles[k], w.running_circle_from_back)?;
-    let rail = rail_profile(&section.profiles[k])?;
+    // (the profile's own error names its file and line; the key that names the file is added)
+    let wheel =
+        wheel_profile(&w.profiles[k], w.running_circle_from_back).map_err(|e| SimError::Model {
+            message: format!(
+                "wheelset '{}', {} wheel_profile (vehicle file): {}",
+                w.name,
+                side.name(),
+                model_message(e)
+            ),
+        })?;
+    let rail = rail_profile(&section.profiles[k]).map_err(|e| SimError::Model {
+        message: format!(
+            "{} rail_profile (track file): {}",
+            side.name(),
+            model_message(e)
+        ),
+    })?;
     let inclination = section.inclination;
     let pair = WheelRailPair::new(&PairSpec {
         wheel,
@@ -559,6 +574,14 @@ fn build_contact(
     WheelRailContact::new(pair, options).map_err(|e| SimError::Model {
         message: format!("wheelset '{}': {e}", w.name),
     })
+}
+
+/// The message of a [`SimError::Model`] (other errors as displayed).
+fn model_message(e: SimError) -> String {
+    match e {
+        SimError::Model { message } => message,
+        other => other.to_string(),
+    }
 }
 
 fn wheel_profile(p: &WheelProfile, running_circle_from_back: f64) -> Result<Profile, SimError> {

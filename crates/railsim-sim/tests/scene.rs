@@ -867,3 +867,46 @@ fn the_integrator_is_written_in_scene_file_terms() {
         assert!(!text.contains('{'), "{text}");
     }
 }
+
+/// A bad profile file is read when the simulation is built: its error names the file and the
+/// wheelset, side and key that point to it.
+#[test]
+fn a_bad_profile_file_is_named_with_the_key_that_points_to_it() {
+    let dir = std::env::temp_dir().join(format!("railsim-sim-profile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // a profile in metres: far too narrow
+    std::fs::write(
+        dir.join("narrow.txt"),
+        "0 0\n0.01 0.001\n0.02 0\n0.03 0.001\n",
+    )
+    .unwrap();
+    let vehicle = std::fs::read_to_string(root().join("vehicles/wheelset_free.toml"))
+        .unwrap()
+        .lines()
+        .map(|l| {
+            if l.starts_with("wheel_profile") {
+                "wheel_profile = { left = \"narrow.txt\", right = \"s1002\" }".to_owned()
+            } else {
+                l.to_owned()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::write(dir.join("v.toml"), vehicle).unwrap();
+    let track = root().join("tracks/straight.toml");
+    let text = format!(
+        "vehicle = \"v.toml\"\ntrack = {:?}\nspeed_kmh = 100\nduration_s = 0.1\n",
+        track.display().to_string()
+    );
+    let scene = Scene::from_toml_str(&text, "x.toml", &dir).unwrap_or_else(|e| panic!("{e}"));
+    let e = match railsim_sim::Simulation::new(&scene) {
+        Ok(_) => panic!("a 0.03 mm wide profile was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        e.contains("wheelset 'ws', left wheel_profile (vehicle file): ")
+            && e.contains("narrow.txt: the profile spans only 0.03 mm"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
