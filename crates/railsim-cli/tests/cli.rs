@@ -831,3 +831,31 @@ fn an_output_that_would_overwrite_an_input_is_refused() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A wheel profile with one point 80 mm off its outline (a robustness sweep's mutation) leaves
+/// no facing pairs although the profiles' spans overlap: the message points at the profile's
+/// points, not at the gauge.
+#[test]
+fn a_spike_in_a_profile_is_suspected_when_the_spans_overlap() {
+    let dir = std::env::temp_dir().join(format!("railsim-cli-spike-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let text = std::fs::read_to_string(root.join("vehicles/profiles/MBench_S1002_v3.prw")).unwrap();
+    let spiked = text.replacen(
+        "-2.1799520E+01\t-3.4340920E-01",
+        "-2.1799520E+01\t80.118",
+        1,
+    );
+    assert_ne!(spiked, text, "the point to move is in the file");
+    let wheel = dir.join("spike.prw");
+    std::fs::write(&wheel, spiked).unwrap();
+    let (code, _, err) = railsim(&["contact", "--wheel", wheel.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(
+            "the spans overlap, so check the profiles' points for one far off the outline"
+        ),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -72,9 +72,8 @@ pub enum ContactError {
     #[error(
         "the {side} wheel and rail profiles do not face each other at y = {y_mm:.2} mm: across \
          the track the wheel's profile (flange tip to field side) spans {:.1} to {:.1} mm and \
-         the rail's {:.1} to {:.1} mm (from the track centre, outward); check the gauge, the \
-         flange-back distance and position, and the profiles' lateral origins",
-        wheel_mm[0], wheel_mm[1], rail_mm[0], rail_mm[1]
+         the rail's {:.1} to {:.1} mm (from the track centre, outward); {}",
+        wheel_mm[0], wheel_mm[1], rail_mm[0], rail_mm[1], no_overlap_hint(wheel_mm, rail_mm)
     )]
     NoOverlap {
         /// Which wheel.
@@ -110,5 +109,18 @@ pub(crate) fn finite(what: &'static str, value: f64) -> Result<f64, ContactError
         Ok(value)
     } else {
         Err(ContactError::NonFinite { what, value })
+    }
+}
+
+/// What to check when the travelling found no facing pairs: the placement when the lateral spans
+/// miss each other, the profiles themselves when they overlap (a point far off the outline, a
+/// profile that folds back).
+fn no_overlap_hint(wheel_mm: &[f64; 2], rail_mm: &[f64; 2]) -> &'static str {
+    let (w0, w1) = (wheel_mm[0].min(wheel_mm[1]), wheel_mm[0].max(wheel_mm[1]));
+    if w1 < rail_mm[0] || w0 > rail_mm[1] {
+        "check the gauge, the flange-back distance and position, and the profiles' lateral origins"
+    } else {
+        "the spans overlap, so check the profiles' points for one far off the outline (a spike) \
+         or a stretch that folds back, then the gauge and the flange-back distance and position"
     }
 }
