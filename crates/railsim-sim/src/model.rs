@@ -10,7 +10,7 @@ use railsim_contact::{
     ContactOptions, Friction, PairSpec, Side, WheelRailContact, WheelRailPair, WheelsetPose,
 };
 use railsim_elastic::Material;
-use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
+use railsim_profile::{Profile, ProfileError, ProfileKind, analytic, read_simpack, read_table_mm};
 use railsim_track::{RailProfile, RailSection, RailSupport, TrackModel};
 use railsim_vehicle::model::{Endpoint, ForceLaw, Member, WheelProfile, Wheelset};
 use railsim_vehicle::{DofKind, VehicleModel};
@@ -540,18 +540,13 @@ fn build_contact(
     let wheel =
         wheel_profile(&w.profiles[k], w.running_circle_from_back).map_err(|e| SimError::Model {
             message: format!(
-                "wheelset '{}', {} wheel_profile (vehicle file): {}",
+                "wheelset '{}', {} wheel_profile (vehicle file): {e}",
                 w.name,
-                side.name(),
-                model_message(e)
+                side.name()
             ),
         })?;
     let rail = rail_profile(&section.profiles[k]).map_err(|e| SimError::Model {
-        message: format!(
-            "{} rail_profile (track file): {}",
-            side.name(),
-            model_message(e)
-        ),
+        message: format!("{} rail_profile (track file): {e}", side.name()),
     })?;
     let inclination = section.inclination;
     let pair = WheelRailPair::new(&PairSpec {
@@ -576,28 +571,17 @@ fn build_contact(
     })
 }
 
-/// The message of a [`SimError::Model`] (other errors as displayed).
-fn model_message(e: SimError) -> String {
-    match e {
-        SimError::Model { message } => message,
-        other => other.to_string(),
-    }
-}
-
-fn wheel_profile(p: &WheelProfile, running_circle_from_back: f64) -> Result<Profile, SimError> {
-    let err = |e: railsim_profile::ProfileError| SimError::Model {
-        message: e.to_string(),
-    };
+fn wheel_profile(p: &WheelProfile, running_circle_from_back: f64) -> Result<Profile, ProfileError> {
     match p {
         WheelProfile::S1002 => Ok(analytic::s1002()),
         WheelProfile::Cone { conicity } => cone(*conicity, running_circle_from_back),
-        WheelProfile::File(path) => read_profile(path, ProfileKind::Wheel).map_err(err),
+        WheelProfile::File(path) => read_profile(path, ProfileKind::Wheel),
     }
 }
 
 /// A pure cone through the running circle: radius r0 − λ·y from the flange back to 60 mm on the
 /// field side, no flange (Klingel and Wickens checks).
-fn cone(conicity: f64, running_circle_from_back: f64) -> Result<Profile, SimError> {
+fn cone(conicity: f64, running_circle_from_back: f64) -> Result<Profile, ProfileError> {
     let y0 = -running_circle_from_back + 0.005;
     let n = ((0.06 - y0) / 0.0005).ceil() as usize;
     let points: Vec<[f64; 2]> = (0..=n)
@@ -606,29 +590,18 @@ fn cone(conicity: f64, running_circle_from_back: f64) -> Result<Profile, SimErro
             [y, conicity * y]
         })
         .collect();
-    Profile::new(format!("cone:{conicity}"), ProfileKind::Wheel, points).map_err(|e| {
-        SimError::Model {
-            message: e.to_string(),
-        }
-    })
+    Profile::new(format!("cone:{conicity}"), ProfileKind::Wheel, points)
 }
 
-fn rail_profile(p: &RailProfile) -> Result<Profile, SimError> {
+fn rail_profile(p: &RailProfile) -> Result<Profile, ProfileError> {
     match p {
         RailProfile::Uic60 => Ok(analytic::uic60()),
-        RailProfile::File(path) => {
-            read_profile(path, ProfileKind::Rail).map_err(|e| SimError::Model {
-                message: e.to_string(),
-            })
-        }
+        RailProfile::File(path) => read_profile(path, ProfileKind::Rail),
     }
 }
 
 /// SIMPACK `.prw`/`.prr` files by extension, else a y–z table in mm.
-fn read_profile(
-    path: &std::path::Path,
-    kind: ProfileKind,
-) -> Result<Profile, railsim_profile::ProfileError> {
+fn read_profile(path: &std::path::Path, kind: ProfileKind) -> Result<Profile, ProfileError> {
     match path.extension().and_then(|e| e.to_str()) {
         Some("prw" | "prr") => read_simpack(path, kind),
         _ => read_table_mm(path, kind),

@@ -220,6 +220,20 @@ impl IrregularitySeries {
         IrregularitySeries::new(self.s, values)
     }
 
+    /// The first channel and end sample (index 0 or the last) whose value is further than
+    /// `limit_mm` \[mm\] (a file limit, as [`CSV_END_MAX_MM`]) from zero, in channel order, the
+    /// first sample before the last.
+    pub fn end_beyond_mm(&self, limit_mm: f64) -> Option<(Channel, usize)> {
+        let last = self.s.len().checked_sub(1)?;
+        Channel::ALL.into_iter().find_map(|c| {
+            let v = &self.values[c as usize];
+            [0, last]
+                .into_iter()
+                .find(|&k| v[k].abs() * 1e3 > limit_mm)
+                .map(|k| (c, k))
+        })
+    }
+
     /// \[m\] sample positions.
     pub fn positions(&self) -> &[f64] {
         &self.s

@@ -996,51 +996,41 @@ fn check_irregularities(
                     return None;
                 }
             };
-            let (s0, s1) = {
-                let s = series.positions();
-                (s[0], s[s.len() - 1])
-            };
-            match &p.taper_m {
-                Some(v) => {
-                    let t = *v.get_ref();
-                    let max = (s1 - s0) / 2.0;
-                    if !(t.is_finite() && t >= 0.0 && t <= max) {
-                        sink.invalid(
-                            &span_of(v),
-                            "taper_m",
-                            format!("irregularities: taper_m = {} must be between 0 and half the length of the data in {display} ({} m)", short_number(t), short_number(max)),
-                        );
-                        return None;
-                    }
-                    Some(series.tapered(t))
+            let at = series.positions();
+            let (s0, s1) = (at[0], at[at.len() - 1]);
+            if let Some(v) = &p.taper_m {
+                let t = *v.get_ref();
+                let max = (s1 - s0) / 2.0;
+                if !(t.is_finite() && t >= 0.0 && t <= max) {
+                    sink.invalid(
+                        &span_of(v),
+                        "taper_m",
+                        format!("irregularities: taper_m = {} must be between 0 and half the length of the data in {display} ({} m)", short_number(t), short_number(max)),
+                    );
+                    return None;
                 }
-                None => {
-                    // Outside its range the irregularity is zero: data that do not end there
-                    // would meet the vehicle as a step.
-                    let ends = [(s0, 0usize), (s1, series.positions().len() - 1)];
-                    for (ch, name) in irregularity::CSV_COLUMNS[1..].iter().enumerate() {
-                        let v = series.channel(irregularity::Channel::ALL[ch]);
-                        for (at, k) in ends {
-                            if v[k].abs() * 1e3 > irregularity::CSV_END_MAX_MM {
-                                sink.invalid(
-                                    &span_of(file),
-                                    "file",
-                                    format!(
-                                        "irregularities: {display}: {name} = {} at distance_m = {} (its {} row): outside its range the irregularity is zero, so a vehicle would meet a {} mm step there; expected the data to start and end within {} mm of zero, or set taper_m to fade them in and out",
-                                        short_number(v[k] * 1e3),
-                                        short_number(at),
-                                        if k == 0 { "first" } else { "last" },
-                                        short_number(v[k].abs() * 1e3),
-                                        irregularity::CSV_END_MAX_MM
-                                    ),
-                                );
-                                return None;
-                            }
-                        }
-                    }
-                    Some(series)
-                }
+                return Some(series.tapered(t));
             }
+            // Outside its range the irregularity is zero: data that do not end there would meet
+            // the vehicle as a step.
+            if let Some((c, k)) = series.end_beyond_mm(irregularity::CSV_END_MAX_MM) {
+                let v = series.channel(c)[k] * 1e3;
+                sink.invalid(
+                    &span_of(file),
+                    "file",
+                    format!(
+                        "irregularities: {display}: {} = {} at distance_m = {} (its {} row): outside its range the irregularity is zero, so a vehicle would meet a {} mm step there; expected the data to start and end within {} mm of zero, or set taper_m to fade them in and out",
+                        irregularity::CSV_COLUMNS[1 + c as usize],
+                        short_number(v),
+                        short_number(at[k]),
+                        if k == 0 { "first" } else { "last" },
+                        short_number(v.abs()),
+                        irregularity::CSV_END_MAX_MM
+                    ),
+                );
+                return None;
+            }
+            Some(series)
         }
         "synthetic" => {
             let mut ok = true;
