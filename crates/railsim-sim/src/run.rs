@@ -512,7 +512,7 @@ impl Simulation {
                     }
                     record_sample(&mut dynamics, &mut state, ts, ts, t_ns, &xs, &mut dxs)?;
                     let sample = &state.sample;
-                    check_limits(&self.model, sample)?;
+                    check_limits(&self.model, sample, ts <= self.t0 + 1e-9)?;
                     on_sample(sample);
                     if let Some(rec) = recorder.as_mut() {
                         let t0 = Instant::now();
@@ -680,14 +680,21 @@ fn stopped_integrator(
     }
 }
 
-/// Stop on derailment or a runaway body.
-fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
+/// What a limit crossed in the initial state says instead of "unstable" or "derailment": no
+/// step has been taken, so the static state itself lies beyond the limit.
+const INITIAL_BEYOND: &str = "in the initial state, before any step: the static equilibrium lies \
+     beyond the limit (check gravity_m_per_s2, the masses, the suspension's stiffnesses and \
+     the rail support)";
+
+/// Stop on derailment or a runaway body; `initial`: the sample is the initial state.
+fn check_limits(model: &SimModel, s: &Sample, initial: bool) -> Result<(), SimError> {
     let stop = |body: &str, quantity: String| SimError::Stopped {
         t: s.t,
         body: body.to_owned(),
         quantity,
         log: None,
     };
+    let why = |running: &'static str| if initial { INITIAL_BEYOND } else { running };
     for (i, mm) in model.members.iter().enumerate() {
         let q = |k: usize| model.coord(i, k, &s.x);
         match mm.kind {
@@ -696,9 +703,10 @@ fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
                     return Err(stop(
                         &mm.name,
                         format!(
-                            "lateral displacement {:.1} mm exceeds {:.0} mm (derailment)",
+                            "lateral displacement {:.1} mm exceeds {:.0} mm ({})",
                             q(1) * 1e3,
-                            DERAILMENT_LATERAL * 1e3
+                            DERAILMENT_LATERAL * 1e3,
+                            why("derailment")
                         ),
                     ));
                 }
@@ -706,9 +714,10 @@ fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
                     return Err(stop(
                         &mm.name,
                         format!(
-                            "lift {:.1} mm exceeds {:.0} mm (derailment)",
+                            "lift {:.1} mm exceeds {:.0} mm ({})",
                             q(2) * 1e3,
-                            DERAILMENT_LIFT * 1e3
+                            DERAILMENT_LIFT * 1e3,
+                            why("derailment")
                         ),
                     ));
                 }
@@ -719,9 +728,10 @@ fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
                         return Err(stop(
                             &mm.name,
                             format!(
-                                "displacement {} = {:.3} m exceeds {BODY_DISPLACEMENT_LIMIT} m (unstable)",
+                                "displacement {} = {:.3} m exceeds {BODY_DISPLACEMENT_LIMIT} m ({})",
                                 ["x", "y", "z"][k],
-                                q(k)
+                                q(k),
+                                why("unstable")
                             ),
                         ));
                     }
@@ -729,9 +739,10 @@ fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
                         return Err(stop(
                             &mm.name,
                             format!(
-                                "{} = {:.3} rad exceeds {BODY_ROTATION_LIMIT} rad (unstable)",
+                                "{} = {:.3} rad exceeds {BODY_ROTATION_LIMIT} rad ({})",
                                 ["roll", "pitch", "yaw"][k],
-                                q(3 + k)
+                                q(3 + k),
+                                why("unstable")
                             ),
                         ));
                     }
@@ -750,9 +761,10 @@ fn check_limits(model: &SimModel, s: &Sample) -> Result<(), SimError> {
                         wheel.side.name()
                     ),
                     format!(
-                        "{axis} displacement {:.1} mm exceeds {:.0} mm (unstable)",
+                        "{axis} displacement {:.1} mm exceeds {:.0} mm ({})",
                         r[k] * 1e3,
-                        RAIL_DISPLACEMENT_LIMIT * 1e3
+                        RAIL_DISPLACEMENT_LIMIT * 1e3,
+                        why("unstable")
                     ),
                 ));
             }

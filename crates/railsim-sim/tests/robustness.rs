@@ -308,3 +308,46 @@ fn a_restart_checks_its_state_and_time_and_a_restart_at_the_start_is_the_run() {
         .to_string();
     assert!(e.contains("not after its start at 0.1 s"), "{e}");
 }
+
+/// A static equilibrium beyond a limit is not an instability: with three times the earth's
+/// gravity the Manchester vehicle's carbody rests 0.67 m low on its springs, beyond the 0.5 m
+/// limit of a runaway body, before any step. The stop names the carbody and says that the
+/// initial state is beyond the limit and which keys to check (it said "unstable").
+#[test]
+fn a_static_state_beyond_a_limit_is_not_called_unstable() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let vehicle = std::fs::read_to_string(root.join("vehicles/manchester_vehicle1.toml")).unwrap();
+    let heavy = vehicle.replace("gravity_m_per_s2 = 9.81", "gravity_m_per_s2 = 30");
+    assert_ne!(heavy, vehicle);
+    let dir = std::env::temp_dir().join(format!("railsim-gravity-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("v.toml"), heavy).unwrap();
+    let scene_text = format!(
+        "vehicle = \"v.toml\"\ntrack = \"{}\"\nspeed_kmh = 198\nduration_s = 0.05\n",
+        root.join("tracks/straight.toml").display()
+    );
+    let scene = Scene::from_toml_str(&scene_text, "s.toml", &dir).unwrap();
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let result = Simulation::new(&scene)
+        .and_then(|mut sim| sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {}));
+    let _ = std::fs::remove_dir_all(&dir);
+    match result {
+        Err(SimError::Stopped {
+            t, body, quantity, ..
+        }) => {
+            assert_eq!(t, 0.0);
+            assert_eq!(body, "carbody");
+            assert!(
+                quantity.starts_with("displacement z = -0.6")
+                    && quantity.contains("in the initial state, before any step")
+                    && quantity.contains("gravity_m_per_s2")
+                    && !quantity.contains("unstable"),
+                "{quantity}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+}
