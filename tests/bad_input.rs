@@ -183,6 +183,33 @@ fn case_table_errors_name_line_and_column() {
     assert!(e.to_string().contains("finite"), "{e}");
 }
 
+/// Every bad line of a case table is reported in one pass (each with its first problem), up to
+/// `MAX_CASE_ERRORS`, then a count; it stopped at the first.
+#[test]
+fn every_bad_line_of_a_case_table_is_reported() {
+    use railsim_contact::contact_format::MAX_CASE_ERRORS;
+    let head = "side,y_ws_mm,yaw_ws_rad,roll_ws_rad,vpitch_rad_s,fz_target_N\n";
+    let text = format!(
+        "{head}left,1,0,0,-4.3,1e4\nright,abc,0,0,-4.3,1e4\nleft,2,0,0,-4.3,1e4\n\
+         middle,1,0,0,-4.3,1e4\nleft,1,0,0,NaN,1e4\n"
+    );
+    let e = parse_cases_csv(&text, "cases.csv").unwrap_err();
+    let msg = e.to_string();
+    let lines: Vec<&str> = msg.lines().collect();
+    assert_eq!(lines.len(), 3, "{msg}");
+    assert!(lines[0].starts_with("cases.csv:3: column 'y_ws_mm'"), "{msg}");
+    assert!(lines[1].starts_with("cases.csv:5: column 'side'"), "{msg}");
+    assert!(lines[2].starts_with("cases.csv:6: column 'vpitch_rad_s'"), "{msg}");
+    assert_eq!((e.line, e.more.len(), e.unreported), (3, 2, 0));
+    // many bad lines: the first MAX_CASE_ERRORS, then how many more
+    let many = format!("{head}{}", "left,x,0,0,-4.3,1e4\n".repeat(MAX_CASE_ERRORS + 7));
+    let e = parse_cases_csv(&many, "m.csv").unwrap_err();
+    assert_eq!((e.more.len() + 1, e.unreported), (MAX_CASE_ERRORS, 7));
+    let msg = e.to_string();
+    assert_eq!(msg.lines().count(), MAX_CASE_ERRORS + 1, "{msg}");
+    assert!(msg.ends_with("m.csv: 7 more bad lines not shown"), "{msg}");
+}
+
 #[test]
 fn bad_options_are_rejected() {
     let e = ContactModelKind::from_name("exact").unwrap_err();

@@ -122,9 +122,9 @@ pub fn to_contact(side: Side, p: &PatchResult) -> ContactRow {
     }
 }
 
-/// Error in a table of cases.
-#[derive(Debug, thiserror::Error, Clone, PartialEq)]
-#[error("{source_name}:{line}: {message}")]
+/// Error in a table of cases: the first bad line, and the problems of further bad lines (one
+/// per line, at most [`MAX_CASE_ERRORS`] in all) so that a table is mended in one pass.
+#[derive(Debug, Clone, PartialEq)]
 pub struct CaseError {
     /// File name or other source label.
     pub source_name: String,
@@ -132,7 +132,33 @@ pub struct CaseError {
     pub line: usize,
     /// What is wrong, naming the column and the value.
     pub message: String,
+    /// Further bad lines: (1-based line, what is wrong).
+    pub more: Vec<(usize, String)>,
+    /// Bad lines beyond those reported.
+    pub unreported: usize,
 }
+
+/// Most bad lines of a case table reported in one [`CaseError`].
+pub const MAX_CASE_ERRORS: usize = 20;
+
+impl std::fmt::Display for CaseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}: {}", self.source_name, self.line, self.message)?;
+        for (line, message) in &self.more {
+            write!(f, "\n{}:{line}: {message}", self.source_name)?;
+        }
+        if self.unreported > 0 {
+            write!(
+                f,
+                "\n{}: {} more bad lines not shown",
+                self.source_name, self.unreported
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for CaseError {}
 
 /// Read a comma-separated table of cases with CONTACT's column names: `side`, `y_ws_mm`,
 /// `yaw_ws_rad`, `roll_ws_rad`, `vpitch_rad_s`, and `fz_target_N` or `z_ws_mm` (an empty
@@ -147,6 +173,8 @@ pub fn parse_cases_csv(
         source_name: source_name.to_string(),
         line,
         message,
+        more: vec![],
+        unreported: 0,
     };
     // (a byte-order mark, as spreadsheet programs write, is not part of the first column's name)
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
@@ -197,76 +225,101 @@ pub fn parse_cases_csv(
     let c_case = find("case");
     let c_v = find("speed_mm_s");
     let mut out = Vec::new();
+    let mut bad: Option<CaseError> = None;
     for (ln, l) in lines {
-        let f: Vec<&str> = l.split(',').map(str::trim).collect();
-        let get = |c: usize, name: &str| -> Result<&str, CaseError> {
-            f.get(c).copied().ok_or_else(|| {
-                err(
-                    ln,
-                    format!(
-                        "column '{name}' is missing: the line has only {} fields",
-                        f.len()
-                    ),
-                )
-            })
-        };
-        let num = |c: usize, name: &str| -> Result<f64, CaseError> {
-            let s = get(c, name)?;
-            let v: f64 = s.parse().map_err(|_| {
-                err(
-                    ln,
-                    format!("column '{name}': expected a number, found \"{s}\""),
-                )
-            })?;
-            if !v.is_finite() {
+        // (a bad line is reported and the next one read: every bad line in one pass)
+        let row = (|| -> Result<ContactCase, CaseError> {
+            let f: Vec<&str> = l.split(',').map(str::trim).collect();
+            let get = |c: usize, name: &str| -> Result<&str, CaseError> {
+                f.get(c).copied().ok_or_else(|| {
+                    err(
+                        ln,
+                        format!(
+                            "column '{name}' is missing: the line has only {} fields",
+                            f.len()
+                        ),
+                    )
+                })
+            };
+            let num = |c: usize, name: &str| -> Result<f64, CaseError> {
+                let s = get(c, name)?;
+                let v: f64 = s.parse().map_err(|_| {
+                    err(
+                        ln,
+                        format!("column '{name}': expected a number, found \"{s}\""),
+                    )
+                })?;
+                if !v.is_finite() {
+                    return Err(err(
+                        ln,
+                        format!("column '{name}': expected a finite number, found \"{s}\""),
+                    ));
+                }
+                Ok(v)
+            };
+            let opt_num = |c: Option<usize>, name: &str| -> Result<Option<f64>, CaseError> {
+                match c {
+                    Some(c) if f.get(c).is_some_and(|s| !s.is_empty()) => num(c, name).map(Some),
+                    _ => Ok(None),
+                }
+            };
+            let side = match get(c_side, "side")?.to_ascii_lowercase().as_str() {
+                "left" | "l" => Side::Left,
+                "right" | "r" => Side::Right,
+                other => {
+                    return Err(err(
+                        ln,
+                        format!("column 'side': expected left or right, found \"{other}\""),
+                    ));
+                }
+            };
+            let fz = opt_num(c_fz, "fz_target_N")?;
+            let z = opt_num(c_z, "z_ws_mm")?;
+            if fz.is_none() && z.is_none() {
                 return Err(err(
                     ln,
-                    format!("column '{name}': expected a finite number, found \"{s}\""),
+                    "expected a value in fz_target_N or z_ws_mm, found neither".into(),
                 ));
             }
-            Ok(v)
-        };
-        let opt_num = |c: Option<usize>, name: &str| -> Result<Option<f64>, CaseError> {
-            match c {
-                Some(c) if f.get(c).is_some_and(|s| !s.is_empty()) => num(c, name).map(Some),
-                _ => Ok(None),
+            let case = ContactCase {
+                side,
+                y_ws_mm: num(c_y, "y_ws_mm")?,
+                yaw_ws_rad: num(c_yaw, "yaw_ws_rad")?,
+                roll_ws_rad: num(c_roll, "roll_ws_rad")?,
+                vpitch_rad_s: num(c_vp, "vpitch_rad_s")?,
+                z_ws_mm: if fz.is_some() { None } else { z },
+                fz_target_n: fz,
+                speed_mm_s: opt_num(c_v, "speed_mm_s")?.unwrap_or(2000.0),
+            };
+            Ok(case)
+        })();
+        match (row, &mut bad) {
+            (Ok(case), None) => {
+                let label = match c_case {
+                    Some(c) => l
+                        .split(',')
+                        .nth(c)
+                        .map(|s| s.trim().to_string())
+                        .unwrap_or_default(),
+                    None => format!("{}", out.len() + 1),
+                };
+                out.push((label, case));
             }
-        };
-        let side = match get(c_side, "side")?.to_ascii_lowercase().as_str() {
-            "left" | "l" => Side::Left,
-            "right" | "r" => Side::Right,
-            other => {
-                return Err(err(
-                    ln,
-                    format!("column 'side': expected left or right, found \"{other}\""),
-                ));
+            (Ok(_), Some(_)) => {}
+            (Err(e), None) => bad = Some(e),
+            (Err(e), Some(first)) => {
+                if first.more.len() + 1 < MAX_CASE_ERRORS {
+                    first.more.push((e.line, e.message));
+                } else {
+                    first.unreported += 1;
+                }
             }
-        };
-        let fz = opt_num(c_fz, "fz_target_N")?;
-        let z = opt_num(c_z, "z_ws_mm")?;
-        if fz.is_none() && z.is_none() {
-            return Err(err(
-                ln,
-                "expected a value in fz_target_N or z_ws_mm, found neither".into(),
-            ));
         }
-        let case = ContactCase {
-            side,
-            y_ws_mm: num(c_y, "y_ws_mm")?,
-            yaw_ws_rad: num(c_yaw, "yaw_ws_rad")?,
-            roll_ws_rad: num(c_roll, "roll_ws_rad")?,
-            vpitch_rad_s: num(c_vp, "vpitch_rad_s")?,
-            z_ws_mm: if fz.is_some() { None } else { z },
-            fz_target_n: fz,
-            speed_mm_s: opt_num(c_v, "speed_mm_s")?.unwrap_or(2000.0),
-        };
-        let label = match c_case {
-            Some(c) => f.get(c).map(|s| s.to_string()).unwrap_or_default(),
-            None => format!("{}", out.len() + 1),
-        };
-        out.push((label, case));
     }
-    Ok(out)
+    match bad {
+        Some(e) => Err(e),
+        None => Ok(out),
+    }
 }
 
 /// What [`solve_case`] found besides the patches.
