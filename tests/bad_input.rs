@@ -197,12 +197,21 @@ fn every_bad_line_of_a_case_table_is_reported() {
     let msg = e.to_string();
     let lines: Vec<&str> = msg.lines().collect();
     assert_eq!(lines.len(), 3, "{msg}");
-    assert!(lines[0].starts_with("cases.csv:3: column 'y_ws_mm'"), "{msg}");
+    assert!(
+        lines[0].starts_with("cases.csv:3: column 'y_ws_mm'"),
+        "{msg}"
+    );
     assert!(lines[1].starts_with("cases.csv:5: column 'side'"), "{msg}");
-    assert!(lines[2].starts_with("cases.csv:6: column 'vpitch_rad_s'"), "{msg}");
+    assert!(
+        lines[2].starts_with("cases.csv:6: column 'vpitch_rad_s'"),
+        "{msg}"
+    );
     assert_eq!((e.line, e.more.len(), e.unreported), (3, 2, 0));
     // many bad lines: the first MAX_CASE_ERRORS, then how many more
-    let many = format!("{head}{}", "left,x,0,0,-4.3,1e4\n".repeat(MAX_CASE_ERRORS + 7));
+    let many = format!(
+        "{head}{}",
+        "left,x,0,0,-4.3,1e4\n".repeat(MAX_CASE_ERRORS + 7)
+    );
     let e = parse_cases_csv(&many, "m.csv").unwrap_err();
     assert_eq!((e.more.len() + 1, e.unreported), (MAX_CASE_ERRORS, 7));
     let msg = e.to_string();

@@ -55,6 +55,20 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
             .collect::<Vec<_>>()
     );
     assert!(reader.metadata().contains_key("railsim_sources"));
+    // The wheelset's logged angular velocity includes its spin: V / r0 about the axle at
+    // forward rolling (10 m/s on r0 = 0.46 m, conical wheels; it was logged as 0).
+    let ws = reader
+        .read_topic::<railsim_log::messages::BodyState>("/bodies/ws", None)
+        .unwrap();
+    for (_, m) in &ws {
+        let rolling = m.velocity[0] / 0.46;
+        assert!(
+            (m.angular_velocity[1] / rolling - 1.0).abs() < 0.01,
+            "t {}: spin {} rad/s, V / r0 {rolling}",
+            m.t_s,
+            m.angular_velocity[1]
+        );
+    }
     let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("agrees"), "{out}");

@@ -264,7 +264,7 @@ fn sequence(
     let side = railsim_contact::Side::Right;
     let vel = WheelsetVelocity {
         vx: 55.0,
-        spin: -55.0 / 0.46,
+        spin: 55.0 / 0.46, // forward rolling (+V/r0; it was reversed, a full slide)
         ..Default::default()
     };
     let mut ws = ContactWorkspace::new();

@@ -100,7 +100,7 @@ fn pose_sequence(c: &WheelRailContact, n: usize) {
     use railsim_contact::{Side, WarmStart, WheelsetPose, WheelsetVelocity};
     let vel = WheelsetVelocity {
         vx: 55.0,
-        spin: -55.0 / 0.46,
+        spin: 55.0 / 0.46, // forward rolling (+V/r0; it was reversed, a full slide)
         ..Default::default()
     };
     let mut ws = ContactWorkspace::new();

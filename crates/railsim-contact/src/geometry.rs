@@ -219,9 +219,10 @@ pub(crate) fn locus_sin(tan_yaw: f64, rho_p: f64) -> f64 {
     (-tan_yaw * rho_p).clamp(-0.5, 0.5)
 }
 
-/// cos(theta) from sin(theta) by series: |sin theta| <= 0.5 (the pair's yaw limit,
-/// [`crate::pair::LocusLimits`], keeps |tan(yaw) rho'| below 0.5; the clamp is a guard), with
-/// errors below 1e-5 relative there and below 1e-10 for the yaw angles of running vehicles.
+/// cos(theta) from sin(theta) by the series of sqrt(1 - s²) to s⁶: |sin theta| <= 0.5 (the
+/// pair's yaw limit, [`crate::pair::LocusLimits`], keeps |tan(yaw) rho'| below 0.5; the clamp is
+/// a guard). Relative error 2.1e-4 at the clamp, 2.9e-6 at 0.3, and 8e-11 at 0.082, the largest
+/// |sin theta| of S1002 at its yaw limit (29.9 mrad).
 #[inline]
 pub(crate) fn locus_cos(st: f64) -> f64 {
     let s2 = st * st;

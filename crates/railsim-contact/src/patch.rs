@@ -275,3 +275,44 @@ pub fn reference_point(pairs: &[IsoPair], zone: &Zone) -> (IsoPair, f64) {
         angle,
     )
 }
+
+/// \[N·m\] A patch's spin moment moved from one point to another: `mz` about the normal at the
+/// first point, the patch force `fx` (along the track) and `fs` (along the patch tangent `t`),
+/// the second point `dx` along the track and `dl` along `t` from the first. The moment about
+/// the second point along the normal is `mz + ((r - r_ref) × F)·n = mz + dl·fx - dx·fs` for the
+/// right-handed patch axes (x, t, n), `(e_x × t)·n = 1` (rigid-body statics; the normal force
+/// and the moments about x and t are not part of a patch's reported spin moment).
+pub fn spin_moment_moved(mz: f64, fx: f64, fs: f64, dx: f64, dl: f64) -> f64 {
+    mz + dl * fx - dx * fs
+}
+
+#[cfg(test)]
+mod moved_tests {
+    use super::spin_moment_moved;
+    use crate::pose::{cross, dot3};
+
+    /// Against the cross product in three dimensions, for patch tangents at several contact
+    /// angles and both signs of every offset and force.
+    #[test]
+    fn the_moved_spin_moment_is_the_cross_product_about_the_new_point() {
+        for (k, angle) in [-1.2f64, -0.3, 0.0, 0.4, 1.22].into_iter().enumerate() {
+            let (sa, ca) = angle.sin_cos();
+            // patch axes in (x, y, z): x along the track, t and n in the cross-section
+            let (t, n) = ([0.0, ca, sa], [0.0, -sa, ca]);
+            assert!((dot3(cross([1.0, 0.0, 0.0], t), n) - 1.0).abs() < 1e-15);
+            let sgn = if k % 2 == 0 { 1.0 } else { -1.0 };
+            let (fx, fs, fnn, mz) = (1200.0 * sgn, -3400.0, 6e4, 17.0 * sgn);
+            let (dx, dl) = (-2.7e-3 * sgn, 0.8e-3);
+            let f: [f64; 3] =
+                std::array::from_fn(|i| fx * [1.0, 0.0, 0.0][i] + fs * t[i] + fnn * n[i]);
+            // r - r_ref: minus the offset of the new point
+            let r: [f64; 3] = std::array::from_fn(|i| -(dx * [1.0, 0.0, 0.0][i] + dl * t[i]));
+            let expected = mz + dot3(cross(r, f), n);
+            let got = spin_moment_moved(mz, fx, fs, dx, dl);
+            assert!(
+                (got - expected).abs() < 1e-9,
+                "{angle}: {got} vs {expected}"
+            );
+        }
+    }
+}

@@ -13,12 +13,11 @@
 //! bracket of `s_r` that is narrowed by the sign of `g'`, with fixed descent steps where `g` is
 //! not convex.
 //!
-//! A minimum with a negative gap is a zone. Two neighbouring minima of one run are two zones
-//! when the largest gap between them (Newton again, for the maximum) is positive, or when the
-//! `find_zones` rule of the travelling splits them (the penetration there below
-//! `split_depth_ratio` of the smaller one and contact angles more than `split_angle` apart);
-//! otherwise the deeper one is the zone. The result has the same form as a travelling: one
-//! pair per zone and zones of one pair each, so the Hertz patch frame is built as before.
+//! A minimum with a negative gap is a well; between neighbouring minima of one run the largest
+//! gap is found by Newton again, for the maximum. Ripples are dropped and every well becomes a
+//! zone carrying its share of the run (`crate::wells`, docs/models/contact.md §4.1). The result
+//! has the same form as a travelling: one pair per zone and zones of one pair each, so the
+//! Hertz patch frame is built as before.
 //!
 //! The same broad phase also restricts a cold travelling to windows around its candidates
 //! (`travel_windows`).

@@ -78,11 +78,13 @@ pub struct BodyState {
     /// \[m\] position of the body reference point: its nominal position in the vehicle plus its
     /// coordinates in its own track-following frame T (x along the track, so not the distance s)
     pub position: [f64; 3],
-    /// \[1\] orientation of the body frame relative to its track-following frame T
+    /// \[1\] orientation of the body frame relative to its track-following frame T (a
+    /// wheelset's axle frame, without the spin angle)
     pub orientation: Quaternion,
     /// \[m/s\] absolute velocity of the body reference point, components in T
     pub velocity: [f64; 3],
-    /// \[rad/s\] absolute angular velocity of the body, components in T
+    /// \[rad/s\] absolute angular velocity of the body, components in T (a wheelset's with
+    /// its spin about the axle)
     pub angular_velocity: [f64; 3],
 }
 

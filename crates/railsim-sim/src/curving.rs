@@ -698,9 +698,10 @@ fn steady_start(
 }
 
 /// \[m\] the contact step at and below which STRIPES' forces are smooth enough for Newton in
-/// flange contact (the Manchester vehicle at R = 300 m, 100 mm cant, 80 km/h: 9 iterations at
-/// 0.5 mm and 33 at 0.2 mm, where at the default 1 mm the strips leave some 250 N of lateral
-/// force that no state removes, above the 55 N tolerance).
+/// flange contact (measured before stop 26 on the Manchester vehicle at R = 300 m, 100 mm cant,
+/// 80 km/h: 9 iterations at 0.5 mm and 33 at 0.2 mm, where at the default 1 mm the strips left
+/// some 250 N of lateral force that no state removed, above the 55 N tolerance; with the
+/// vehicle's loaded geometry that case converges at 1 mm too, in 32 iterations).
 const SMOOTH_STRIPES_STEP: f64 = 0.5e-3;
 
 /// For a failed quasi-static solution with `stripes` at a coarser contact step than

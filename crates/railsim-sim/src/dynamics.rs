@@ -729,6 +729,11 @@ impl Dynamics<'_> {
                 sliding = Some(f0);
             }
         }
+        // The static preload: the law gives the force beyond it, from the nominal geometry.
+        for k in 0..3 {
+            f[k] += el.preload[k];
+            mo[k] += el.preload[3 + k];
+        }
         self.ws.element_force[ei] = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
         if self.ws.record {
             let states = el.law.internal_states();
@@ -764,10 +769,13 @@ impl Dynamics<'_> {
             k.force = add(k.force, force);
             k.moment = add(add(k.moment, cross(sub(p2, k.cog), force)), moment);
         }
+        // The reaction on body 1 acts at the same point, P2: the massless element passes force
+        // and moment through unchanged, so the pair conserves momentum and angular momentum
+        // and the element's power above is the work done on the two bodies.
         if let End::Member(i) = el.ends[0] {
             let k = &mut self.ws.kin[i.0];
             k.force = sub(k.force, force);
-            k.moment = sub(sub(k.moment, cross(sub(p1, k.cog), force)), moment);
+            k.moment = sub(sub(k.moment, cross(sub(p2, k.cog), force)), moment);
         }
     }
 

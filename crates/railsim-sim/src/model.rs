@@ -107,6 +107,11 @@ pub struct ElementModel {
     /// Index of the (first) internal state in the state vector, if the element has any (a
     /// planar friction has two, one after the other).
     pub internal: Option<usize>,
+    /// \[N ×3, N·m ×3\] static preload on body 2, local axes: the element's force in the
+    /// vehicle's static equilibrium (`StaticEquilibrium::element_force`), added to its law so
+    /// that the nominal (loaded) geometry of the vehicle file is in equilibrium. Set by
+    /// `Simulation::new`; zero for the dissipative elements.
+    pub preload: [f64; 6],
 }
 
 /// One wheel: a contact pair evaluated online.
@@ -334,6 +339,7 @@ impl SimModel {
                 axes: f.axes,
                 law: f.law.clone(),
                 internal,
+                preload: [0.0; 6],
             });
         }
         let is_friction = |e: &ElementModel| e.law.is_friction();

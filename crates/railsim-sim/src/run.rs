@@ -20,8 +20,8 @@ use crate::assess::{
 };
 use crate::dynamics::{CostSplit, Dynamics, ElementRecord, MemberKin, Workspace, rail_frame};
 use crate::error::SimError;
-use crate::math::{add, cross, mul, mul_t, quaternion, rotation_rpy};
-use crate::model::{MemberKind, SimModel};
+use crate::math::{V3, add, cross, mul, mul_t, quaternion, rotation_rpy, scale};
+use crate::model::{MemberKind, MemberModel, SimModel};
 use crate::scene::{InitialState, Scene, Topic};
 
 /// \[m\] wheelset lateral displacement relative to the track beyond which a run stops as a
@@ -198,21 +198,15 @@ impl Simulation {
             .map_err(|e| SimError::Initial {
                 message: e.to_string(),
             })?;
+        // The vehicle file gives the nominal, loaded geometry: each element carries its static
+        // force as a preload, and the bodies start at their nominal positions (plus the
+        // wheelsets' mean sink on their rails, below).
+        for (el, f) in model.elements.iter_mut().zip(&stat.element_force) {
+            el.preload = *f;
+        }
         let mut x0 = vec![0.0; model.dim()];
         let nb = scene.vehicle.bodies().len();
         let (_, v0, _) = model.motion(0.0);
-        for (i, mm) in model.members.iter().enumerate() {
-            let disp = if i < nb {
-                stat.body_displacement[i]
-            } else {
-                stat.wheelset_displacement[i - nb]
-            };
-            for k in 0..6 {
-                if let Some(ix) = mm.pos[k] {
-                    x0[ix] = disp[k];
-                }
-            }
-        }
         let mut ws = Workspace::new(&model);
         let mut sink = 0.0;
         let mut rolling = vec![0.0; model.members.len()];
@@ -268,7 +262,7 @@ impl Simulation {
                     x0[i + 1] = support[k][1];
                 }
             }
-            sink += z - (mm.p0[2] - radius) - stat.wheelset_displacement[w][2];
+            sink += z - (mm.p0[2] - radius);
             let set = |x: &mut Vec<f64>, k: usize, val: f64| {
                 if let Some(ix) = mm.pos[k] {
                     x[ix] = val;
@@ -289,7 +283,7 @@ impl Simulation {
             }
         }
         follow_rails(&model, &mut x0);
-        // Bodies follow the mean contact sink of the wheelsets beyond the static solve's.
+        // Bodies follow the wheelsets' mean sink on their rails (the contact's deflection).
         let nw = scene.vehicle.wheelsets().len().max(1) as f64;
         for mm in model.members.iter().take(nb) {
             if let Some(ix) = mm.pos[2] {
@@ -1386,7 +1380,7 @@ impl Recorder {
                         w: quat[3],
                     },
                     velocity: mul_t(&k.frame, k.vel),
-                    angular_velocity: mul_t(&k.frame, k.omega),
+                    angular_velocity: mul_t(&k.frame, body_angular_velocity(mm, k)),
                 };
                 if let Some(channel) = self.bodies.get(i) {
                     self.writer.write(channel, t_ns, &msg)?;
@@ -1486,4 +1480,14 @@ impl Recorder {
         self.writer.write_metadata("railsim_result", m)?;
         Ok(self.writer.finish()?)
     }
+}
+
+/// \[rad/s\] a member's absolute angular velocity, a wheelset's with its spin about the axle
+/// (its kinematics keep the spin apart: `MemberKin::omega` is the non-spinning axle frame's).
+fn body_angular_velocity(mm: &MemberModel, k: &MemberKin) -> V3 {
+    if !mm.is_wheelset() {
+        return k.omega;
+    }
+    let axle = [k.orient[0][1], k.orient[1][1], k.orient[2][1]];
+    add(k.omega, scale(k.qd[4], axle))
 }

@@ -67,9 +67,11 @@ fn print(r: &SteadyCurving) {
 }
 
 /// R = 300 m, 100 mm cant, 80 km/h (0.99 m/s² uncompensated, 151 mm cant deficiency),
-/// `polach`. Values when written, left curve: leading wheelsets 6.28 / 6.25 mm outward, angle
-/// of attack 7.7 / 6.9 mrad toward the outside, outer Y/Q 0.42 / 0.32; trailing wheelsets
-/// 0.7 / 0.9 mm inward; ΣY over the vehicle −43.94 kN against −M a = −43.95 kN.
+/// `polach`. Values at stop 26, left curve: leading wheelsets 6.28 / 6.24 mm outward, angle of
+/// attack 7.8 / 7.0 mrad toward the outside, outer Y/Q 0.39 / 0.30 (outer Q 74.4 / 71.6 kN);
+/// trailing wheelsets 0.8 / 1.1 mm inward. (When written, outer Y/Q 0.42 / 0.32: the vehicle
+/// then rested 0.22 m low on its springs, and the higher carbody of its loaded geometry moves
+/// more load onto the outer wheels.)
 /// \[kg\] the vehicle's mass from the run's static axle loads.
 fn vehicle_mass(r: &SteadyCurving) -> f64 {
     let CurvingSolution::Run(summary) = &r.solution else {
@@ -104,7 +106,7 @@ fn a_bogie_vehicle_curves_with_its_leading_wheelsets_in_flange_contact() {
         // out toward the outer (right) rail, nose toward the outside, flange force there
         assert!(l.lateral < -5e-3, "ws{lead}: {l:?}");
         assert!(l.angle_of_attack < -3e-3, "ws{lead}: {l:?}");
-        assert!(l.wheels[1].y_over_q > 0.3, "ws{lead}: {l:?}");
+        assert!(l.wheels[1].y_over_q > 0.25, "ws{lead}: {l:?}");
         assert!(l.wheels[1].y_over_q > t.wheels[1].y_over_q + 0.1);
         // the trailing wheelset near the centre
         assert!(t.lateral.abs() < 2e-3, "ws{}: {t:?}", lead + 1);
@@ -416,13 +418,15 @@ fn the_quasi_static_solution_with_stripes_starts_from_polach() {
     }
 }
 
-/// `stripes` at R = 300 m, 100 mm cant, 80 km/h, in flange contact: at the default contact step
-/// of 1 mm its strips leave some 250 N of force that no state removes (Newton's tolerance is
-/// 55 N), so the quasi-static solution is an error, which names the remedy; at 0.5 mm it
-/// converges, within 0.05 mm and 0.3 mrad of `polach`'s leading wheelsets (the time
-/// integration's means of the two models differ by 0.02 mm and 0.16 mrad there, §10).
+/// `stripes` at R = 300 m, 100 mm cant, 80 km/h, in flange contact, quasi-static at the default
+/// contact step of 1 mm and at 0.5 mm: both converge, within 0.05 mm and 0.3 mrad of `polach`'s
+/// leading wheelsets (the time integration's means of the two models differ by 0.02 mm and
+/// 0.16 mrad there, §10). Measured: 32 and 30 iterations, within 0.016 mm and 0.15 mrad. Until
+/// stop 26 (the vehicle's loaded geometry, docs/models/dynamics.md) the strips left some 250 N at
+/// 1 mm that no state removed and Newton stalled there; the error's hint to refine the step
+/// (`SMOOTH_STRIPES_STEP`) stays for cases that do.
 #[test]
-fn stripes_needs_a_finer_step_for_newton_in_flange_contact() {
+fn stripes_converges_in_flange_contact_at_the_default_and_a_finer_step() {
     let c = CurveCase {
         radius: 300.0,
         cant: 0.1,
@@ -432,17 +436,26 @@ fn stripes_needs_a_finer_step_for_newton_in_flange_contact() {
     let (run, qs) = (CurvingRun::default(), QuasiStatic::default());
     let mut scene = polach_scene();
     scene.contact.model = railsim_contact::ContactModelKind::Stripes;
-    let e = quasi_static_curving(&scene, &c, &run, &qs)
-        .expect_err("stalls at 1 mm")
-        .to_string();
-    assert!(e.contains("[contact] step_mm = 0.5"), "{e}");
+    let coarse = quasi_static_curving(&scene, &c, &run, &qs).unwrap_or_else(|e| panic!("{e}"));
     scene.contact.travel.step = 0.5e-3;
     let fine = quasi_static_curving(&scene, &c, &run, &qs).unwrap_or_else(|e| panic!("{e}"));
     let polach = quasi_static_curving(&polach_scene(), &c, &run, &qs).unwrap();
     print(&fine);
-    for k in [0, 2] {
-        let (a, b) = (&polach.wheelsets[k], &fine.wheelsets[k]);
-        assert!((a.lateral - b.lateral).abs() < 0.05e-3, "{a:?}\n{b:?}");
-        assert!((a.angle_of_attack - b.angle_of_attack).abs() < 0.3e-3);
+    for (r, step) in [(&coarse, "1 mm"), (&fine, "0.5 mm")] {
+        let CurvingSolution::QuasiStatic {
+            iterations,
+            residual,
+            ..
+        } = r.solution
+        else {
+            panic!("not quasi-static")
+        };
+        eprintln!("{step}: {iterations} iterations, residual {residual:.3}");
+        assert!(residual <= 1.0);
+        for k in [0, 2] {
+            let (a, b) = (&polach.wheelsets[k], &r.wheelsets[k]);
+            assert!((a.lateral - b.lateral).abs() < 0.05e-3, "{step}: {a:?}\n{b:?}");
+            assert!((a.angle_of_attack - b.angle_of_attack).abs() < 0.3e-3, "{step}");
+        }
     }
 }

@@ -68,6 +68,15 @@ fn manchester_vehicle_rests_in_static_equilibrium_without_drift() {
     );
     assert!(worst < 0.01, "wheel load off by {:.2} %", worst * 100.0);
     assert!((z10 - z5).abs() < 1e-5, "carbody drifts {} m", z10 - z5);
+    // The vehicle file's geometry is the loaded one (docs/formats/vehicle.md): the elements carry
+    // their static forces as preloads and every body rests at its nominal position, less the
+    // wheels' sink on the rails (under 1 mm). Without the preloads the carbody sat 0.22 m low,
+    // its springs carrying the load across 0.18 m and 0.04 m gaps.
+    for (i, m) in sim.model().members.iter().enumerate() {
+        let z = sim.model().coord(i, 2, &samples.last().unwrap().x);
+        eprintln!("{}: z {:.3} mm from nominal", m.name, z * 1e3);
+        assert!(z.abs() < 1e-3, "{} rests {z} m from nominal", m.name);
+    }
     assert!(summary.max_lateral.iter().all(|&y| y < 1e-5));
     assert!((summary.t_end - 10.0).abs() < 1e-9);
     assert!(
@@ -384,13 +393,17 @@ fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
 /// swing of ±110 kN·m in Σ xᵢ Qᵢ for seconds). The rails push forward with F = ΣFx = ΣT/r0 and
 /// the frame holds the carbody back at its centre of gravity, h = 1.80 m above the rails; with
 /// y to the left the pitch balance of the whole vehicle about the rail level below its centre
-/// changes by Δ(Σ xᵢ Qᵢ) = −h F + M, where M is the external couple about y: ΣT = 20 kN·m when
-/// the torque's reaction acts on nothing modelled, zero when the bogie frames carry it
-/// (`torque_reaction`). Measured: −58.50 kN·m against −58.28 and −78.65 against −78.28
-/// (criterion 1 % of h F, 0.78 kN·m; the rest is the bodies' own small shifts). Within each
+/// changes by Δ(Σ xᵢ Qᵢ − Σ mⱼ g xⱼ) = −h F + M, where M is the external couple about y:
+/// ΣT = 20 kN·m when the torque's reaction acts on nothing modelled, zero when the bogie frames
+/// carry it (`torque_reaction`); positions are the members' displaced ones (the bogies and
+/// wheelsets move forward against the carbody, 69 mm in the secondary suspension). Measured
+/// (stop 26, the force elements' reactions at one point, which conserves angular momentum):
+/// −58.27 kN·m against −58.28 and −78.27 against −78.28 (criterion 1 % of h F, 0.78 kN·m;
+/// before, with nominal positions and the reactions at each body's own point, −58.50 and
+/// −78.65, two errors of about 20 kN·m that nearly cancelled). Within each
 /// bogie the couple −2T on its frame is carried by its two axles 2a = 2.56 m apart: the
 /// leading axle's load falls against the trailing one's by a further 2T/a = 7.81 kN
-/// (measured 7.85 kN; criterion 2 %).
+/// (measured 7.93 kN; criterion 2 %).
 #[test]
 fn a_traction_torque_reaction_on_the_bogie_closes_the_pitch_balance() {
     use railsim_ode::OdeSystem;
@@ -436,11 +449,19 @@ fn a_traction_torque_reaction_on_the_bogie_closes_the_pitch_balance() {
         d.rhs(last.t, &last.x, &mut dx).unwrap();
         let (mut moment, mut fx) = (0.0, 0.0);
         let mut axle = [0.0; 4];
+        // (at the members' displaced positions: the bogies and wheelsets move forward against
+        // the carbody held by the frame, e.g. 69 mm in the soft longitudinal secondary
+        // suspension, and their weights with them)
+        let x_of = |i: usize| m.members[i].p0[0] + m.coord(i, 0, &last.x);
         for (wi, w) in m.wheels.iter().enumerate() {
             let f = d.ws.wheel_force[wi];
-            moment += m.members[w.member.0].p0[0] * f[2];
+            moment += x_of(w.member.0) * f[2];
             fx += f[0];
             axle[w.wheelset_number as usize] += f[2];
+        }
+        let g = 9.81;
+        for (i, mm) in m.members.iter().enumerate() {
+            moment -= mm.mass * g * x_of(i);
         }
         results.push((moment, fx, [axle[0] - axle[1], axle[2] - axle[3]]));
     }

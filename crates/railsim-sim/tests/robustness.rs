@@ -309,22 +309,22 @@ fn a_restart_checks_its_state_and_time_and_a_restart_at_the_start_is_the_run() {
     assert!(e.contains("not after its start at 0.1 s"), "{e}");
 }
 
-/// A static equilibrium beyond a limit is not an instability: with three times the earth's
-/// gravity the Manchester vehicle's carbody rests 0.67 m low on its springs, beyond the 0.5 m
-/// limit of a runaway body, before any step. The stop names the carbody and says that the
-/// initial state is beyond the limit and which keys to check (it said "unstable").
+/// A static equilibrium beyond a limit is not an instability: on a rail support of 2 MN/m per
+/// wheel the rails of the Manchester vehicle rest 27 mm down under their 54.5 kN, beyond the
+/// 10 mm limit of the rail's displacement, before any step. The stop names the rail and says
+/// that the initial state is beyond the limit and which keys to check (it said "unstable").
 #[test]
 fn a_static_state_beyond_a_limit_is_not_called_unstable() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let vehicle = std::fs::read_to_string(root.join("vehicles/manchester_vehicle1.toml")).unwrap();
-    let heavy = vehicle.replace("gravity_m_per_s2 = 9.81", "gravity_m_per_s2 = 30");
-    assert_ne!(heavy, vehicle);
-    let dir = std::env::temp_dir().join(format!("railsim-gravity-{}", std::process::id()));
+    let track = std::fs::read_to_string(root.join("tracks/straight_elastic.toml")).unwrap();
+    let soft = track.replace("vertical_stiffness_mn_m = 100", "vertical_stiffness_mn_m = 2");
+    assert_ne!(soft, track);
+    let dir = std::env::temp_dir().join(format!("railsim-soft-rail-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("v.toml"), heavy).unwrap();
+    std::fs::write(dir.join("t.toml"), soft).unwrap();
     let scene_text = format!(
-        "vehicle = \"v.toml\"\ntrack = \"{}\"\nspeed_kmh = 198\nduration_s = 0.05\n",
-        root.join("tracks/straight.toml").display()
+        "vehicle = \"{}\"\ntrack = \"t.toml\"\nspeed_kmh = 198\nduration_s = 0.05\n",
+        root.join("vehicles/manchester_vehicle1.toml").display()
     );
     let scene = Scene::from_toml_str(&scene_text, "s.toml", &dir).unwrap();
     let opts = RunOptions {
@@ -339,11 +339,11 @@ fn a_static_state_beyond_a_limit_is_not_called_unstable() {
             t, body, quantity, ..
         }) => {
             assert_eq!(t, 0.0);
-            assert_eq!(body, "carbody");
+            assert!(body.starts_with("rail under wheelset"), "{body}");
             assert!(
-                quantity.starts_with("displacement z = -0.6")
+                quantity.starts_with("vertical displacement -27")
                     && quantity.contains("in the initial state, before any step")
-                    && quantity.contains("gravity_m_per_s2")
+                    && quantity.contains("the rail support")
                     && !quantity.contains("unstable"),
                 "{quantity}"
             );

@@ -73,14 +73,14 @@ fn released(s: &railsim_sim::Scene, lift: f64) -> (Vec<f64>, Vec<f64>) {
 
 /// Restart `sim` from its initial state with the mass `lift` \[m\] above its equilibrium on the
 /// spring, the internal states (friction slider, damper) relaxed there; the mass's state index
-/// and equilibrium. (The initial state also moves bodies by the wheelsets' contact sink, 0.19 mm
-/// here, which a body hung from the track does not share: the equilibrium is m g / k below
-/// nominal.)
+/// and equilibrium. (The spring carries the weight as its preload, so the equilibrium is the
+/// nominal position; the initial state also moves bodies by the wheelsets' contact sink,
+/// 0.19 mm here, which a body hung from the track does not share.)
 fn lift_mass(sim: &mut Simulation, lift: f64) -> (usize, f64) {
     let names = &sim.model().state_names;
     let iz = names.iter().position(|n| n == "mass.z").unwrap();
     let mut x = sim.initial_state().to_vec();
-    let z0 = -MASS * G / K_SPRING;
+    let z0 = 0.0;
     for (i, n) in names.iter().enumerate() {
         // (a planar friction's z component moves with the mass, its other one does not)
         if n.ends_with("friction slip")
@@ -451,8 +451,8 @@ fn element_forces_are_logged_as_sampled() {
         );
         assert_eq!(sp.state_m, None);
         assert_eq!(sp.sliding_force_n, None);
-        // the spring: F = -k z along its local z
-        assert!((sp.force_n[2] + K_SPRING * sp.deflection_m[2]).abs() < 1e-6);
+        // the spring: F = m g - k z along its local z (its preload carries the weight)
+        assert!((sp.force_n[2] - MASS * G + K_SPRING * sp.deflection_m[2]).abs() < 1e-6);
         // the friction's sliding force is 0.05 times the spring's force magnitude, and its own
         // force stays within it (up to the transition's overshoot while the load falls)
         let f0 = ru.sliding_force_n.unwrap();
@@ -688,14 +688,16 @@ fn the_elements_work_balances_the_mechanical_energy() {
         wa.iter().flatten().all(|w| *w == 0.0),
         "nothing before the first sample"
     );
-    // the spring's deflection is the mass's height from nominal, its force −k d
+    // the spring's deflection is the mass's height from nominal, its force m g − k d (the
+    // preload balances the weight: their potentials cancel)
     let energy = |z: f64, v: f64, ff: f64| {
-        0.5 * K_SPRING * z * z + MASS * G * z + 0.5 * MASS * v * v + ff * ff / (2.0 * K_STICK)
+        0.5 * K_SPRING * z * z + 0.5 * MASS * v * v + ff * ff / (2.0 * K_STICK)
     };
     let lost = energy(za, va, fa) - energy(zb, vb, fb);
     let by_name = |n: &str| summary.elements.iter().find(|e| e.name == n).unwrap();
     let (ws, wf) = (by_name("spring"), by_name("rubbing"));
-    let stored = 0.5 * K_SPRING * (zb * zb - za * za);
+    // (its work: the elastic energy's change less the preload's work, m g (zb − za))
+    let stored = 0.5 * K_SPRING * (zb * zb - za * za) - MASS * G * (zb - za);
     let stick = (fb * fb - fa * fa) / (2.0 * K_STICK);
     eprintln!(
         "from {:.4} mm above equilibrium to {:.4} mm: the friction dissipated {:.6} J and \

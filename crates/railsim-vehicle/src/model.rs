@@ -2560,10 +2560,32 @@ impl Compiler<'_> {
             return None;
         }
         let deflection: Vec<f64> = d_mm.iter().map(|x| x * 1e-3).collect();
-        Some(ForceTable {
+        let table = ForceTable {
             deflection,
             force,
             symmetric,
-        })
+        };
+        // The table gives the force beyond the static preload, from the nominal (loaded)
+        // geometry (docs/formats/vehicle.md): a force at zero deflection would push the vehicle
+        // off that geometry at rest. (A symmetric table is pinned through 0 above.)
+        let f0 = table.force(0.0);
+        let scale = table.force.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if !symmetric && f0.abs() > 1e-9 * scale {
+            self.err(
+                &f.span(),
+                "force_n",
+                format!(
+                    "{label}: the table's force at deflection_mm = 0 (the vehicle file's loaded geometry) is {} N{}, expected 0: a table gives the force beyond the static load the element carries there (computed by the simulator); shift force_n so that it passes through 0 N at 0 mm",
+                    short_number(f0),
+                    if d_mm[0] > 0.0 || d_mm[d_mm.len() - 1] < 0.0 {
+                        " (extrapolated from its end)"
+                    } else {
+                        ""
+                    }
+                ),
+            );
+            return None;
+        }
+        Some(table)
     }
 }

@@ -1265,3 +1265,45 @@ stiffness_n_per_m = [1e6, 1e6, 1e6]
         ],
     );
 }
+
+/// A table gives the force beyond the static preload, from the vehicle file's loaded geometry:
+/// a one-sided table with a force at zero deflection (interpolated, or extrapolated from its
+/// first interval) is located on `force_n`; one through 0 N at 0 mm compiles. The static solve
+/// used only the table's slope there, so the vehicle started out of equilibrium.
+#[test]
+fn a_one_sided_table_with_a_force_at_zero_is_located() {
+    let base = r#"
+[[wheelset]]
+name = "ws"
+mass_kg = 1813
+inertia_kgm2 = [1120, 112, 1120]
+position_m = [0, 0, 0.46]
+nominal_radius_m = 0.46
+back_to_back_mm = 1360
+wheel_profile = { left = "s1002", right = "s1002" }
+
+[[force]]
+name = "stop"
+type = "table"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.5]
+direction = "y"
+"#;
+    let p = problems(&format!(
+        "{base}deflection_mm = [-10, 10]\nforce_n = [-500, 1500]\n"
+    ));
+    expect(
+        &p,
+        19,
+        &["force at deflection_mm = 0", "is 500 N, expected 0"],
+    );
+    let p = problems(&format!(
+        "{base}deflection_mm = [10, 20]\nforce_n = [0, 5000]\n"
+    ));
+    expect(&p, 19, &["is -5000 N (extrapolated from its end)"]);
+    compile(&format!(
+        "{base}deflection_mm = [-10, 0, 10, 20]\nforce_n = [-500, 0, 0, 5000]\n"
+    ))
+    .unwrap_or_else(|e| panic!("{e}"));
+}
