@@ -30,6 +30,10 @@ use crate::patch::{
     spin_moment_moved,
 };
 use crate::point;
+
+/// \[-\] the last lowering of the load control's bracket, as a fraction of the largest
+/// interpenetration allowed (`ContactOptions::max_penetration`): just inside it.
+const LAST_LOWERING: f64 = 0.999;
 use crate::pose::{Side, WheelsetPose, WheelsetVelocity};
 use crate::stripes::{self, Local, Strip, StripesVariant, Tangential};
 use crate::warm::WarmStart;
@@ -807,9 +811,11 @@ impl WheelRailContact {
             }
             z_hi = z_lo;
             f_hi = f_lo;
-            // (the last try is at the limit itself: doubling past it skipped the lowerings
-            // between half the limit and the limit, and the message gave twice the last one)
-            if dz >= self.opts.max_penetration {
+            // (the last try is just inside the limit, where the interpenetration, at most the
+            // lowering, is still accepted: doubling past it skipped the lowerings between half
+            // the limit and the limit, and the message gave twice the last one)
+            let last = LAST_LOWERING * self.opts.max_penetration;
+            if dz >= last {
                 return Err(ContactError::LoadNotReached {
                     side: side.name(),
                     target_n: fz,
@@ -821,7 +827,7 @@ impl WheelRailContact {
                     ),
                 });
             }
-            dz = (2.0 * dz).min(self.opts.max_penetration);
+            dz = (2.0 * dz).min(last);
         }
         // Illinois-safeguarded regula falsi on z, with the force ~ delta^1.5 linearised by
         // working on F^(2/3).

@@ -454,8 +454,14 @@ fn stripes_converges_in_flange_contact_at_the_default_and_a_finer_step() {
         assert!(residual <= 1.0);
         for k in [0, 2] {
             let (a, b) = (&polach.wheelsets[k], &r.wheelsets[k]);
-            assert!((a.lateral - b.lateral).abs() < 0.05e-3, "{step}: {a:?}\n{b:?}");
-            assert!((a.angle_of_attack - b.angle_of_attack).abs() < 0.3e-3, "{step}");
+            assert!(
+                (a.lateral - b.lateral).abs() < 0.05e-3,
+                "{step}: {a:?}\n{b:?}"
+            );
+            assert!(
+                (a.angle_of_attack - b.angle_of_attack).abs() < 0.3e-3,
+                "{step}"
+            );
         }
     }
 }

@@ -317,7 +317,10 @@ fn a_restart_checks_its_state_and_time_and_a_restart_at_the_start_is_the_run() {
 fn a_static_state_beyond_a_limit_is_not_called_unstable() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
     let track = std::fs::read_to_string(root.join("tracks/straight_elastic.toml")).unwrap();
-    let soft = track.replace("vertical_stiffness_mn_m = 100", "vertical_stiffness_mn_m = 2");
+    let soft = track.replace(
+        "vertical_stiffness_mn_m = 100",
+        "vertical_stiffness_mn_m = 2",
+    );
     assert_ne!(soft, track);
     let dir = std::env::temp_dir().join(format!("railsim-soft-rail-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
