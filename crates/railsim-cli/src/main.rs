@@ -56,31 +56,40 @@ struct Cli {
     command: Command,
 }
 
+// (Negative numbers are values, not options, in every subcommand: `--mu -0.1` is refused by the
+// option's range check, not by clap's "unexpected argument '-0'".)
 #[derive(Subcommand)]
 enum Command {
     /// Simulate a scene (default: the built-in scene, Manchester vehicle 1 at 55 m/s over
     /// irregular straight track into a curve), with a progress line, an MCAP log and a summary.
+    #[command(allow_negative_numbers = true)]
     Run(run::RunArgs),
     /// Evaluate one wheel/rail contact (default: S1002 on UIC60 1:40, gauge 1435 mm, flange-back
     /// 1360 mm, r0 = 460 mm, 10 kN wheel load), or a batch of cases with --cases.
+    #[command(allow_negative_numbers = true)]
     Contact(ContactArgs),
     /// Rolling-radius difference, contact angles and equivalent conicity of a wheelset on a track.
+    #[command(allow_negative_numbers = true)]
     Conicity(ConicityArgs),
     /// Read a log: list its channels, scene and statistics (no options), export topics and a
     /// time range to CSV (--csv), or plot signals against time to PNG (--plot ... --png).
+    #[command(allow_negative_numbers = true)]
     Replay(replay::ReplayArgs),
     /// Hunting (critical) speed of a vehicle on straight track: ramp the speed down from a
     /// hunting limit cycle (default; the nonlinear critical speed), or bisect on the growth rate
     /// of a small disturbance at constant speed (--method bisect), or from the eigenvalues of the
     /// linearised vehicle (--method linear).
+    #[command(allow_negative_numbers = true)]
     CriticalSpeed(critical::CriticalArgs),
     /// Modes of the vehicle linearised about its centred running on straight ideal track at
     /// given speeds: frequency, damping ratio, eigenvalue and the coordinates each mode moves.
+    #[command(allow_negative_numbers = true)]
     Modes(modes::ModesArgs),
     /// Steady-state curving: run the vehicle into curves of given radius and cant at given
     /// speeds and tabulate the means per wheelset and wheel once it runs steadily (lateral
     /// displacement, angle of attack, Y, Q, Y/Q, ΣY, wear number), or solve for the steady
     /// state directly (--method quasi-static).
+    #[command(allow_negative_numbers = true)]
     Curving(curving::CurvingArgs),
 }
 

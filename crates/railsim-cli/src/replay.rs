@@ -50,8 +50,8 @@ pub struct ReplayArgs {
     against: Option<String>,
     /// Re-run the scene stored in the log (its scene, vehicle and track files must be unchanged
     /// on disk) and report whether the re-run's state digest equals the logged one (exit 1 if
-    /// not).
-    #[arg(long)]
+    /// not). Not with the listing, export or plot options.
+    #[arg(long, conflicts_with_all = ["topics", "from_s", "to_s", "csv", "plot", "png", "against"])]
     rerun: bool,
 }
 
@@ -118,6 +118,18 @@ pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
             a.log.display()
         );
     }
+    let version = reader
+        .metadata()
+        .get(railsim_log::FORMAT_METADATA)
+        .and_then(|m| m.get("format_version"));
+    if version.is_some_and(|v| v == "1") {
+        eprintln!(
+            "railsim: warning: {} is in log format 1 (before stop 26): its wheelsets' \
+             angular_velocity lacks the spin about the axle, and its bodies rested at the \
+             vehicle's unloaded geometry (docs/formats/log.md)",
+            a.log.display()
+        );
+    }
     let range = time_range(a.from_s, a.to_s)?;
     check_topics(&reader, &a.topics)?;
     let mut query = if a.topics.is_empty() {
@@ -133,6 +145,10 @@ pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
         return rerun(&reader);
     }
     if let Some(out) = &a.csv {
+        crate::check_not_input("--csv", out, &[&a.log])?;
+        if out.extension().is_some() && !out.is_dir() {
+            crate::check_extension("--csv", out, &["csv"])?;
+        }
         write_csv(&reader, &query, out)?;
         did_something = true;
     }

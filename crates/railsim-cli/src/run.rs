@@ -41,7 +41,8 @@ pub struct RunArgs {
 }
 
 /// The texts a log stores so that it describes itself and can be re-run: the scene, vehicle
-/// and track files.
+/// and track files, with their absolute paths (relative ones were relative to the directory the
+/// run started in, so `replay --rerun` failed from any other).
 pub fn sources(scene_path: &Path, scene: &Scene) -> BTreeMap<String, String> {
     let mut m = BTreeMap::new();
     for (key, path) in [
@@ -50,8 +51,9 @@ pub fn sources(scene_path: &Path, scene: &Scene) -> BTreeMap<String, String> {
         ("track", scene.track_file.as_path()),
     ] {
         if let Ok(text) = std::fs::read_to_string(path) {
+            let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
             m.insert(key.to_owned(), text);
-            m.insert(format!("{key}_path"), path.display().to_string());
+            m.insert(format!("{key}_path"), absolute.display().to_string());
         }
     }
     m

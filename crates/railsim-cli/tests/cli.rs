@@ -859,3 +859,28 @@ fn a_spike_in_a_profile_is_suspected_when_the_spans_overlap() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Negative numbers are option values in every subcommand: a negative friction coefficient or
+/// step reaches the option's range check (it was clap's "unexpected argument '-0' found"); the
+/// contact's friction range is the scene files' (it accepted up to 2).
+#[test]
+fn negative_numbers_reach_the_range_checks() {
+    for (args, needle) in [
+        (
+            vec!["contact", "--mu", "-0.1"],
+            "friction coefficient from 0.01 to 1",
+        ),
+        (
+            vec!["contact", "--mu", "1.5"],
+            "friction coefficient from 0.01 to 1",
+        ),
+        (vec!["contact", "--step-mm", "-1"], "step"),
+    ] {
+        let (code, _, err) = railsim(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains(needle) && !err.contains("unexpected argument"),
+            "{args:?}: {err}"
+        );
+    }
+}

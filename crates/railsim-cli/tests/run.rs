@@ -72,7 +72,56 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
     let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("agrees"), "{out}");
+    // ... from another directory too: the log names its files by absolute paths (they were
+    // relative to the directory the run started in)
+    let elsewhere = Command::new(env!("CARGO_BIN_EXE_railsim"))
+        .args(["replay", log_s, "--rerun"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&elsewhere.stdout);
+    assert_eq!(
+        elsewhere.status.code(),
+        Some(0),
+        "{out}{}",
+        String::from_utf8_lossy(&elsewhere.stderr)
+    );
+    assert!(out.contains("agrees"), "{out}");
+    // --rerun does not list, export or plot: combined with those options it is refused
+    let csv = dir.join("x.csv");
+    let (code, _, err) = railsim(&["replay", log_s, "--rerun", "--csv", csv.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--rerun") && err.contains("--csv"), "{err}");
+    assert!(!csv.exists());
+    // an export into the log itself, or into a file that is not a CSV, is refused
+    for bad in [log_s, dir.join("x.mcap").to_str().unwrap()] {
+        let (code, _, err) = railsim(&["replay", log_s, "--csv", bad, "--topics", "/bodies/ws"]);
+        assert_eq!(code, 2, "{bad}: {err}");
+        assert!(err.contains("--csv"), "{err}");
+    }
+    assert!(railsim_log::LogReader::open(&log).unwrap().is_complete());
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The README's first example runs to its end: the Klingel scene (a free conical wheelset,
+/// whose kinematic mode is slightly unstable) reached the 40 mm derailment limit at 9.7 s when it
+/// ran at 10 m/s from 3 mm; now 5 m/s from 1 mm, 100 m.
+#[test]
+fn the_readmes_klingel_scene_runs_to_its_end() {
+    let (code, out, err) = railsim(&[
+        "run",
+        "scenes/free_wheelset_klingel.toml",
+        "--no-log",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("simulated 20.000 s"), "{out}");
+    let max: f64 = out
+        .lines()
+        .find_map(|l| l.strip_prefix("wheelset 0: max |lateral displacement| "))
+        .and_then(|v| v.trim_end_matches(" mm").parse().ok())
+        .unwrap_or_else(|| panic!("{out}"));
+    assert!(max > 1.0 && max < 4.0, "{max} mm");
 }
 
 #[test]

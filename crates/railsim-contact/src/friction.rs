@@ -43,6 +43,11 @@ impl Default for Friction {
     }
 }
 
+/// The friction coefficients accepted, as in scene and track files (`railsim_spec::FRICTION_RANGE`;
+/// it was (0, 2) here, so `railsim contact --mu 1.5` ran where a scene refused it): wheel/rail
+/// coefficients lie well inside, from about 0.05 (leaves, lubricated) to 0.6 (dry, sanded).
+pub const MU_RANGE: (f64, f64) = (0.01, 1.0);
+
 impl Friction {
     /// \[-\] the coefficient at the contact angle `delta` \[rad\].
     #[inline]
@@ -88,16 +93,17 @@ impl Friction {
         matches!(self, Friction::Constant(_))
     }
 
-    /// Check the values: every coefficient finite and in (0, 2); a table with at least two
-    /// points, as many coefficients as angles, angles finite, strictly increasing and within
-    /// ±90°.
+    /// Check the values: every coefficient finite and in [`MU_RANGE`]; a table with at least
+    /// two points, as many coefficients as angles, angles finite, strictly increasing and
+    /// within ±90°.
     pub fn check(&self) -> Result<(), ContactError> {
+        let (lo, hi) = MU_RANGE;
         let bad_mu = |v: f64| ContactError::BadOption {
             key: "mu",
             value: railsim_profile::short_number(v),
-            expected: "a friction coefficient in (0, 2)".into(),
+            expected: format!("a friction coefficient from {lo} to {hi}"),
         };
-        let ok = |v: f64| v.is_finite() && v > 0.0 && v < 2.0;
+        let ok = |v: f64| v.is_finite() && (lo..=hi).contains(&v);
         match self {
             Friction::Constant(mu) => {
                 if !ok(*mu) {
@@ -183,6 +189,8 @@ mod tests {
             (table(vec![0.1], vec![0.3]), "friction"),
             (table(vec![0.1, 0.2], vec![0.3]), "friction"),
             (table(vec![0.1, 0.2], vec![0.3, 2.5]), "mu"),
+            (Friction::Constant(1.5), "mu"),
+            (Friction::Constant(0.005), "mu"),
             (table(vec![0.2, 0.1], vec![0.3, 0.2]), "contact_angle"),
             (table(vec![0.1, 0.1], vec![0.3, 0.2]), "contact_angle"),
             (table(vec![0.1, 2.0], vec![0.3, 0.2]), "contact_angle"),

@@ -16,6 +16,9 @@ use crate::error::{LogError, Result};
 use crate::messages::LogMessage;
 use crate::writer::{FORMAT_METADATA, SCENE_ATTACHMENT, SCENE_METADATA};
 
+/// The newest log format version this reader understands (`FORMAT_VERSION` of the writer).
+const FORMAT_VERSION_READ: u32 = 2;
+
 /// One channel of a log, with what the data section holds for it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ChannelInfo {
@@ -451,6 +454,21 @@ impl LogReader {
                 len,
                 &format!("has no footer and no complete '{FORMAT_METADATA}' metadata record"),
             ));
+        }
+        // A log of a later format may mean other things by the same fields: refused, not misread.
+        if let Some(v) = metadata
+            .get(FORMAT_METADATA)
+            .and_then(|m| m.get("format_version"))
+            && !v.parse::<u32>().is_ok_and(|n| n <= FORMAT_VERSION_READ)
+        {
+            return Err(LogError::Corrupt {
+                path: path.clone(),
+                what: format!("log format version \"{v}\" (metadata '{FORMAT_METADATA}')"),
+                expected: format!(
+                    "a format version up to {FORMAT_VERSION_READ}, which this railsim reads (a \
+                     log of a newer railsim)"
+                ),
+            });
         }
         let (summary, truncation) = match tail {
             Tail::Summary(summary) => (Some(*summary), end.truncation),

@@ -19,8 +19,10 @@ pub const SCENE_METADATA: &str = "scene";
 pub const SCENE_ATTACHMENT: &str = "scene.toml";
 /// Name of the Metadata record that identifies the writer and format version.
 pub const FORMAT_METADATA: &str = "railsim_log";
-/// Version of the log layout described in `docs/formats/log.md`.
-pub const FORMAT_VERSION: &str = "1";
+/// Version of the log layout and meaning described in `docs/formats/log.md`. 2 (stop 26): a
+/// wheelset's `angular_velocity` includes its spin, and the positions are the vehicle file's
+/// loaded geometry; 1 before.
+pub const FORMAT_VERSION: &str = "2";
 
 /// What a log says about itself, written before any message.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]

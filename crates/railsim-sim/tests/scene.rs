@@ -129,10 +129,10 @@ fn other_scenes_carry_their_choices() {
     assert_eq!(d.dofs().len(), d.vehicle.dofs().len() - 1);
 
     let k = Scene::from_file(scenes_dir().join("free_wheelset_klingel.toml")).unwrap();
-    assert!((k.speed.speed_at(0.0) - 10.0).abs() < 1e-12);
+    assert!((k.speed.speed_at(0.0) - 5.0).abs() < 1e-12);
     assert_eq!(k.length, RunLength::Distance(100.0));
-    assert!((k.duration() - 10.0).abs() < 1e-12);
-    assert!((k.initial.lateral_offset - 3e-3).abs() < 1e-15);
+    assert!((k.duration() - 20.0).abs() < 1e-12);
+    assert!((k.initial.lateral_offset - 1e-3).abs() < 1e-15);
 }
 
 #[test]

@@ -648,9 +648,11 @@ fn a_planar_friction_moving_along_one_axis_is_the_one_axis_element() {
 /// The work the elements absorb and the energy they dissipate (`RunSummary::elements`, the
 /// trapezoidal rule on each element's power and dissipation over the samples) balance the
 /// mass's mechanical energy: the spring's work is the change of its stored energy,
-/// ½ k (d_end² − d_0²), and it dissipates nothing; the friction dissipates what the oscillation
-/// lost, E_0 − E_end, with E = ½ k d² + m g z + ½ m v² + F_f² / (2 k_f) (the spring and the
-/// friction's stick stiffness both stored), and absorbs that plus the change of its stick
+/// ½ k (z_end² − z_0²) − m g (z_end − z_0) (its preload m g carries the weight at the loaded
+/// geometry, z = 0), and it dissipates nothing; the friction dissipates what the oscillation
+/// lost, E_0 − E_end, with E = ½ k z² + ½ m v² + F_f² / (2 k_f) (the weight and the preload
+/// cancel; the spring and the friction's stick stiffness both stored), and absorbs that plus
+/// the change of its stick
 /// energy. The log's cumulative values at the last sample are the summary's.
 #[test]
 fn the_elements_work_balances_the_mechanical_energy() {

@@ -382,9 +382,8 @@ impl FrictionSpec {
         let (lo, hi) = FRICTION_RANGE;
         let ok = |x: f64| x.is_finite() && (lo..=hi).contains(&x);
         match self {
-            FrictionSpec::Constant(x) => {
-                (!ok(*x)).then(|| format!("{key} must lie in [{lo:e}, {hi:e}] -, found {x}"))
-            }
+            FrictionSpec::Constant(x) => (!ok(*x))
+                .then(|| format!("{key} must lie in [{lo}, {hi}], found {}", short_number(*x))),
             FrictionSpec::ByContactAngle(FrictionTable {
                 contact_angle_deg: a,
                 coefficient: c,
@@ -399,7 +398,8 @@ impl FrictionSpec {
                 }
                 if let Some(x) = c.iter().find(|x| !ok(**x)) {
                     return Some(format!(
-                        "{key}.coefficient must lie in [{lo:e}, {hi:e}], found {x}"
+                        "{key}.coefficient must lie in [{lo}, {hi}], found {}",
+                        short_number(*x)
                     ));
                 }
                 if let Some(x) = a.iter().find(|x| !(x.is_finite() && x.abs() <= 90.0)) {

@@ -123,8 +123,12 @@ impl VehicleModel {
         let mut connections = Vec::with_capacity(self.forces.len());
         for f in &self.forces {
             let mut c = Connection::new(n);
+            // Body 1's end at body 2's point too: the simulator measures the deflection in body
+            // 1's axes from body 2's point and puts body 1's reaction there (a massless element;
+            // docs/models/dynamics.md), whose linearisation is body 1's motion at P₂. With P₁
+            // here, an element with its own `point2_m` started out of equilibrium.
             if let Endpoint::Member(m) = f.body1 {
-                c.add(n, index(m), centre(m), f.point1, &f.axes, -1.0);
+                c.add(n, index(m), centre(m), f.point2, &f.axes, -1.0);
             }
             if let Endpoint::Member(m) = f.body2 {
                 c.add(n, index(m), centre(m), f.point2, &f.axes, 1.0);

@@ -104,7 +104,7 @@ def main():
         # Self-description: the scene metadata and the attached TOML.
         metadata = {m.name: m.metadata for m in reader.iter_metadata()}
         check(metadata.get("scene", {}).get("speed_m_s") == "55", f"scene metadata {metadata.get('scene')}")
-        check(metadata.get("railsim_log", {}).get("format_version") == "1",
+        check(metadata.get("railsim_log", {}).get("format_version") == "2",
               f"railsim_log metadata {metadata.get('railsim_log')}")
         attachments = {a.name: a for a in reader.iter_attachments()}
         toml = attachments.get("scene.toml")
