@@ -449,6 +449,22 @@ fn positive(name: &str, v: f64) -> Result<f64> {
     Ok(v)
 }
 
+// The pair's options in their own units and names, in the contact crate's plausible ranges
+// (`WheelRailPair::new`, which would report them in metres under its field names: `--gauge-mm
+// 1.435` gave "option gauge = 0.001435 m: expected a track gauge from 0.6 to 2 m").
+fn r0_mm(a: &PairArgs) -> Result<f64> {
+    in_range("--r0-mm", a.r0_mm, 100.0, 1000.0)
+}
+fn flange_back_mm(a: &PairArgs) -> Result<f64> {
+    in_range("--flange-back-mm", a.flange_back_mm, 500.0, 2000.0)
+}
+fn flange_back_y_mm(a: &PairArgs) -> Result<f64> {
+    in_range("--flange-back-y-mm", a.flange_back_y_mm, -200.0, 200.0)
+}
+fn gauge_mm(a: &PairArgs) -> Result<f64> {
+    in_range("--gauge-mm", a.gauge_mm, 600.0, 2000.0)
+}
+
 /// The wheel and rail profiles of the arguments, built-in S1002 and UIC60 by default.
 fn profiles(a: &PairArgs) -> Result<(Profile, Profile)> {
     let wheel = match &a.wheel {
@@ -473,10 +489,10 @@ fn build_pair(a: &PairArgs) -> Result<WheelRailPair> {
     let spec = PairSpec {
         wheel,
         rail,
-        r0: positive("--r0-mm", a.r0_mm)? * 1e-3,
-        flange_back_distance: positive("--flange-back-mm", a.flange_back_mm)? * 1e-3,
-        flange_back_y: a.flange_back_y_mm * 1e-3,
-        gauge: positive("--gauge-mm", a.gauge_mm)? * 1e-3,
+        r0: r0_mm(a)? * 1e-3,
+        flange_back_distance: flange_back_mm(a)? * 1e-3,
+        flange_back_y: flange_back_y_mm(a)? * 1e-3,
+        gauge: gauge_mm(a)? * 1e-3,
         gauge_depth: 0.014,
         inclination: parse_inclination(&a.inclination)?,
         material,
@@ -536,7 +552,7 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
         hertz_search: a.hertz_search.into(),
         ..Default::default()
     };
-    opts.travel.step = a.step_mm * 1e-3;
+    opts.travel.step = in_range("--step-mm", a.step_mm, 0.001, 5.0)? * 1e-3;
     opts.travel.max_step = opts.travel.max_step.max(opts.travel.step);
     let contact = WheelRailContact::new(pair, opts)?;
     let mut ws = ContactWorkspace::new();
@@ -566,7 +582,7 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
         ..Default::default()
     };
     let mut pose = WheelsetPose {
-        y: a.y_mm * 1e-3,
+        y: in_range("--y-mm", a.y_mm, -100.0, 100.0)? * 1e-3,
         z: a.z_mm.unwrap_or(0.0) * 1e-3,
         roll: a.roll_mrad * 1e-3,
         yaw: a.yaw_mrad * 1e-3,
@@ -884,12 +900,12 @@ fn run_batch(
 fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
     let (wheel, rail) = profiles(&a.pair)?;
     let setup = WheelsetTrackSetup {
-        gauge: positive("--gauge-mm", a.pair.gauge_mm)? * 1e-3,
+        gauge: gauge_mm(&a.pair)? * 1e-3,
         gauge_depth: 0.014,
         inclination_rad: parse_inclination(&a.pair.inclination)?,
-        flange_back_spacing: positive("--flange-back-mm", a.pair.flange_back_mm)? * 1e-3,
-        flange_back_y: a.pair.flange_back_y_mm * 1e-3,
-        r0: positive("--r0-mm", a.pair.r0_mm)? * 1e-3,
+        flange_back_spacing: flange_back_mm(&a.pair)? * 1e-3,
+        flange_back_y: flange_back_y_mm(&a.pair)? * 1e-3,
+        r0: r0_mm(&a.pair)? * 1e-3,
     };
     // Checked before anything is printed. Δr(y) is sampled over ±10 mm, so amplitudes up to
     // 9.9 mm.

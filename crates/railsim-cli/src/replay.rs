@@ -131,6 +131,16 @@ pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
         );
     }
     let range = time_range(a.from_s, a.to_s)?;
+    // A range that misses the log's messages would list or export nothing, silently.
+    if let Some((first, last)) = reader.time_range()
+        && (range.0.is_some_and(|f| f > last) || range.1.is_some_and(|t| t < first))
+    {
+        bail!(
+            "--from-s/--to-s: the time range misses the log, whose messages run from {} to {} s",
+            short_number(ns_to_s(first)),
+            short_number(ns_to_s(last))
+        );
+    }
     check_topics(&reader, &a.topics)?;
     let mut query = if a.topics.is_empty() {
         Query::all()

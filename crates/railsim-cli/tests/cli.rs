@@ -862,7 +862,8 @@ fn a_spike_in_a_profile_is_suspected_when_the_spans_overlap() {
 
 /// Negative numbers are option values in every subcommand: a negative friction coefficient or
 /// step reaches the option's range check (it was clap's "unexpected argument '-0' found"); the
-/// contact's friction range is the scene files' (it accepted up to 2).
+/// contact's friction range is the scene files' (it accepted up to 2); millimetre options are
+/// checked in millimetres under their own names.
 #[test]
 fn negative_numbers_reach_the_range_checks() {
     for (args, needle) in [
@@ -874,7 +875,24 @@ fn negative_numbers_reach_the_range_checks() {
             vec!["contact", "--mu", "1.5"],
             "friction coefficient from 0.01 to 1",
         ),
-        (vec!["contact", "--step-mm", "-1"], "step"),
+        (
+            vec!["contact", "--step-mm", "-1"],
+            "--step-mm: expected a number from 0.001 to 5",
+        ),
+        // the pair's millimetre options in their own units and names (the library's check
+        // said "option gauge = 0.001435 m: expected a track gauge from 0.6 to 2 m")
+        (
+            vec!["contact", "--gauge-mm", "1.435"],
+            "--gauge-mm: expected a number from 600 to 2000, found 1.435",
+        ),
+        (
+            vec!["conicity", "--r0-mm", "0.46"],
+            "--r0-mm: expected a number from 100 to 1000",
+        ),
+        (
+            vec!["contact", "--y-mm", "500"],
+            "--y-mm: expected a number from -100 to 100",
+        ),
     ] {
         let (code, _, err) = railsim(&args);
         assert_eq!(code, 2, "{args:?}: {err}");

@@ -338,6 +338,10 @@ fn bad_input_exits_2_with_a_message() {
     let (code, _, err) = railsim(&["replay", log, "--from-s", "0.3", "--to-s", "0.1"]);
     assert_eq!(code, 2);
     assert!(err.contains("--from-s 0.3 is after --to-s 0.1"), "{err}");
+    // a range beyond the log's messages (it exported an empty CSV and said nothing)
+    let (code, _, err) = railsim(&["replay", log, "--from-s", "50", "--csv", "x"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("the time range misses the log"), "{err}");
     let (code, _, err) = railsim(&["replay", log, "--from-s", "-1"]);
     assert_eq!(code, 2, "{err}");
     // beyond the nanosecond clock, printed short
