@@ -14,6 +14,7 @@ use railsim_contact::{
     LOAD_RESIDUAL_NOTICE, PairSpec, PatchResult, Side, Tangential, WheelRailContact, WheelRailPair,
     WheelsetPose, WheelsetVelocity,
 };
+use railsim_contact::{geometry, pair, pose};
 use railsim_elastic::Material;
 use railsim_profile::conicity::{
     WheelsetTrackSetup, delta_r_interp, equivalent_conicity_harmonic,
@@ -449,20 +450,32 @@ fn positive(name: &str, v: f64) -> Result<f64> {
     Ok(v)
 }
 
-// The pair's options in their own units and names, in the contact crate's plausible ranges
-// (`WheelRailPair::new`, which would report them in metres under its field names: `--gauge-mm
-// 1.435` gave "option gauge = 0.001435 m: expected a track gauge from 0.6 to 2 m").
+/// `v` \[mm\] if it lies in the range `r` \[m\] (a contact-crate range), else an error in
+/// millimetres naming the option: the pair's options in their own units and names (the
+/// library would report them in metres under its field names: `--gauge-mm 1.435` gave "option
+/// gauge = 0.001435 m: expected a track gauge from 0.6 to 2 m").
+fn in_range_mm(name: &str, v: f64, r: (f64, f64)) -> Result<f64> {
+    in_range(name, v, r.0 * 1e3, r.1 * 1e3)
+}
 fn r0_mm(a: &PairArgs) -> Result<f64> {
-    in_range("--r0-mm", a.r0_mm, 100.0, 1000.0)
+    in_range_mm("--r0-mm", a.r0_mm, pair::R0_RANGE)
 }
 fn flange_back_mm(a: &PairArgs) -> Result<f64> {
-    in_range("--flange-back-mm", a.flange_back_mm, 500.0, 2000.0)
+    in_range_mm(
+        "--flange-back-mm",
+        a.flange_back_mm,
+        pair::FLANGE_BACK_DISTANCE_RANGE,
+    )
 }
 fn flange_back_y_mm(a: &PairArgs) -> Result<f64> {
-    in_range("--flange-back-y-mm", a.flange_back_y_mm, -200.0, 200.0)
+    in_range_mm(
+        "--flange-back-y-mm",
+        a.flange_back_y_mm,
+        pair::FLANGE_BACK_Y_RANGE,
+    )
 }
 fn gauge_mm(a: &PairArgs) -> Result<f64> {
-    in_range("--gauge-mm", a.gauge_mm, 600.0, 2000.0)
+    in_range_mm("--gauge-mm", a.gauge_mm, pair::GAUGE_RANGE)
 }
 
 /// The wheel and rail profiles of the arguments, built-in S1002 and UIC60 by default.
@@ -552,7 +565,7 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
         hertz_search: a.hertz_search.into(),
         ..Default::default()
     };
-    opts.travel.step = in_range("--step-mm", a.step_mm, 0.001, 5.0)? * 1e-3;
+    opts.travel.step = in_range_mm("--step-mm", a.step_mm, geometry::STEP_RANGE)? * 1e-3;
     opts.travel.max_step = opts.travel.max_step.max(opts.travel.step);
     let contact = WheelRailContact::new(pair, opts)?;
     let mut ws = ContactWorkspace::new();
@@ -582,7 +595,7 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
         ..Default::default()
     };
     let mut pose = WheelsetPose {
-        y: in_range("--y-mm", a.y_mm, -100.0, 100.0)? * 1e-3,
+        y: in_range_mm("--y-mm", a.y_mm, (-pose::MAX_LATERAL, pose::MAX_LATERAL))? * 1e-3,
         z: a.z_mm.unwrap_or(0.0) * 1e-3,
         roll: a.roll_mrad * 1e-3,
         yaw: a.yaw_mrad * 1e-3,

@@ -228,7 +228,7 @@ pub fn parse_cases_csv(
     let mut bad: Option<CaseError> = None;
     for (ln, l) in lines {
         // (a bad line is reported and the next one read: every bad line in one pass)
-        let row = (|| -> Result<ContactCase, CaseError> {
+        let row = (|| -> Result<(ContactCase, Option<String>), CaseError> {
             let f: Vec<&str> = l.split(',').map(str::trim).collect();
             let get = |c: usize, name: &str| -> Result<&str, CaseError> {
                 f.get(c).copied().ok_or_else(|| {
@@ -291,19 +291,12 @@ pub fn parse_cases_csv(
                 fz_target_n: fz,
                 speed_mm_s: opt_num(c_v, "speed_mm_s")?.unwrap_or(2000.0),
             };
-            Ok(case)
+            let label = c_case.map(|c| f.get(c).map(|s| s.to_string()).unwrap_or_default());
+            Ok((case, label))
         })();
         match (row, &mut bad) {
-            (Ok(case), None) => {
-                let label = match c_case {
-                    Some(c) => l
-                        .split(',')
-                        .nth(c)
-                        .map(|s| s.trim().to_string())
-                        .unwrap_or_default(),
-                    None => format!("{}", out.len() + 1),
-                };
-                out.push((label, case));
+            (Ok((case, label)), None) => {
+                out.push((label.unwrap_or_else(|| format!("{}", out.len() + 1)), case));
             }
             (Ok(_), Some(_)) => {}
             (Err(e), None) => bad = Some(e),

@@ -43,10 +43,9 @@ impl Default for Friction {
     }
 }
 
-/// The friction coefficients accepted, as in scene and track files (`railsim_spec::FRICTION_RANGE`;
-/// it was (0, 2) here, so `railsim contact --mu 1.5` ran where a scene refused it): wheel/rail
-/// coefficients lie well inside, from about 0.05 (leaves, lubricated) to 0.6 (dry, sanded).
-pub const MU_RANGE: (f64, f64) = (0.01, 1.0);
+/// The friction coefficients accepted: those of scene and track files (it was (0, 2) here, so
+/// `railsim contact --mu 1.5` ran where a scene refused it).
+pub use railsim_spec::FRICTION_RANGE as MU_RANGE;
 
 impl Friction {
     /// \[-\] the coefficient at the contact angle `delta` \[rad\].

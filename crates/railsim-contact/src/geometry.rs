@@ -69,10 +69,14 @@ impl Default for TravelOptions {
     }
 }
 
+/// \[m\] the travelling steps accepted (`TravelOptions::validate`).
+pub const STEP_RANGE: (f64, f64) = (1e-6, 5e-3);
+
 impl TravelOptions {
     /// Check the options.
     pub fn validate(&self) -> Result<(), ContactError> {
-        if !(self.step.is_finite() && self.step >= 1e-6 && self.step <= 5e-3) {
+        let (lo, hi) = STEP_RANGE;
+        if !(self.step.is_finite() && self.step >= lo && self.step <= hi) {
             return Err(ContactError::BadOption {
                 key: "step",
                 value: format!("{} mm", railsim_profile::short_number(self.step * 1e3)),

@@ -201,6 +201,15 @@ impl WheelRailPair {
     }
 }
 
+/// \[m\] plausible nominal wheel radii r0 (`WheelRailPair::new` refuses others).
+pub const R0_RANGE: (f64, f64) = (0.1, 1.0);
+/// \[m\] plausible flange-back distances.
+pub const FLANGE_BACK_DISTANCE_RANGE: (f64, f64) = (0.5, 2.0);
+/// \[m\] plausible profile coordinates of the flange back.
+pub const FLANGE_BACK_Y_RANGE: (f64, f64) = (-0.2, 0.2);
+/// \[m\] plausible track gauges.
+pub const GAUGE_RANGE: (f64, f64) = (0.6, 2.0);
+
 impl WheelRailPair {
     /// Build the pair: splines, arc-length curves and the rail placement.
     pub fn new(spec: &PairSpec) -> Result<Self, ContactError> {
@@ -208,26 +217,32 @@ impl WheelRailPair {
         // a value is a unit or data error, and an infinite or huge one would size the searches'
         // grids and trees.
         for (what, v, lo, hi, expected) in [
-            ("r0", spec.r0, 0.1, 1.0, "a wheel radius from 0.1 to 1 m"),
+            (
+                "r0",
+                spec.r0,
+                R0_RANGE.0,
+                R0_RANGE.1,
+                "a wheel radius from 0.1 to 1 m",
+            ),
             (
                 "flange_back_distance",
                 spec.flange_back_distance,
-                0.5,
-                2.0,
+                FLANGE_BACK_DISTANCE_RANGE.0,
+                FLANGE_BACK_DISTANCE_RANGE.1,
                 "a flange-back distance from 0.5 to 2 m",
             ),
             (
                 "flange_back_y",
                 spec.flange_back_y,
-                -0.2,
-                0.2,
+                FLANGE_BACK_Y_RANGE.0,
+                FLANGE_BACK_Y_RANGE.1,
                 "the flange back's profile coordinate, within ±0.2 m",
             ),
             (
                 "gauge",
                 spec.gauge,
-                0.6,
-                2.0,
+                GAUGE_RANGE.0,
+                GAUGE_RANGE.1,
                 "a track gauge from 0.6 to 2 m",
             ),
             (

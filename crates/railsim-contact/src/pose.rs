@@ -70,6 +70,9 @@ pub struct WheelsetVelocity {
     pub spin: f64,
 }
 
+/// \[m\] the largest wheelset lateral position an evaluation accepts.
+pub const MAX_LATERAL: f64 = 0.1;
+
 impl WheelsetPose {
     /// Check for non-finite and absurd values.
     pub fn validate(&self) -> Result<(), ContactError> {
@@ -91,7 +94,7 @@ impl WheelsetPose {
                 expected: "|yaw| <= 0.2 rad",
             });
         }
-        if self.y.abs() > 0.1 {
+        if self.y.abs() > MAX_LATERAL {
             return Err(ContactError::OutOfRange {
                 what: "wheelset y [m]",
                 value: self.y,

@@ -14,10 +14,7 @@ use mcap::sans_io::{
 
 use crate::error::{LogError, Result};
 use crate::messages::LogMessage;
-use crate::writer::{FORMAT_METADATA, SCENE_ATTACHMENT, SCENE_METADATA};
-
-/// The newest log format version this reader understands (`FORMAT_VERSION` of the writer).
-const FORMAT_VERSION_READ: u32 = 2;
+use crate::writer::{FORMAT_METADATA, FORMAT_VERSION, SCENE_ATTACHMENT, SCENE_METADATA};
 
 /// One channel of a log, with what the data section holds for it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -459,13 +456,13 @@ impl LogReader {
         if let Some(v) = metadata
             .get(FORMAT_METADATA)
             .and_then(|m| m.get("format_version"))
-            && !v.parse::<u32>().is_ok_and(|n| n <= FORMAT_VERSION_READ)
+            && !v.parse::<u32>().is_ok_and(|n| n <= FORMAT_VERSION)
         {
             return Err(LogError::Corrupt {
                 path: path.clone(),
                 what: format!("log format version \"{v}\" (metadata '{FORMAT_METADATA}')"),
                 expected: format!(
-                    "a format version up to {FORMAT_VERSION_READ}, which this railsim reads (a \
+                    "a format version up to {FORMAT_VERSION}, which this railsim reads (a \
                      log of a newer railsim)"
                 ),
             });

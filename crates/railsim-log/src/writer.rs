@@ -22,7 +22,7 @@ pub const FORMAT_METADATA: &str = "railsim_log";
 /// Version of the log layout and meaning described in `docs/formats/log.md`. 2 (stop 26): a
 /// wheelset's `angular_velocity` includes its spin, and the positions are the vehicle file's
 /// loaded geometry; 1 before.
-pub const FORMAT_VERSION: &str = "2";
+pub const FORMAT_VERSION: u32 = 2;
 
 /// What a log says about itself, written before any message.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -215,7 +215,7 @@ impl LogWriter {
             .map_err(write_err)?;
 
         let format: BTreeMap<String, String> = [
-            ("format_version".to_owned(), FORMAT_VERSION.to_owned()),
+            ("format_version".to_owned(), FORMAT_VERSION.to_string()),
             (
                 "writer".to_owned(),
                 format!("railsim-log {}", env!("CARGO_PKG_VERSION")),
