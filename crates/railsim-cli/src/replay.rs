@@ -80,23 +80,48 @@ fn rerun(reader: &railsim_log::LogReader) -> Result<ExitCode> {
     }
     let scene_path = PathBuf::from(&sources["scene_path"]);
     let scene = railsim_sim::Scene::from_file(&scene_path)?;
-    let duration = reader
-        .metadata()
-        .get("railsim_result")
-        .and_then(|m| m.get("t_end_s"))
-        .and_then(|t| t.parse::<f64>().ok());
+    let result = &meta["railsim_result"];
     let mut sim = railsim_sim::Simulation::new(&scene)?;
+    // A stopped run is re-run to its scene's end, where it must stop again; a finished one to
+    // the time it ended (a run shortened with --duration-s).
+    let stopped = result.get("outcome").is_some_and(|o| o == "stopped");
     let opts = railsim_sim::RunOptions {
         no_log: true,
-        t_end: duration,
+        t_end: if stopped {
+            None
+        } else {
+            result.get("t_end_s").and_then(|t| t.parse::<f64>().ok())
+        },
         ..Default::default()
     };
-    let summary = sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {})?;
-    let digest = format!("{:016x}", summary.digest);
+    let (digest, what) = match (sim.run(&scene, &opts, &mut |_, _| {}, &mut |_| {}), stopped) {
+        (Ok(summary), false) => (summary.digest, format!("{:.3} s simulated", summary.t_end)),
+        (
+            Err(railsim_sim::SimError::Stopped {
+                t,
+                body,
+                quantity,
+                digest: Some(d),
+                ..
+            }),
+            true,
+        ) => (d, format!("stopped at t = {t:.6} s: {body}: {quantity}")),
+        (Ok(summary), true) => {
+            outln!(
+                "re-ran {}: it ran to its end at {:.3} s, where the log stopped at t = {} s",
+                scene_path.display(),
+                summary.t_end,
+                result.get("stop_t_s").map_or("?", String::as_str)
+            );
+            outln!("the re-run DIFFERS from the log");
+            return Ok(ExitCode::from(1));
+        }
+        (Err(e), _) => return Err(e.into()),
+    };
+    let digest = format!("{digest:016x}");
     outln!(
-        "re-ran {} ({:.3} s simulated): state digest {digest}, logged {logged}",
-        scene_path.display(),
-        summary.t_end
+        "re-ran {} ({what}): state digest {digest}, logged {logged}",
+        scene_path.display()
     );
     if &digest == logged {
         outln!("the re-run agrees with the log: identical states at every sample");
@@ -311,6 +336,7 @@ fn list(reader: &LogReader, query: &Query) -> Result<()> {
         ),
         None => outln!("no messages"),
     }
+    outln!("{}", outcome(reader));
     match reader.scene() {
         Some(scene) => {
             let name = scene.get("name").map_or("(unnamed)", String::as_str);
@@ -391,6 +417,38 @@ fn list(reader: &LogReader, query: &Query) -> Result<()> {
         print_table(&["field", "unit", "min", "max", "mean"], &rows, 2, "  ")?;
     }
     Ok(())
+}
+
+/// How the run that wrote the log ended, from its `railsim_result` record (a scene's
+/// `duration_s`, listed with the scene, is where the run was to end, not where it did).
+fn outcome(reader: &LogReader) -> String {
+    let Some(result) = reader.metadata().get("railsim_result") else {
+        return "run: no result recorded (the run did not close its log)".to_owned();
+    };
+    let get = |k: &str| result.get(k).map_or("?", String::as_str);
+    let t_end = result
+        .get("t_end_s")
+        .and_then(|t| t.parse::<f64>().ok())
+        .map_or("?".to_owned(), short_number);
+    match result.get("outcome").map(String::as_str) {
+        Some("stopped") => format!(
+            "run: STOPPED at t = {} s: {}: {}",
+            // as the run's error message gives it
+            result
+                .get("stop_t_s")
+                .and_then(|t| t.parse::<f64>().ok())
+                .map_or("?".to_owned(), |t| format!("{t:.6}")),
+            get("stop_body"),
+            get("stop_quantity")
+        ),
+        Some("failed") => format!("run: FAILED at t = {t_end} s: {}", get("message")),
+        // logs written before the outcome was recorded (stop 27) name no outcome
+        Some("finished") | None => format!(
+            "run: ended at t = {t_end} s, state digest {}",
+            get("state_digest")
+        ),
+        Some(other) => format!("run: outcome '{other}' at t = {t_end} s"),
+    }
 }
 
 fn write_csv(reader: &LogReader, query: &Query, out: &Path) -> Result<()> {

@@ -13,6 +13,14 @@ fn temp_dir(name: &str) -> PathBuf {
     common::temp_dir("run", name)
 }
 
+/// The `simulation stopped ...` line of a run's standard error.
+fn err_line(err: &str) -> String {
+    err.lines()
+        .find(|l| l.contains("simulation stopped at"))
+        .unwrap_or("")
+        .to_owned()
+}
+
 #[test]
 fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
     let dir = temp_dir("klingel");
@@ -69,6 +77,10 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
             m.angular_velocity[1]
         );
     }
+    // the listing says where the run ended (--duration-s 0.5, not the scene's duration_s)
+    let (code, out, err) = railsim(&["replay", log_s]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("\nrun: ended at t = 0.5 s, state digest "), "{out}");
     let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("agrees"), "{out}");
@@ -197,12 +209,15 @@ fn a_stop_with_a_long_fixed_step_notes_the_stability_limit() {
     .replace("\"../", &format!("\"{}/../", scenes.display()));
     let scene = dir.join("rk4.toml");
     std::fs::write(&scene, text).unwrap();
+    let log = dir.join("rk4.mcap");
+    let log_s = log.to_str().unwrap();
     let (code, _, err) = railsim(&[
         "run",
         scene.to_str().unwrap(),
         "--duration-s",
         "0.06",
-        "--no-log",
+        "--out",
+        log_s,
         "--quiet",
     ]);
     assert_eq!(code, 2, "{err}");
@@ -211,6 +226,37 @@ fn a_stop_with_a_long_fixed_step_notes_the_stability_limit() {
         err.contains("note: the run used a fixed explicit step of 5 ms; above about 2.00 ms")
             && err.contains("rerun with a smaller step_s"),
         "{err}"
+    );
+    // The kept log says that the run stopped, when and why (its scene's duration_s says where
+    // it was to end) ...
+    let (code, out, err) = railsim(&["replay", log_s]);
+    assert_eq!(code, 0, "{err}");
+    let line = out.lines().find(|l| l.starts_with("run: ")).unwrap_or("");
+    assert!(
+        line.starts_with("run: STOPPED at t = 0.0") && err.is_empty(),
+        "{out}{err}"
+    );
+    let stop = err_line(
+        &railsim(&[
+            "run",
+            scene.to_str().unwrap(),
+            "--duration-s",
+            "0.06",
+            "--no-log",
+            "--quiet",
+        ])
+        .2,
+    );
+    assert!(
+        stop.contains(&line["run: STOPPED at ".len()..]),
+        "{line}\n{stop}"
+    );
+    // ... and a re-run stops in the same state.
+    let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains("stopped at t = 0.0") && out.contains("agrees"),
+        "{out}"
     );
     std::fs::remove_dir_all(&dir).ok();
 }

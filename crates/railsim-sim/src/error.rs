@@ -55,6 +55,10 @@ pub enum SimError {
         quantity: String,
         /// The log that was kept, if any.
         log: Option<std::path::PathBuf>,
+        /// The state digest of the samples recorded before the stop (as
+        /// `RunSummary::digest`; set by `Simulation::run`), so that a re-run can be compared
+        /// with a stopped one.
+        digest: Option<u64>,
     },
     /// A stability study (`crate::stability`) was set up wrongly or found nothing to measure.
     #[error("{message}")]

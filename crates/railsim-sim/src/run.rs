@@ -419,7 +419,7 @@ impl Simulation {
             Ok(())
         })();
         self.ws = Some(dynamics.ws);
-        let stats = rec.finish(state.digest, t_end)?;
+        let stats = rec.finish(state.digest, t_end, result.as_ref().err())?;
         result.map(|()| stats)
     }
 
@@ -539,12 +539,16 @@ impl Simulation {
         let contact_searches = (searches1.0 - searches0.0, searches1.1 - searches0.1);
         self.ws = Some(dynamics.ws);
         let log = match recorder {
-            Some(rec) => Some(rec.finish(state.digest, self.integ.t())?),
+            Some(rec) => Some(rec.finish(state.digest, self.integ.t(), result.as_ref().err())?),
             None => None,
         };
         if let Err(mut e) = result {
-            if let SimError::Stopped { log: l, .. } = &mut e {
+            if let SimError::Stopped {
+                log: l, digest: d, ..
+            } = &mut e
+            {
                 *l = log.map(|s| s.path);
+                *d = Some(state.digest);
             }
             return Err(e);
         }
@@ -639,6 +643,7 @@ fn stopped_rhs(t: f64, msg: String, failure: Option<(String, String)>) -> SimErr
         body,
         quantity,
         log: None,
+        digest: None,
     }
 }
 
@@ -671,6 +676,7 @@ fn stopped_integrator(
         body,
         quantity,
         log: None,
+        digest: None,
     }
 }
 
@@ -687,6 +693,7 @@ fn check_limits(model: &SimModel, s: &Sample, initial: bool) -> Result<(), SimEr
         body: body.to_owned(),
         quantity,
         log: None,
+        digest: None,
     };
     let why = |running: &'static str| if initial { INITIAL_BEYOND } else { running };
     for (i, mm) in model.members.iter().enumerate() {
@@ -1473,10 +1480,35 @@ impl Recorder {
         Ok(())
     }
 
-    fn finish(mut self, digest: u64, t_end: f64) -> Result<LogStats, SimError> {
+    /// Close the log with its `railsim_result` record: the state digest, the end time and how
+    /// the run ended (`outcome` = `finished`, `stopped` with `stop_t_s`, `stop_body` and
+    /// `stop_quantity`, or `failed` with `message`; docs/formats/log.md).
+    fn finish(
+        mut self,
+        digest: u64,
+        t_end: f64,
+        error: Option<&SimError>,
+    ) -> Result<LogStats, SimError> {
         let mut m = BTreeMap::new();
         m.insert("state_digest".to_owned(), format!("{digest:016x}"));
         m.insert("t_end_s".to_owned(), format!("{t_end:?}"));
+        match error {
+            None => {
+                m.insert("outcome".to_owned(), "finished".to_owned());
+            }
+            Some(SimError::Stopped {
+                t, body, quantity, ..
+            }) => {
+                m.insert("outcome".to_owned(), "stopped".to_owned());
+                m.insert("stop_t_s".to_owned(), format!("{t:?}"));
+                m.insert("stop_body".to_owned(), body.clone());
+                m.insert("stop_quantity".to_owned(), quantity.clone());
+            }
+            Some(other) => {
+                m.insert("outcome".to_owned(), "failed".to_owned());
+                m.insert("message".to_owned(), other.to_string());
+            }
+        }
         self.writer.write_metadata("railsim_result", m)?;
         Ok(self.writer.finish()?)
     }

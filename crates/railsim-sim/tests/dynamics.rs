@@ -5,7 +5,7 @@
 //! the contact crate called online at every right-hand side).
 
 use railsim_sim::stability::bisect_growth;
-use railsim_sim::{RunOptions, Sample, Simulation};
+use railsim_sim::{RunOptions, Sample, SimError, Simulation};
 
 mod common;
 use common::{
@@ -343,6 +343,21 @@ fn a_run_that_derails_stops_with_time_body_and_quantity_and_keeps_its_log() {
     assert!(msg.contains(&log.display().to_string()), "{msg}");
     let reader = railsim_log::LogReader::open(&log).unwrap();
     assert!(reader.message_count() > 10);
+    // The log says how the run ended, and its digest is the one the error carries.
+    let SimError::Stopped {
+        t, body, digest, ..
+    } = &err
+    else {
+        panic!("{err:?}");
+    };
+    let result = &reader.metadata()["railsim_result"];
+    assert_eq!(result["outcome"], "stopped");
+    assert_eq!(result["stop_t_s"].parse::<f64>().unwrap(), *t);
+    assert_eq!(&result["stop_body"], body);
+    assert_eq!(
+        result["state_digest"],
+        format!("{:016x}", digest.expect("a stopped run's digest"))
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
