@@ -1273,3 +1273,154 @@ fn solve_halfspace(
     let _ = sol.approach;
     Ok(f)
 }
+
+#[cfg(test)]
+mod spin_moment_at_reference_tests {
+    use super::*;
+    use crate::contact_format::manchester_benchmark_pair;
+    use crate::pose::{cross, dot3};
+
+    /// A yawed wheelset in flange contact: each patch's reported moment about its normal
+    /// (`moment_track`, the spin moment `forces.mz` along the reference normal) must be the
+    /// moment of the patch's own force system moved from the rigid contact pair, where the model
+    /// solved it, to the reported point `point_track`: `M_ref = M_rigid + (r_rigid - r_ref) × F`
+    /// (rigid-body statics), taken about the rigid pair's normal as `patch::spin_moment_moved`
+    /// documents. The rigid pair, its frame and the model's local solution are recomputed here
+    /// from the evaluation's travelled pairs and zones; the reported force must equal the local
+    /// one (the same patch), and the lead offset `dx` must matter (yaw), so that reporting the
+    /// plain moment `f.mz`, or the moment moved without `-dx·Fs`, fails.
+    #[test]
+    fn a_yawed_flange_patch_reports_its_spin_moment_moved_to_the_reference_point() {
+        let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+        let vel = WheelsetVelocity {
+            vx: 30.0,
+            vy: 0.01,
+            spin: 30.0 / 0.46,
+            ..Default::default()
+        };
+        for model in [ContactModelKind::Fastsim, ContactModelKind::Stripes] {
+            let opts = ContactOptions {
+                model,
+                hertz_search: HertzSearch::Travel,
+                ..Default::default()
+            };
+            let contact =
+                WheelRailContact::new(manchester_benchmark_pair(&root).unwrap(), opts).unwrap();
+            // the left wheel, and the right wheel in the mirrored pose and velocities (the same
+            // patch with the mirror's signs)
+            for side in [Side::Left, Side::Right] {
+                let sg = side.sign();
+                let pose = WheelsetPose {
+                    y: 6.42e-3,
+                    z: 0.385e-3,
+                    roll: 0.78e-3,
+                    yaw: 12e-3,
+                }
+                .to_side(side);
+                let vel = vel.to_side(side);
+                let mut ws = ContactWorkspace::new();
+                contact.evaluate(side, &pose, &vel, &mut ws).unwrap();
+                // Recompute every zone's local solution as the evaluation did.
+                let sp = pose.to_side(side);
+                let ctx = PoseCtx::new(&contact.pair, &sp);
+                let kin = WheelKinematics::new(&ctx, sp.roll, &vel.to_side(side));
+                let mut locals = Vec::new();
+                let (mut strips, mut local, mut exact, mut wells) = (
+                    Vec::new(),
+                    Vec::new(),
+                    stripes::ExactScratch::default(),
+                    WellScratch::default(),
+                );
+                for &zone in &ws.zones {
+                    let frame = patch_frame(&contact.pair, &ctx, &ws.pairs, &zone, true);
+                    let input = PatchInput {
+                        pair: &contact.pair,
+                        pairs: &ws.pairs,
+                        zone,
+                        frame,
+                        kin: &kin,
+                        creep: kin.creepages(frame.wheel_point, frame.t, frame.n),
+                        yawed: ctx.yawed,
+                    };
+                    let f = match model {
+                        ContactModelKind::Fastsim => {
+                            contact.solve_hertz(&input, HertzTangential::Fastsim)
+                        }
+                        _ => stripes::solve(
+                            &input,
+                            opts.stripes_variant,
+                            opts.tangential,
+                            opts.fastsim_nx,
+                            opts.bound,
+                            opts.exact_cells,
+                            &mut strips,
+                            &mut local,
+                            &mut exact,
+                            &mut wells,
+                        ),
+                    }
+                    .unwrap()
+                    .scaled(zone.share);
+                    if f.fn_ > 0.0 {
+                        locals.push((frame, f));
+                    }
+                }
+                assert_eq!(locals.len(), ws.patches.len(), "{}", model.name());
+                let mut flange = 0;
+                for (p, (fr, f)) in ws.patches.iter().zip(&locals) {
+                    // the local force in the track frame (side frame mirrored for the right wheel)
+                    let fy = f.fs * fr.t[0] + f.fn_ * fr.n[0];
+                    let fz = f.fs * fr.t[1] + f.fn_ * fr.n[1];
+                    let force = [f.fx, sg * fy, fz];
+                    let scale_f = force.iter().map(|v| v.abs()).fold(0.0, f64::max);
+                    for k in 0..3 {
+                        assert!(
+                            (p.force_track[k] - force[k]).abs() <= 1e-12 * scale_f,
+                            "{}: not the same patch: {:?} vs {force:?}",
+                            model.name(),
+                            p.force_track
+                        );
+                    }
+                    // rigid pair (wheel point's lead, rail point) and its normal, track frame
+                    let r_rigid = [fr.wheel_point[0], sg * fr.rail_point[0], fr.rail_point[1]];
+                    let n_rigid = [0.0, sg * fr.n[0], fr.n[1]];
+                    // the local spin moment as a pseudo-vector in the track frame
+                    let m_rigid = [0.0, f.mz * fr.n[0], sg * f.mz * fr.n[1]];
+                    let d = std::array::from_fn(|k| r_rigid[k] - p.point_track[k]);
+                    let moved = cross(d, p.force_track);
+                    let expected = dot3(m_rigid, n_rigid) + dot3(moved, n_rigid);
+                    // the reported moment about the reference normal
+                    let (sa, ca) = p.contact_angle.sin_cos();
+                    let n_ref = [0.0, -sg * sa, ca];
+                    let got = dot3(p.moment_track, n_ref);
+                    // the lead offset's share (-dx Fs) of the moved moment
+                    let lead = dot3(cross([d[0], 0.0, 0.0], p.force_track), n_rigid);
+                    let t_rigid = [0.0, sg * fr.t[0], fr.t[1]];
+                    eprintln!(
+                        "{} {}: angle {:.3} rad (rigid pair {:.3}), dx {:.3} mm, dl {:.3} mm: \
+                     reported {got:.4} N m, moved {expected:.4} N m, local {:.4} N m, \
+                     lead term {lead:.4} N m",
+                        model.name(),
+                        side.name(),
+                        p.contact_angle,
+                        fr.contact_angle,
+                        -d[0] * 1e3,
+                        -dot3(d, t_rigid) * 1e3,
+                        sg * f.mz
+                    );
+                    let tol = 1e-9 * (f.mz.abs() + scale_f * 1e-3);
+                    assert!(
+                        (got - expected).abs() <= tol,
+                        "{}: reported {got} N m about the reference normal, {expected} N m moved",
+                        model.name()
+                    );
+                    if fr.contact_angle > 0.5 {
+                        flange += 1;
+                        assert!(lead.abs() > 1e3 * tol, "{}: lead term {lead}", model.name());
+                    }
+                }
+                assert!(flange > 0, "{}: no flange patch", model.name());
+            }
+        }
+    }
+}
