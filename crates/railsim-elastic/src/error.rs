@@ -42,6 +42,20 @@ pub enum ElasticError {
         /// the tolerance asked for
         tol: f64,
     },
+    /// A conjugate-gradient iteration found no descent step: the step's denominator (the
+    /// curvature `tᵀ A t` along the steepest-descent direction) was not positive, which for a
+    /// positive definite influence matrix only round-off or overflow can cause.
+    #[error(
+        "{solver} found no descent step at iteration {iteration}: step denominator {denominator:e} <= 0"
+    )]
+    StepBreakdown {
+        /// which solver
+        solver: &'static str,
+        /// the iteration
+        iteration: usize,
+        /// the denominator found
+        denominator: f64,
+    },
 }
 
 /// Returns `Ok(v)` if `v` is finite and strictly positive.

@@ -299,6 +299,26 @@ enum Control {
     Approach(f64),
 }
 
+/// The outcome of a conjugate-gradient step's guards ([`HalfspaceSolver::descent_step`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Step {
+    /// A descent step `τ` along `t` on the contact set (`t` reset to the steepest-descent
+    /// direction where the conjugate one gave no descent step).
+    Contact { tau: f64 },
+    /// The gradient vanishes on the contact set and no cell outside overlaps: solved.
+    Solved,
+    /// The gradient vanishes on the contact set but cells outside overlap: a steepest-descent
+    /// step `τ` over the contact set and the overlapping cells.
+    Grow { tau: f64 },
+}
+
+/// Whether cell `i` is in the contact set (`p > 0`), or with `grow` also an overlapping cell
+/// (`p = 0`, `g < 0`).
+#[inline]
+fn member(p: &[f64], g: &[f64], i: usize, grow: bool) -> bool {
+    p[i] > 0.0 || (grow && g[i] < 0.0)
+}
+
 /// Half-space normal-contact solver on a fixed grid. All buffers (kernel spectrum, FFT plans,
 /// work arrays) are allocated in [`HalfspaceSolver::new`]; solves do not allocate.
 pub struct HalfspaceSolver {
@@ -520,40 +540,27 @@ impl HalfspaceSolver {
                 };
             }
             g_old = g_norm;
-            // (d) r = A t (mean-free on the contact set for force control).
-            self.conv.apply(&self.t, &mut self.r);
-            if let Control::Force(_) = control {
-                let (mut s, mut c) = (0.0, 0usize);
-                for i in 0..n {
-                    if self.p[i] > 0.0 {
-                        s += self.r[i];
-                        c += 1;
-                    }
-                }
-                let mean = if c > 0 { s / c as f64 } else { 0.0 };
-                self.r.iter_mut().for_each(|r| *r -= mean);
-            }
-            // (e) step length.
-            let (mut gt, mut rt) = (0.0, 0.0);
-            for i in 0..n {
-                if self.p[i] > 0.0 {
-                    gt += self.g[i] * self.t[i];
-                    rt += self.r[i] * self.t[i];
-                }
-            }
-            let tau = if rt > 0.0 { gt / rt } else { 0.0 };
+            // (d), (e) r = A t and the step length, with the guards of `descent_step`.
+            let (tau, grow) = match self.descent_step(control, beta != 0.0, it)? {
+                Step::Solved => return Ok(self.finish(gap, control, it)),
+                Step::Contact { tau } => (tau, false),
+                Step::Grow { tau } => (tau, true),
+            };
             // (e), (f) update, projection, and re-entry of overlapping cells.
             self.p_prev.copy_from_slice(&self.p);
             for i in 0..n {
-                if self.p[i] > 0.0 {
+                if member(&self.p, &self.g, i, grow) {
                     self.p[i] = (self.p[i] - tau * self.t[i]).max(0.0);
                 }
             }
-            conjugate = true;
-            for i in 0..n {
-                if self.p[i] == 0.0 && self.g[i] < 0.0 {
-                    self.p[i] = -tau * self.g[i];
-                    conjugate = false;
+            // (a step over the grown set has moved its overlapping cells already)
+            conjugate = !grow;
+            if !grow {
+                for i in 0..n {
+                    if self.p[i] == 0.0 && self.g[i] < 0.0 {
+                        self.p[i] = -tau * self.g[i];
+                        conjugate = false;
+                    }
                 }
             }
             // (g) force balance.
@@ -577,11 +584,13 @@ impl HalfspaceSolver {
                 .zip(&self.p_prev)
                 .map(|(a, b)| (a - b).abs())
                 .sum();
-            change = if sum > 0.0 { diff / sum } else { 0.0 };
-            if !change.is_finite() {
+            // (no pressure left under displacement control is no solution: the approach exceeds
+            // the smallest gap, so a cell overlaps and the next step's guards grow the set)
+            change = if sum > 0.0 { diff / sum } else { f64::INFINITY };
+            if change.is_nan() {
                 break;
             }
-            if change < tol || g_norm == 0.0 {
+            if change < tol {
                 return Ok(self.finish(gap, control, it));
             }
         }
@@ -591,6 +600,117 @@ impl HalfspaceSolver {
             residual: change,
             tol,
         })
+    }
+
+    /// Steps (d) and (e) of the loop for the direction in `t` (zero outside the contact set):
+    /// `r = A t`, for force control less its mean over the set, and the step length
+    /// `τ = Σ g t / Σ r t` over the set (Polonsky & Keer 1999). `None` unless the denominator
+    /// is positive and `τ` finite and non-zero: a zero step changes no pressure, so the loop's
+    /// stopping rule would take it for convergence.
+    ///
+    /// With `grow` the set is the contact set and the overlapping cells (`p = 0`, `g < 0`).
+    fn step_length(&mut self, control: Control, grow: bool) -> (Option<f64>, f64) {
+        let n = self.p.len();
+        self.conv.apply(&self.t, &mut self.r);
+        if let Control::Force(_) = control {
+            let (mut s, mut c) = (0.0, 0usize);
+            for i in 0..n {
+                if member(&self.p, &self.g, i, grow) {
+                    s += self.r[i];
+                    c += 1;
+                }
+            }
+            let mean = if c > 0 { s / c as f64 } else { 0.0 };
+            self.r.iter_mut().for_each(|r| *r -= mean);
+        }
+        let (mut gt, mut rt) = (0.0, 0.0);
+        for i in 0..n {
+            if member(&self.p, &self.g, i, grow) {
+                gt += self.g[i] * self.t[i];
+                rt += self.r[i] * self.t[i];
+            }
+        }
+        let tau = gt / rt;
+        let ok = rt > 0.0 && tau.is_finite() && tau != 0.0;
+        (ok.then_some(tau), rt)
+    }
+
+    /// Steps (d) and (e) with guards against a step that is not a descent step.
+    ///
+    /// Why the denominator `D = Σ t (r − r̄)` over the contact set `I` can fail to be positive:
+    /// with `m` the mean of `t` over `I` and `t' = t − m` (zero mean), `Σ (r − r̄) = 0` gives
+    /// `D = t'ᵀ A t = t'ᵀ A t' + m t'ᵀ A 1_I` (displacement control: `D = tᵀ A t`). `A`, the
+    /// influence matrix, is symmetric positive definite (the elastic energy `½ pᵀ A p > 0`), so
+    /// `D > 0` whenever `t` is non-zero and of zero mean. The gradient `g` has zero mean over
+    /// `I` by construction (the approach is the mean gap), but the previous direction had zero
+    /// mean over the previous set: when cells left the set and the direction was kept conjugate
+    /// (Polonsky & Keer reset it only when cells re-enter), `m ≠ 0` and `D` may be of either
+    /// sign even in exact arithmetic; round-off adds to it. And where `g` vanishes on `I` (a
+    /// one-cell contact set under force control: `g = 0` identically) `t = 0` and `D = 0`.
+    ///
+    /// Remedies: a conjugate direction without a descent step is restarted from the
+    /// steepest-descent direction `t = g` (the standard restart of nonlinear conjugate
+    /// gradients; Nocedal & Wright, Numerical Optimization, 2nd ed. 2006, §5.2), whose `D =
+    /// gᵀ A g > 0` unless `g = 0` on `I`. Then the contact set is in equilibrium: solved if no
+    /// cell outside overlaps, otherwise the set must grow but Polonsky & Keer's re-entry
+    /// `p = −τ g` has no step; the steepest-descent step is taken over the contact set and the
+    /// overlapping cells together (`t = g` less its mean over them for force control, so that
+    /// `D = tᵀ A t > 0` and `Σ g t = Σ t² > 0`). A step that still fails (only by overflow or
+    /// round-off) is [`ElasticError::StepBreakdown`], and so is a non-finite gradient.
+    fn descent_step(
+        &mut self,
+        control: Control,
+        conjugate: bool,
+        iteration: usize,
+    ) -> Result<Step, ElasticError> {
+        let n = self.p.len();
+        let (tau, _) = self.step_length(control, false);
+        if let Some(tau) = tau {
+            return Ok(Step::Contact { tau });
+        }
+        if conjugate {
+            for i in 0..n {
+                self.t[i] = if self.p[i] > 0.0 { self.g[i] } else { 0.0 };
+            }
+            if let (Some(tau), _) = self.step_length(control, false) {
+                return Ok(Step::Contact { tau });
+            }
+        }
+        let breakdown = |denominator: f64| ElasticError::StepBreakdown {
+            solver: "Polonsky-Keer CG",
+            iteration,
+            denominator,
+        };
+        if self.g.iter().any(|g| !g.is_finite()) {
+            return Err(breakdown(f64::NAN));
+        }
+        if !(0..n).any(|i| self.p[i] == 0.0 && self.g[i] < 0.0) {
+            return Ok(Step::Solved);
+        }
+        let mean = match control {
+            Control::Approach(_) => 0.0,
+            Control::Force(_) => {
+                let (mut s, mut c) = (0.0, 0usize);
+                for i in 0..n {
+                    if member(&self.p, &self.g, i, true) {
+                        s += self.g[i];
+                        c += 1;
+                    }
+                }
+                s / c as f64
+            }
+        };
+        for i in 0..n {
+            self.t[i] = if member(&self.p, &self.g, i, true) {
+                self.g[i] - mean
+            } else {
+                0.0
+            };
+        }
+        match self.step_length(control, true) {
+            (Some(tau), _) => Ok(Step::Grow { tau }),
+            (None, denominator) => Err(breakdown(denominator)),
+        }
     }
 
     fn finish(&mut self, gap: &[f64], control: Control, iterations: usize) -> NormalSolution {
@@ -849,5 +969,107 @@ mod tests {
         assert!(matches!(err, ElasticError::NotConverged { .. }));
         assert!(HalfspaceSolver::new(Grid { nx: 0, ..grid }, &mat).is_err());
         assert!(HalfspaceSolver::new(Grid { dx: -1.0, ..grid }, &mat).is_err());
+    }
+
+    /// Force control started from a one-cell contact: on a one-cell contact set the gradient
+    /// (gap minus its mean over the set) vanishes identically, so the conjugate direction is zero
+    /// and so is the step's denominator `tᵀ(A t − mean)`. The step used to be taken as zero, no
+    /// overlapping cell re-entered (their pressure `−τ g` is zero too), the pressure did not
+    /// change and the solve reported convergence on the old cell while another interpenetrated
+    /// by 0.1 mm. Now the contact set grows by a steepest-descent step over it and the
+    /// overlapping cells, and the solve finds the new contact.
+    #[test]
+    fn a_one_cell_start_is_not_taken_for_the_solution() {
+        let mat = mat();
+        let grid = Grid::covering(8, 8, -1e-3, 1e-3, -1e-3, 1e-3).unwrap();
+        let mut solver = HalfspaceSolver::new(grid, &mat).unwrap();
+        let (a, b) = (9, 45);
+        // a single cell standing out by 1 mm, lightly loaded: it alone carries the load
+        let mut gap = vec![1e-3; grid.len()];
+        gap[a] = 0.0;
+        let s = solver.solve_force(&gap, 10.0, 1e-10, 100).unwrap();
+        assert_eq!(s.n_contact, 1);
+        assert!(solver.pressure()[a] > 0.0);
+        // then another cell stands out 0.1 mm further; the solve starts from the last pressure
+        gap[b] = -1e-4;
+        let s = solver.solve_force(&gap, 10.0, 1e-10, 100).unwrap();
+        let p = solver.pressure().to_vec();
+        let mut u = vec![0.0; grid.len()];
+        solver.displacement(&p, &mut u).unwrap();
+        let e: Vec<f64> = (0..grid.len())
+            .map(|i| gap[i] - s.approach + u[i])
+            .collect();
+        eprintln!(
+            "{} iterations, {} cells in contact, p[a] = {:.3e} Pa, p[b] = {:.3e} Pa, \
+             e[b] = {:.3e} m",
+            s.iterations, s.n_contact, p[a], p[b], e[b]
+        );
+        assert!(rel(s.force, 10.0) < 1e-12);
+        assert_eq!((s.n_contact, p[a]), (1, 0.0));
+        for i in 0..grid.len() {
+            assert!(p[i] >= 0.0);
+            assert!(e[i] > -1e-12, "cell {i} interpenetrates: e = {:e} m", e[i]);
+        }
+    }
+
+    /// The guard itself, on a crafted direction: all 16 cells in contact, a zero-mean gradient,
+    /// and a "conjugate" direction `t = t' + m` whose zero-mean part `t' = e_corner − e_centre`
+    /// is swamped by a mean `m` (what a kept conjugate direction carries after cells left the
+    /// contact set). Its denominator `t'ᵀ A t' + m t'ᵀ A 1` is negative (a corner cell's row of
+    /// `A` sums to less than a centre cell's), so no step is taken along it; the guard restarts
+    /// from `t = g` with `τ = gᵀg / gᵀ A g`. A non-finite gradient is a breakdown.
+    #[test]
+    fn a_conjugate_direction_without_descent_is_restarted() {
+        let mat = mat();
+        let grid = Grid::covering(4, 4, -1e-3, 1e-3, -1e-3, 1e-3).unwrap();
+        let n = grid.len();
+        let mut solver = HalfspaceSolver::new(grid, &mat).unwrap();
+        let a = |solver: &mut HalfspaceSolver, v: &[f64]| {
+            let mut u = vec![0.0; n];
+            solver.displacement(v, &mut u).unwrap();
+            u
+        };
+        let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(a, b)| a * b).sum::<f64>();
+        let (corner, centre) = (0, 5);
+        let mut tz = vec![0.0; n];
+        (tz[corner], tz[centre]) = (1.0, -1.0);
+        let (atz, a1) = (a(&mut solver, &tz), a(&mut solver, &vec![1.0; n]));
+        let (curv, cross) = (dot(&tz, &atz), dot(&tz, &a1));
+        assert!(curv > 0.0 && cross < 0.0, "{curv} {cross}");
+        let m = 2.0 * curv / -cross;
+        let predicted = curv + m * cross;
+        solver.p.fill(1e6);
+        let g: Vec<f64> = (0..n).map(|i| 1e-6 * (i as f64 - 7.5)).collect();
+        solver.g.copy_from_slice(&g);
+        for i in 0..n {
+            solver.t[i] = tz[i] + m;
+        }
+        let (tau, denominator) = solver.step_length(Control::Force(1.0), false);
+        eprintln!("crafted direction: denominator {denominator:e} (predicted {predicted:e})");
+        assert_eq!(tau, None);
+        assert!(denominator < 0.0);
+        assert!(
+            rel(denominator, predicted) < 1e-9,
+            "{denominator} vs {predicted}"
+        );
+        for i in 0..n {
+            solver.t[i] = tz[i] + m;
+        }
+        let step = solver.descent_step(Control::Force(1.0), true, 3).unwrap();
+        assert_eq!(solver.t, g);
+        let ag = a(&mut solver, &g);
+        let want = dot(&g, &g) / dot(&g, &ag);
+        match step {
+            Step::Contact { tau } => assert!(rel(tau, want) < 1e-9, "{tau} vs {want}"),
+            other => panic!("{other:?}"),
+        }
+        solver.g[7] = f64::NAN;
+        let err = solver
+            .descent_step(Control::Force(1.0), true, 3)
+            .unwrap_err();
+        assert!(
+            matches!(err, ElasticError::StepBreakdown { iteration: 3, .. }),
+            "{err}"
+        );
     }
 }
