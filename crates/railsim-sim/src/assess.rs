@@ -13,8 +13,8 @@
 //!   `(ΣY)2m,lim = α (10 kN + 2Q0 / 3)` with `2Q0` the static axle load in kN and α = 1 for
 //!   locomotives and passenger vehicles, 0.85 for freight wagons;
 //! - **running stability**: ΣY band-pass filtered around the instability frequency f0
-//!   (f0 ± 2 Hz) and its **sliding r.m.s. over 100 m**, one value every 10 m, against half of
-//!   the ΣY limit. f0 is given by the caller (a study knows its hunting frequency) or taken as
+//!   (f0 ± 2 Hz, the filter scaled to unit gain at f0) and its **sliding r.m.s. over 100 m**,
+//!   one value every 10 m, against half of the ΣY limit. f0 is given by the caller (a study knows its hunting frequency) or taken as
 //!   the dominant frequency of the axles' ΣY between 1 and 15 Hz;
 //! - **derailment quotient** per wheel: Y (on the rail toward its field side, the direction that
 //!   makes a flange climb) and Q low-pass filtered at 20 Hz, Y/Q of the filtered forces, its
@@ -442,7 +442,13 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         None => dominant(series).map(|f| (f, true)),
     };
     let band = f0.map(|(f, _)| stability_band(f));
-    let bandpass = band.and_then(|(lo, hi)| Filter::bandpass4(lo, hi, fs).ok());
+    // scaled to pass f0 whole: the two 4th-order edges 4 Hz apart cut its middle (by 4 % at
+    // 5 Hz, 12 % at 8 Hz, 25 % at 15 Hz), which would understate the instability criteria
+    let bandpass = f0.zip(band).and_then(|((f, _), (lo, hi))| {
+        Filter::bandpass4(lo, hi, fs)
+            .ok()
+            .map(|b| b.with_unit_gain_at(f, fs))
+    });
     let d = &series.distance;
     let axles = series
         .sum_y
@@ -913,11 +919,10 @@ mod tests {
         );
         assert!(ax.sum_y_2m_percentile.unwrap() <= m.value.abs() + 1e-9);
         assert!(ax.sum_y_2m_percentile.unwrap() > 0.98 * m.value.abs());
-        // r.m.s. of the band-passed sine: 8 kN / sqrt 2 times the filter's gain at 5 Hz (the
-        // band 3-7 Hz: 0.96)
-        let band = Filter::bandpass4(3.0, 7.0, 200.0).unwrap();
+        // r.m.s. of the band-passed sine: 8 kN / sqrt 2, the band-pass scaled to unit gain at
+        // f0 (the band 3-7 Hz alone has 0.96 at 5 Hz)
         let rms = ax.sum_y_rms.unwrap();
-        let expect = 8e3 / 2f64.sqrt() * band.gain(5.0, 200.0);
+        let expect = 8e3 / 2f64.sqrt();
         assert!(
             (rms.value - expect).abs() < 0.01 * expect,
             "{} vs {expect}",
@@ -928,6 +933,55 @@ mod tests {
         assert!((rms1 / rms.value - 0.5).abs() < 0.01, "{rms1}");
         // 600 m run: windows every 10 m from 100 m on
         assert_eq!(ax.sum_y_rms_windows.len(), 50);
+    }
+
+    #[test]
+    fn the_stability_criteria_pass_a_tone_at_f0_whole() {
+        // 10 kN of ΣY and 4 m/s² of bogie-frame acceleration at f0, 40 s at 50 m/s: the
+        // sliding r.m.s. is the tone's (amplitude / √2) and the peak its amplitude, whatever
+        // f0 (the bare HP/LP cascade 4 Hz wide passes 0.96 at 5 Hz, 0.89 at 8, 0.75 at 15)
+        let fs = 200.0;
+        let n = (40.0 * fs) as usize;
+        for f0 in [3.0, 5.0, 8.0, 15.0] {
+            // (faded in over 2 s: a sudden start rings the band-pass)
+            let tone = |amp: f64| -> Vec<f64> {
+                (0..n)
+                    .map(|i| {
+                        let t = i as f64 / fs;
+                        let fade = 0.5 - 0.5 * (0.5 * std::f64::consts::PI * t.min(2.0)).cos();
+                        fade * amp * (2.0 * std::f64::consts::PI * f0 * t).sin()
+                    })
+                    .collect()
+            };
+            let s = Series {
+                rate_hz: fs,
+                distance: (0..n).map(|i| 50.0 * i as f64 / fs).collect(),
+                sum_y: vec![tone(10e3)],
+                bogies: vec![BogieSeries {
+                    name: "frame".into(),
+                    mass: 6000.0,
+                    points: vec![("p".into(), tone(4.0))],
+                }],
+                ..Default::default()
+            };
+            let opts = AssessOptions {
+                instability_frequency: Some(f0),
+                ..Default::default()
+            };
+            let a = assess(&s, &[100e3], &opts);
+            let rms = a.axles[0].sum_y_rms.unwrap().value;
+            assert!(
+                (rms / (10e3 / 2f64.sqrt()) - 1.0).abs() < 0.01,
+                "{f0} Hz: {rms}"
+            );
+            let p = &a.bogies[0].points[0];
+            let (rms, peak) = (p.rms.unwrap().value, p.peak.unwrap().value.abs());
+            assert!(
+                (rms / (4.0 / 2f64.sqrt()) - 1.0).abs() < 0.01,
+                "{f0} Hz: {rms}"
+            );
+            assert!((peak / 4.0 - 1.0).abs() < 0.03, "{f0} Hz: {peak}");
+        }
     }
 
     #[test]
@@ -1224,11 +1278,13 @@ mod tests {
         assert!((b.peak_limit - (12.0 - 6.24 / 5.0)).abs() < 1e-12);
         assert!((b.rms_limit() - 0.5 * b.peak_limit).abs() < 1e-12);
         let p = &b.points[0];
-        // the 6 Hz tone passes with the band-pass' gain there (0.93), the 20 Hz one is cut to
-        // a few percent
-        let f = Filter::bandpass4(4.0, 8.0, 200.0).unwrap();
+        // the 6 Hz tone passes whole (the band-pass scaled to unit gain at f0; unscaled 0.94),
+        // the 20 Hz one is cut to a few percent
+        let f = Filter::bandpass4(4.0, 8.0, 200.0)
+            .unwrap()
+            .with_unit_gain_at(6.0, 200.0);
         let (g6, g20) = (f.gain(6.0, 200.0), f.gain(20.0, 200.0));
-        assert!(g6 > 0.9 && g20 < 0.03, "{g6} {g20}");
+        assert!((g6 - 1.0).abs() < 1e-12 && g20 < 0.03, "{g6} {g20}");
         let rms = p.rms.unwrap().value;
         let expect = ((3.0 * g6).powi(2) + (5.0 * g20).powi(2)).sqrt() / 2f64.sqrt();
         assert!((rms / expect - 1.0).abs() < 0.01, "{rms} against {expect}");

@@ -117,6 +117,21 @@ impl Filter {
         Ok(f)
     }
 
+    /// The filter scaled so that its gain at `f` \[Hz\] (sample rate `fs`) is exactly 1 (a
+    /// filter without gain there is returned as it is). The band-pass of [`Filter::bandpass4`]
+    /// loses gain in its middle when its edges are closer than an octave (0.94 at 6 Hz for
+    /// 4–8 Hz, 0.75 at 15 Hz for 13–17 Hz): scaled at the frequency it is meant to measure, a
+    /// tone there passes whole.
+    pub fn with_unit_gain_at(mut self, f: f64, fs: f64) -> Filter {
+        let g = self.gain(f, fs);
+        if let (true, Some(q)) = (g.is_finite() && g > 0.0, self.sections.first_mut()) {
+            for b in &mut q.b {
+                *b /= g;
+            }
+        }
+        self
+    }
+
     /// Filter `x` in place, causally, starting from the steady state of a constant input equal
     /// to `x[0]` (a run that starts with a steady force, e.g. in a curve, makes no start-up
     /// transient).
