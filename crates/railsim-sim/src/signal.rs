@@ -43,6 +43,20 @@ impl Biquad {
         )
     }
 
+    /// The analog section `(b0 + b1 s + b2 s²) / (a0 + a1 s + a2 s²)` by the bilinear transform
+    /// `s = c (1 − z⁻¹) / (1 + z⁻¹)`.
+    fn bilinear(b: [f64; 3], a: [f64; 3], c: f64) -> Biquad {
+        let c2 = c * c;
+        let z = |p: [f64; 3]| {
+            [
+                p[0] + p[1] * c + p[2] * c2,
+                2.0 * (p[0] - p[2] * c2),
+                p[0] - p[1] * c + p[2] * c2,
+            ]
+        };
+        Biquad::normalised(z(b), z(a))
+    }
+
     fn normalised(b: [f64; 3], a: [f64; 3]) -> Biquad {
         Biquad {
             b: [b[0] / a[0], b[1] / a[0], b[2] / a[0]],
@@ -68,6 +82,20 @@ fn corner(fc: f64, fs: f64) -> (f64, f64) {
 
 /// Quality factors of the two sections of a 4th-order Butterworth filter.
 const BUTTERWORTH4_Q: [f64; 2] = [0.541_196_100_146_197, 1.306_562_964_876_376_7];
+
+/// A second-order analog section `(num[0] + num[1] s + num[2] s²) / (den[0] + den[1] s +
+/// den[2] s²)`, s in rad/s, for [`Filter::from_analog`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AnalogSection {
+    /// Numerator coefficients, ascending powers of s.
+    pub num: [f64; 3],
+    /// Denominator coefficients, ascending powers of s.
+    pub den: [f64; 3],
+    /// \[Hz\] the frequency at which the digital section's response is made to equal the
+    /// analog one (the bilinear transform pre-warped there); `None` or a frequency at or above
+    /// 0.45 of the sample rate: not pre-warped.
+    pub match_hz: Option<f64>,
+}
 
 /// A causal digital filter: a cascade of second-order sections.
 #[derive(Debug, Clone, PartialEq)]
@@ -115,6 +143,31 @@ impl Filter {
         let mut f = Filter::highpass4(f_lo, fs)?;
         f.sections.extend(Filter::lowpass4(f_hi, fs)?.sections);
         Ok(f)
+    }
+
+    /// The digital counterpart of a cascade of analog second-order sections at sample rate
+    /// `fs` \[Hz\], each by the bilinear transform (pre-warped at its `match_hz`).
+    pub fn from_analog(sections: &[AnalogSection], fs: f64) -> Result<Filter, FilterError> {
+        if !(fs.is_finite() && fs > 0.0) {
+            return Err(FilterError(format!(
+                "the sample rate {fs} Hz is not a positive number"
+            )));
+        }
+        Ok(Filter {
+            sections: sections
+                .iter()
+                .map(|q| {
+                    let c = match q.match_hz {
+                        Some(f) if f > 0.0 && f < 0.45 * fs => {
+                            let w = 2.0 * std::f64::consts::PI * f;
+                            w / (w / (2.0 * fs)).tan()
+                        }
+                        _ => 2.0 * fs,
+                    };
+                    Biquad::bilinear(q.num, q.den, c)
+                })
+                .collect(),
+        })
     }
 
     /// The filter scaled so that its gain at `f` \[Hz\] (sample rate `fs`) is exactly 1 (a
