@@ -379,6 +379,9 @@ fn print_assessment(a: &Assessment) -> Result<()> {
                 "given"
             }
         ),
+        (None, Some((f0, _))) => {
+            format!("f0 = {f0:.2} Hz, whose band the log rate cannot carry: no r.m.s. criterion")
+        }
         _ => "no instability frequency found: no r.m.s. criterion".to_owned(),
     };
     outln!(
