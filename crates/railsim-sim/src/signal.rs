@@ -248,6 +248,13 @@ pub struct WindowValue {
 /// (samples in order of non-decreasing distance `dist`). A window holds the samples with
 /// `end - window < d <= end`; only whole windows (`end >= dist[0] + window`) are taken, and a
 /// window without samples gives none.
+///
+/// The mean is over distance, as EN 14363's sliding means over 2 m of track: each sample
+/// weighs half the distance from the sample before it to the one after it (the trapezoidal
+/// rule; the first and the last sample the whole step to their neighbour), so that samples
+/// taken at a constant rate count alike at a constant speed and a standstill's repeated samples
+/// do not outweigh the track around them (a plain mean of the samples is a mean over time). A window whose samples all weigh nothing (a standstill at
+/// the start) takes their plain mean.
 pub fn sliding_mean(dist: &[f64], x: &[f64], window: f64, step: f64) -> Vec<WindowValue> {
     sliding(dist, x, window, step, |v| v)
 }
@@ -261,7 +268,8 @@ pub fn sliding_rms(dist: &[f64], x: &[f64], window: f64, step: f64) -> Vec<Windo
     out
 }
 
-/// Sliding means of `f(x)`: the running sum over a window that moves along the samples.
+/// Sliding distance-weighted means of `f(x)` ([`sliding_mean`]): running sums over a window
+/// that moves along the samples.
 fn sliding(
     dist: &[f64],
     x: &[f64],
@@ -274,9 +282,24 @@ fn sliding(
     if n == 0 || !(window > 0.0 && step > 0.0) {
         return out;
     }
+    // the distance each sample weighs: half the run from the sample before it to the one after
+    // it (the trapezoidal rule), at the ends the whole step to the neighbour
+    let weight = |i: usize| {
+        if n == 1 {
+            1.0
+        } else if i == 0 {
+            dist[1] - dist[0]
+        } else if i == n - 1 {
+            dist[i] - dist[i - 1]
+        } else {
+            0.5 * (dist[i + 1] - dist[i - 1])
+        }
+    };
     let (first, last) = (dist[0], dist[n - 1]);
-    // window ends at first + window + k step, within the samples
-    let (mut lo, mut hi, mut sum) = (0usize, 0usize, 0.0f64);
+    // window ends at first + window + k step, within the samples; running sums of w f(x), w
+    // and f(x)
+    let (mut lo, mut hi) = (0usize, 0usize);
+    let (mut sum, mut wsum, mut plain) = (0.0f64, 0.0f64, 0.0f64);
     let mut k = 0u64;
     loop {
         let end = first + window + k as f64 * step;
@@ -287,22 +310,30 @@ fn sliding(
         // that divides the window then gives every window the same number of samples)
         let tol = 1e-9 * window;
         while hi < n && dist[hi] <= end + tol {
-            sum += f(x[hi]);
+            let (w, v) = (weight(hi), f(x[hi]));
+            (sum, wsum, plain) = (sum + w * v, wsum + w, plain + v);
             hi += 1;
         }
         while lo < hi && dist[lo] <= end - window + tol {
-            sum -= f(x[lo]);
+            let (w, v) = (weight(lo), f(x[lo]));
+            (sum, wsum, plain) = (sum - w * v, wsum - w, plain - v);
             lo += 1;
         }
         if hi > lo {
-            // (the running sum is recomputed now and then against round-off drift)
+            // (the running sums are recomputed now and then against round-off drift)
             if k % 1024 == 1023 {
-                sum = x[lo..hi].iter().map(|&v| f(v)).sum();
+                (sum, wsum, plain) = (lo..hi).fold((0.0, 0.0, 0.0), |(s, ws, p), i| {
+                    let (w, v) = (weight(i), f(x[i]));
+                    (s + w * v, ws + w, p + v)
+                });
             }
-            out.push(WindowValue {
-                end,
-                value: sum / (hi - lo) as f64,
-            });
+            // (a weight below a billionth of the window is round-off of a standstill)
+            let value = if wsum > 1e-9 * window {
+                sum / wsum
+            } else {
+                plain / (hi - lo) as f64
+            };
+            out.push(WindowValue { end, value });
         }
         k += 1;
     }
@@ -634,6 +665,43 @@ mod tests {
         let sparse = [0.0, 3.0, 6.0];
         let m = sliding_mean(&sparse, &sparse, 2.0, 0.5);
         assert!(m.iter().all(|w| w.value == 3.0 || w.value == 6.0), "{m:?}");
+    }
+
+    #[test]
+    fn sliding_means_are_over_distance_at_a_varying_speed() {
+        // Samples at 1 kHz: 40 m/s for 1 s, then 10 m/s, with a standstill of 2 s at 50 m;
+        // x = 1 while running at 40 m/s, 0 after. The 2 m window ending 1 m after the speed
+        // change holds 1 m of each: a mean over distance of 0.5, where the mean of the samples
+        // (25 at 40 m/s, 100 at 10 m/s) is 0.2.
+        let (mut dist, mut x) = (vec![], vec![]);
+        let mut d = 0.0;
+        for i in 0..8000 {
+            let t = i as f64 * 1e-3;
+            let v = if t < 1.0 {
+                40.0
+            } else if (2.0..4.0).contains(&t) {
+                0.0
+            } else {
+                10.0
+            };
+            dist.push(d);
+            x.push(if t < 1.0 { 1.0 } else { 0.0 });
+            d += v * 1e-3;
+        }
+        let m = sliding_mean(&dist, &x, 2.0, 0.5);
+        let at = |m: &[WindowValue], end: f64| {
+            m.iter()
+                .find(|w| (w.end - end).abs() < 1e-9)
+                .unwrap()
+                .value
+        };
+        // (the change at 40 m falls between two samples 0.04 m apart: 0.49 by the trapezoids)
+        assert!((at(&m, 41.0) - 0.5).abs() < 0.02, "{}", at(&m, 41.0));
+        // The standstill's 2000 samples at 50 m count for no distance: with x = distance, the
+        // window (48.5, 50.5] has the mean of the track it covers, 49.505 (its samples every
+        // 0.01 m from 48.51 on), where the plain mean of its samples is 49.955.
+        let m = sliding_mean(&dist, &dist, 2.0, 0.5);
+        assert!((at(&m, 50.5) - 49.505).abs() < 1e-6, "{}", at(&m, 50.5));
     }
 
     #[test]
