@@ -428,7 +428,7 @@ fn print_assessment(a: &Assessment) -> Result<()> {
     if !a.comfort.is_empty() {
         outln!(
             "carbody accelerations, lateral / vertical: Sperling's ride index Wz ({}-{} Hz); \
-             max and r.m.s. band-passed {}-{} Hz (EN 14363):",
+             max (0.15 % / 99.85 % percentiles) and r.m.s. band-passed {}-{} Hz (EN 14363):",
             SPERLING_BAND.0,
             SPERLING_BAND.1,
             CARBODY_BAND.0,

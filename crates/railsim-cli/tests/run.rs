@@ -80,7 +80,10 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
     // the listing says where the run ended (--duration-s 0.5, not the scene's duration_s)
     let (code, out, err) = railsim(&["replay", log_s]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("\nrun: ended at t = 0.5 s, state digest "), "{out}");
+    assert!(
+        out.contains("\nrun: ended at t = 0.5 s, state digest "),
+        "{out}"
+    );
     let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("agrees"), "{out}");

@@ -690,10 +690,7 @@ mod tests {
         }
         let m = sliding_mean(&dist, &x, 2.0, 0.5);
         let at = |m: &[WindowValue], end: f64| {
-            m.iter()
-                .find(|w| (w.end - end).abs() < 1e-9)
-                .unwrap()
-                .value
+            m.iter().find(|w| (w.end - end).abs() < 1e-9).unwrap().value
         };
         // (the change at 40 m falls between two samples 0.04 m apart: 0.49 by the trapezoids)
         assert!((at(&m, 41.0) - 0.5).abs() < 0.02, "{}", at(&m, 41.0));
