@@ -4,9 +4,10 @@
 //!
 //! The vehicle's equations (`crate::dynamics`, with the scene's contact model evaluated online,
 //! as in a run) are linearised about its centred equilibrium at speed V: the static equilibrium
-//! with every wheelset settled on its rails, spinning at pure rolling ([`Simulation::new`] with
+//! with every wheelset settled on its rails, spinning at free rolling ([`Simulation::new`] with
 //! no disturbance), on the scene's track file with its alignment replaced by a tangent and its
-//! irregularities removed, and each wheelset's spin then set to its rolling equilibrium. The
+//! irregularities removed, and each wheelset's spin then set to its rolling equilibrium (with a
+//! traction or brake torque, the spin whose creep torque balances it). The
 //! Jacobian is a central difference of the right-hand side ([`railsim_ode::linear::jacobian`])
 //! with steps of 1 µm (1 µrad) on positions and internal states and 10 µm/s (10 µrad/s) on
 //! rates, far above the contact search's tolerances and small enough that the creep forces stay
@@ -294,11 +295,14 @@ fn rate_step(step: f64, v: f64) -> f64 {
     step.max(1e-7 * v.abs())
 }
 
-/// Set the wheelsets' spin rates (states `spins`) to their rolling equilibrium, where the
-/// creep forces' torque about each axle vanishes: [`Simulation::new`] spins each wheelset at
-/// `V / r` with `r` its mean rolling radius, but a wide conformal patch with spin also carries
-/// a longitudinal creep force (the contact benchmark's Fx at y = 0.5 mm, docs/validation.md §1),
-/// so that the axles start with a small torque (8.6 rad/s² on the Manchester vehicle). Newton
+/// Set the wheelsets' spin rates (states `spins`) to their rolling equilibrium, where each
+/// axle's spin acceleration vanishes: [`Simulation::new`] starts each wheelset in free rolling
+/// (no creep torque about its axle, to 1e-6 rad/s²), which is this equilibrium unless the
+/// wheelset has a traction or brake torque, which the spin found here balances by creep. (Until
+/// the free-rolling start, [`Simulation::new`] spun each wheelset at `V / r` with `r` its mean
+/// rolling radius, but a wide conformal patch with spin also carries a longitudinal creep force
+/// (the contact benchmark's Fx at y = 0.5 mm, docs/validation.md §1), so that the axles started
+/// with a small torque: 8.6 rad/s² on the Manchester vehicle.) Newton
 /// per axle on its own spin acceleration, with its derivative by central difference (the axles
 /// are coupled only through the bodies, weakly), to 1e-6 rad/s² or 20 iterations. Returns the
 /// right-hand side at the settled state.
