@@ -14,8 +14,9 @@
 //!   locomotives and passenger vehicles, 0.85 for freight wagons;
 //! - **running stability**: ΣY band-pass filtered around the instability frequency f0
 //!   (f0 ± 2 Hz, the filter scaled to unit gain at f0) and its **sliding r.m.s. over 100 m**,
-//!   one value every 10 m, against half of the ΣY limit. f0 is given by the caller (a study knows its hunting frequency) or taken as
-//!   the dominant frequency of the axles' ΣY between 1 and 15 Hz;
+//!   one value every 10 m, against half of the ΣY limit. f0 is given by the caller (a study
+//!   knows its hunting frequency) or taken as the dominant frequency of the axles' ΣY between 1
+//!   and 15 Hz;
 //! - **derailment quotient** per wheel: Y (on the rail toward its field side, the direction that
 //!   makes a flange climb) and Q low-pass filtered at 20 Hz, Y/Q of the filtered forces, its
 //!   2 m sliding mean `(Y/Q)2m` every 0.5 m, and the 99.85 % percentile (the climbing tail;

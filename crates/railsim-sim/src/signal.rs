@@ -253,8 +253,8 @@ pub struct WindowValue {
 /// weighs half the distance from the sample before it to the one after it (the trapezoidal
 /// rule; the first and the last sample the whole step to their neighbour), so that samples
 /// taken at a constant rate count alike at a constant speed and a standstill's repeated samples
-/// do not outweigh the track around them (a plain mean of the samples is a mean over time). A window whose samples all weigh nothing (a standstill at
-/// the start) takes their plain mean.
+/// do not outweigh the track around them (a plain mean of the samples is a mean over time). A
+/// window whose samples all weigh nothing (a standstill at the start) takes their plain mean.
 pub fn sliding_mean(dist: &[f64], x: &[f64], window: f64, step: f64) -> Vec<WindowValue> {
     sliding(dist, x, window, step, |v| v)
 }
