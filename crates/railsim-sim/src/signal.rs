@@ -672,7 +672,7 @@ mod tests {
         // Samples at 1 kHz: 40 m/s for 1 s, then 10 m/s, with a standstill of 2 s at 50 m;
         // x = 1 while running at 40 m/s, 0 after. The 2 m window ending 1 m after the speed
         // change holds 1 m of each: a mean over distance of 0.5, where the mean of the samples
-        // (25 at 40 m/s, 100 at 10 m/s) is 0.2.
+        // (24 of its 125 samples at 40 m/s) is 0.19.
         let (mut dist, mut x) = (vec![], vec![]);
         let mut d = 0.0;
         for i in 0..8000 {
