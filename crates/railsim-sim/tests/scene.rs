@@ -81,6 +81,25 @@ fn every_scene_file_compiles() {
     assert!(n >= 3, "expected at least three scenes, found {n}");
 }
 
+/// Every shipped scene also starts: its simulation builds, with its initial state (a
+/// quasi-static start in a curve included). `scenes/manchester_in_curve_r300.toml` compiled but
+/// did not start from stop 26 until stop 27 (STRIPES at the 1 mm step, Newton stalled).
+#[test]
+fn every_scene_file_starts() {
+    let mut n = 0;
+    for entry in std::fs::read_dir(scenes_dir()).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let scene = Scene::from_file(&path).unwrap();
+            let sim = railsim_sim::Simulation::new(&scene)
+                .unwrap_or_else(|e| panic!("{}:\n{e}", path.display()));
+            assert!(sim.initial_state().iter().all(|v| v.is_finite()));
+            n += 1;
+        }
+    }
+    assert!(n >= 3, "expected at least three scenes, found {n}");
+}
+
 #[test]
 fn default_scene_is_the_issue_default() {
     let s = Scene::from_file(scenes_dir().join("default.toml")).unwrap();
