@@ -65,20 +65,27 @@ speed_kmh = 100
 duration_s = 1
 "#;
 
+/// The shipped scene files (at least three).
+fn scene_files() -> Vec<std::path::PathBuf> {
+    let files: Vec<_> = std::fs::read_dir(scenes_dir())
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    assert!(
+        files.len() >= 3,
+        "expected at least three scenes, found {files:?}"
+    );
+    files
+}
+
 #[test]
 fn every_scene_file_compiles() {
-    let mut n = 0;
-    for entry in std::fs::read_dir(scenes_dir()).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "toml") {
-            let scene =
-                Scene::from_file(&path).unwrap_or_else(|e| panic!("{}:\n{e}", path.display()));
-            assert!(scene.duration() > 0.0 && scene.distance() > 0.0);
-            assert!(!scene.dofs().is_empty());
-            n += 1;
-        }
+    for path in scene_files() {
+        let scene = Scene::from_file(&path).unwrap_or_else(|e| panic!("{}:\n{e}", path.display()));
+        assert!(scene.duration() > 0.0 && scene.distance() > 0.0);
+        assert!(!scene.dofs().is_empty());
     }
-    assert!(n >= 3, "expected at least three scenes, found {n}");
 }
 
 /// Every shipped scene also starts: its simulation builds, with its initial state (a
@@ -86,18 +93,12 @@ fn every_scene_file_compiles() {
 /// did not start from stop 26 until stop 27 (STRIPES at the 1 mm step, Newton stalled).
 #[test]
 fn every_scene_file_starts() {
-    let mut n = 0;
-    for entry in std::fs::read_dir(scenes_dir()).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "toml") {
-            let scene = Scene::from_file(&path).unwrap();
-            let sim = railsim_sim::Simulation::new(&scene)
-                .unwrap_or_else(|e| panic!("{}:\n{e}", path.display()));
-            assert!(sim.initial_state().iter().all(|v| v.is_finite()));
-            n += 1;
-        }
+    for path in scene_files() {
+        let scene = Scene::from_file(&path).unwrap();
+        let sim = railsim_sim::Simulation::new(&scene)
+            .unwrap_or_else(|e| panic!("{}:\n{e}", path.display()));
+        assert!(sim.initial_state().iter().all(|v| v.is_finite()));
     }
-    assert!(n >= 3, "expected at least three scenes, found {n}");
 }
 
 #[test]
