@@ -214,7 +214,7 @@ fn a_stop_with_a_long_fixed_step_notes_the_stability_limit() {
     std::fs::write(&scene, text).unwrap();
     let log = dir.join("rk4.mcap");
     let log_s = log.to_str().unwrap();
-    let (code, _, err) = railsim(&[
+    let (code, out, err) = railsim(&[
         "run",
         scene.to_str().unwrap(),
         "--duration-s",
@@ -225,6 +225,21 @@ fn a_stop_with_a_long_fixed_step_notes_the_stability_limit() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("simulation stopped at t = "), "{err}");
+    // The summary and the assessment of the samples before the stop are printed first, headed
+    // by the stop's time.
+    let t_stop = |text: &str, key: &str| {
+        let at = text.find(key).map(|i| i + key.len())?;
+        text[at..].split_whitespace().next().map(str::to_owned)
+    };
+    assert_eq!(
+        t_stop(&out, "run STOPPED at t = "),
+        t_stop(&err, "simulation stopped at t = "),
+        "{out}\n{err}"
+    );
+    assert!(
+        out.contains("track-shift force ΣY") && out.contains("; state digest "),
+        "{out}"
+    );
     assert!(
         err.contains("note: the run used a fixed explicit step of 5 ms; above about 2.00 ms")
             && err.contains("rerun with a smaller step_s"),

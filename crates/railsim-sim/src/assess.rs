@@ -889,8 +889,15 @@ pub fn sperling(a: &[f64], fs: f64, direction: Direction) -> Option<f64> {
     Some((2.0 * power_cm).powf(0.15))
 }
 
-/// The dominant frequency of the axles' ΣY: that of the axle with the largest ΣY variance.
+/// The dominant frequency of the axles' ΣY: that of the axle with the largest ΣY variance;
+/// `None` for a record shorter than two periods of the search band's lowest frequency (2 s),
+/// whose spectrum cannot tell the frequencies of the band apart (a Hann window's main lobe is
+/// 4 / T wide: 2 Hz at T = 2 s, about the band-pass' half-width; a run stopped early, e.g.).
 fn dominant(series: &Series) -> Option<f64> {
+    let samples = series.sum_y.first().map_or(0, Vec::len);
+    if (samples as f64) < 2.0 / INSTABILITY_SEARCH_BAND.0 * series.rate_hz {
+        return None;
+    }
     let var = |x: &Vec<f64>| {
         let m = x.iter().sum::<f64>() / x.len().max(1) as f64;
         x.iter().map(|v| (v - m) * (v - m)).sum::<f64>()
@@ -1066,6 +1073,18 @@ mod tests {
         let s = series(1e3, 1e3, 5.0, 0.03);
         let a = assess(&s, &[100e3, 100e3], &AssessOptions::default());
         assert!(a.axles[0].sum_y_2m.is_none() && a.axles[0].sum_y_rms.is_none());
+        // a 5 Hz tone in 1.9 s (a run stopped early): too short to name its frequency; in 2.1 s
+        // it is found
+        for (seconds, found) in [(1.9, false), (2.1, true)] {
+            let a = assess(
+                &series(0.0, 1e3, 5.0, seconds),
+                &[100e3, 100e3],
+                &AssessOptions::default(),
+            );
+            let f0 = a.instability_frequency.map(|(f, _)| f);
+            assert_eq!(f0.is_some(), found, "{seconds} s: {f0:?}");
+            assert!(f0.is_none_or(|f| (f - 5.0).abs() < 0.1), "{f0:?}");
+        }
         // at 30 Hz the 20 Hz low-pass cannot be applied: reported, the mean still taken
         let mut s = series(1e3, 0.0, 5.0, 4.0);
         s.rate_hz = 30.0;

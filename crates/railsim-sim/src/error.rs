@@ -59,6 +59,10 @@ pub enum SimError {
         /// `RunSummary::digest`; set by `Simulation::run`), so that a re-run can be compared
         /// with a stopped one.
         digest: Option<u64>,
+        /// What the run reports up to the stop (set by `Simulation::run`): its statistics and
+        /// the EN 14363 / EN 12299 assessment of the samples recorded before it, the sample
+        /// that crossed a limit included. Boxed: the error stays small on its other paths.
+        summary: Option<Box<crate::run::RunSummary>>,
     },
     /// A stability study (`crate::stability`) was set up wrongly or found nothing to measure.
     #[error("{message}")]

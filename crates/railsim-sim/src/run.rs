@@ -578,40 +578,47 @@ impl Simulation {
             Some(rec) => Some(rec.finish(state.digest, self.integ.t(), result.as_ref().err())?),
             None => None,
         };
+        let summarize = |log: Option<LogStats>, t_end: f64| {
+            // static axle loads per wheelset from the front
+            let mut axle_loads = vec![0.0; self.static_loads.len()];
+            for (pair, q) in self.model.wheels.chunks(2).zip(&self.static_loads) {
+                axle_loads[pair[0].wheelset_number as usize] = q[0] + q[1];
+            }
+            RunSummary {
+                t_end,
+                wall: wall.elapsed().as_secs_f64(),
+                max_lateral: state.max_lateral.clone(),
+                max_y_over_q: state.max_yq,
+                max_q: state.max_q,
+                max_rail: state.max_rail,
+                assessment: assess(&state.series, &axle_loads, &scene.assessment),
+                stats,
+                samples: (next - first) as u64,
+                digest: state.digest,
+                cost,
+                contact_searches,
+                logging,
+                log,
+                elements: element_energy(&self.model, &state),
+            }
+        };
         if let Err(mut e) = result {
             if let SimError::Stopped {
-                log: l, digest: d, ..
+                t,
+                log: l,
+                digest: d,
+                summary,
+                ..
             } = &mut e
             {
-                *l = log.map(|s| s.path);
+                *l = log.as_ref().map(|s| s.path.clone());
                 *d = Some(state.digest);
+                // the simulated time is that of the last good state, as the error reports it
+                *summary = Some(Box::new(summarize(log, *t)));
             }
             return Err(e);
         }
-        // static axle loads per wheelset from the front
-        let mut axle_loads = vec![0.0; self.static_loads.len()];
-        for (pair, q) in self.model.wheels.chunks(2).zip(&self.static_loads) {
-            axle_loads[pair[0].wheelset_number as usize] = q[0] + q[1];
-        }
-        let assessment = assess(&state.series, &axle_loads, &scene.assessment);
-        let elements = element_energy(&self.model, &state);
-        Ok(RunSummary {
-            t_end: self.integ.t(),
-            wall: wall.elapsed().as_secs_f64(),
-            max_lateral: state.max_lateral,
-            max_y_over_q: state.max_yq,
-            max_q: state.max_q,
-            max_rail: state.max_rail,
-            assessment,
-            stats,
-            samples: (next - first) as u64,
-            digest: state.digest,
-            cost,
-            contact_searches,
-            logging,
-            log,
-            elements,
-        })
+        Ok(summarize(log, self.integ.t()))
     }
 }
 
@@ -680,6 +687,7 @@ fn stopped_rhs(t: f64, msg: String, failure: Option<(String, String)>) -> SimErr
         quantity,
         log: None,
         digest: None,
+        summary: None,
     }
 }
 
@@ -713,6 +721,7 @@ fn stopped_integrator(
         quantity,
         log: None,
         digest: None,
+        summary: None,
     }
 }
 
@@ -730,6 +739,7 @@ fn check_limits(model: &SimModel, s: &Sample, initial: bool) -> Result<(), SimEr
         quantity,
         log: None,
         digest: None,
+        summary: None,
     };
     let why = |running: &'static str| if initial { INITIAL_BEYOND } else { running };
     for (i, mm) in model.members.iter().enumerate() {

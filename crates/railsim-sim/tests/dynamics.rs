@@ -345,11 +345,33 @@ fn a_run_that_derails_stops_with_time_body_and_quantity_and_keeps_its_log() {
     assert!(reader.message_count() > 10);
     // The log says how the run ended, and its digest is the one the error carries.
     let SimError::Stopped {
-        t, body, digest, ..
+        t,
+        body,
+        digest,
+        summary,
+        ..
     } = &err
     else {
         panic!("{err:?}");
     };
+    // The error carries the summary of the samples before the stop: the same time and digest,
+    // one sample per logged wheelset message, and the hunting that ran off in its statistics.
+    let summary = summary.as_ref().expect("a stopped run's summary");
+    assert_eq!(summary.t_end, *t);
+    assert_eq!(Some(summary.digest), *digest);
+    let logged = reader
+        .channel("/wheelsets/0")
+        .expect("the wheelset topic")
+        .message_count;
+    assert_eq!(summary.samples, logged);
+    eprintln!(
+        "summary to the stop: {} samples, max |y| {:.2} mm, max Y/Q {:?}",
+        summary.samples,
+        summary.max_lateral[0] * 1e3,
+        summary.max_y_over_q
+    );
+    assert!(summary.max_lateral[0] > 10e-3, "{:?}", summary.max_lateral);
+    assert_eq!(summary.assessment.wheels.len(), 2);
     let result = &reader.metadata()["railsim_result"];
     assert_eq!(result["outcome"], "stopped");
     assert_eq!(result["stop_t_s"].parse::<f64>().unwrap(), *t);
