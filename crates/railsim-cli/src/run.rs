@@ -11,7 +11,7 @@ use clap::Args;
 
 use railsim_ode::Method;
 use railsim_sim::assess::{
-    Assessment, CARBODY_BAND, SPERLING_BAND, STABILITY_WINDOW, SUM_Y_WINDOW,
+    Assessment, CARBODY_BAND, MIN_F0_RECORD, SPERLING_BAND, STABILITY_WINDOW, SUM_Y_WINDOW,
 };
 use railsim_sim::{RunOptions, RunSummary, Scene, SimError, Simulation};
 
@@ -102,6 +102,9 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
         scene.contact.model.name(),
         sim.model().dim()
     );
+    if let Some(note) = low_speed_note(&scene) {
+        eprintln!("note: {note}");
+    }
     if let Some((iterations, residual)) = sim.quasi_static_start() {
         eprintln!(
             "initial state: quasi-static at s = {:.2} m ({iterations} Newton iterations, largest residual {residual:.2} of its limit)",
@@ -186,6 +189,32 @@ const LOOSE_ATOL: f64 = 1e-3;
 /// integrator's settings can produce the same stop numerically, with how to tell. `rail_mass`
 /// \[kg\] is the rail mass of an elastic rail support: on the contact stiffness it has a mode
 /// that lowers the stability limit of fixed explicit steps to about 2√2 √(m / k).
+/// \[m/s\] at and below this top speed an adaptive explicit integrator is noted as the slower
+/// choice: the creep forces' damping grows as C/V and bounds its steps by stability. Measured on
+/// the default scene's first second (docs/performance.md, "Choosing the integrator"): Radau5 at
+/// rtol 1e-5, atol 1e-7 against DOPRI5 at 1e-4 / 1e-7 took 1/140 of the time at 1 km/h, 1/45 at
+/// 5, 1/6.8 at 20 and 1/1.4 at 50 km/h; at 198 km/h on irregular track DOPRI5 is about 5 times
+/// the faster.
+const LOW_SPEED: f64 = 50.0 / 3.6;
+
+/// A note before a run with an adaptive explicit integrator whose top speed is at most
+/// [`LOW_SPEED`]; `None` otherwise.
+fn low_speed_note(scene: &Scene) -> Option<String> {
+    let top = scene.speed.speeds().iter().copied().fold(0.0, f64::max);
+    let explicit = matches!(
+        scene.integrator,
+        Method::DormandPrince { .. } | Method::AdaptiveExplicit { .. }
+    );
+    (explicit && top <= LOW_SPEED + 1e-9).then(|| {
+        format!(
+            "at {:.0} km/h the creep forces' damping (about C/V) bounds an explicit method's \
+             steps by stability: radau5 at rtol 1e-5, atol 1e-7 was measured 1.4 (50 km/h) to \
+             140 (1 km/h) times faster (docs/performance.md, \"Choosing the integrator\")",
+            top * 3.6
+        )
+    })
+}
+
 fn stability_note(method: &Method, rail_mass: Option<f64>) -> Option<String> {
     let (limit, what) = match rail_mass {
         Some(m) => (
@@ -392,6 +421,10 @@ fn print_assessment(a: &Assessment) -> Result<()> {
         (None, Some((f0, _))) => {
             format!("f0 = {f0:.2} Hz, whose band the log rate cannot carry: no r.m.s. criterion")
         }
+        _ if a.too_short_for_f0 => format!(
+            "no instability frequency (a record under {MIN_F0_RECORD} s has none): no r.m.s. \
+             criterion"
+        ),
         _ => "no instability frequency found: no r.m.s. criterion".to_owned(),
     };
     outln!(
@@ -550,7 +583,9 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         outln!(
             "integrator: the steps were limited by stability, not accuracy ({} of {} steps; \
              stiff from t = {t:.3} s): a weakly damped stiff mode can keep an oscillation of the \
-             order of atol; radau5 or a smaller atol removes it (docs/models/ode.md)",
+             order of atol, which shows in Q; radau5 or a smaller atol removes it (measured: \
+             dopri5 at atol 1e-7, or radau5 at rtol 1e-5, atol 1e-7, which is also the faster \
+             at curving speeds; docs/performance.md, \"Choosing the integrator\")",
             st.stability_limited,
             st.steps
         );

@@ -415,6 +415,9 @@ pub struct Assessment {
     /// \[Hz\] the instability frequency used, with whether it was found in the signal (`true`)
     /// or given; `None`: none could be found (no r.m.s. criterion).
     pub instability_frequency: Option<(f64, bool)>,
+    /// Whether the record was too short to find the instability frequency in (under
+    /// [`MIN_F0_RECORD`]; the scene gave none).
+    pub too_short_for_f0: bool,
     /// \[Hz\] the band of the stability criterion's filter.
     pub band: Option<(f64, f64)>,
     /// Whether the 20 Hz low-pass was applied (the sample rate exceeds 40 Hz).
@@ -566,6 +569,7 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         limits: opts.limits,
         top_speed,
         instability_frequency: f0,
+        too_short_for_f0: opts.instability_frequency.is_none() && too_short_for_f0(series),
         band: bandpass.is_some().then_some(band).flatten(),
         lowpass: lowpass.is_some(),
         alpha: opts.alpha,
@@ -889,13 +893,22 @@ pub fn sperling(a: &[f64], fs: f64, direction: Direction) -> Option<f64> {
     Some((2.0 * power_cm).powf(0.15))
 }
 
-/// The dominant frequency of the axles' ΣY: that of the axle with the largest ΣY variance;
-/// `None` for a record shorter than two periods of the search band's lowest frequency (2 s),
-/// whose spectrum cannot tell the frequencies of the band apart (a Hann window's main lobe is
-/// 4 / T wide: 2 Hz at T = 2 s, about the band-pass' half-width; a run stopped early, e.g.).
-fn dominant(series: &Series) -> Option<f64> {
+/// \[s\] the shortest record in which the instability frequency is looked for: two periods of
+/// the search band's lowest frequency. A shorter record's spectrum cannot tell the frequencies
+/// of the band apart (a Hann window's main lobe is 4 / T wide: 2 Hz at T = 2 s, about the
+/// band-pass' half-width; a run stopped early, e.g.).
+pub const MIN_F0_RECORD: f64 = 2.0 / INSTABILITY_SEARCH_BAND.0;
+
+/// Whether `series` is shorter than [`MIN_F0_RECORD`].
+fn too_short_for_f0(series: &Series) -> bool {
     let samples = series.sum_y.first().map_or(0, Vec::len);
-    if (samples as f64) < 2.0 / INSTABILITY_SEARCH_BAND.0 * series.rate_hz {
+    (samples as f64) < MIN_F0_RECORD * series.rate_hz
+}
+
+/// The dominant frequency of the axles' ΣY: that of the axle with the largest ΣY variance;
+/// `None` for a record shorter than [`MIN_F0_RECORD`].
+fn dominant(series: &Series) -> Option<f64> {
+    if too_short_for_f0(series) {
         return None;
     }
     let var = |x: &Vec<f64>| {
@@ -1083,6 +1096,7 @@ mod tests {
             );
             let f0 = a.instability_frequency.map(|(f, _)| f);
             assert_eq!(f0.is_some(), found, "{seconds} s: {f0:?}");
+            assert_eq!(a.too_short_for_f0, !found);
             assert!(f0.is_none_or(|f| (f - 5.0).abs() < 0.1), "{f0:?}");
         }
         // at 30 Hz the 20 Hz low-pass cannot be applied: reported, the mean still taken
