@@ -588,14 +588,37 @@ fn continuation(
 /// The quasi-static start of `scene` ([`crate::InitialState::QuasiStatic`]), for
 /// `Simulation::new`, which passes `sim` with its static equilibrium built (every member on its
 /// own frame's centre line, each wheelset settled on its rails): Newton's method on
-/// `f(0, x) = 0` from there, as [`quasi_static_curving`] solves a curving case. If that fails, a
-/// second Newton on the scene itself (its own track, rails and irregularities) starts nearer:
-/// - for a contact model other than `polach`, from `polach`'s quasi-static start of the same
-///   scene: STRIPES' and FASTSIM's forces are not smooth enough for Newton from afar, but are
-///   from there (the R = 150 m curve with `stripes`: 5 iterations after `polach`'s 23);
-/// - for `polach` in a curve, from the steady state of that curve's curving case (its radius and
-///   cant at the vehicle's reference point, the speed at t = 0), with [`steady_state`]'s
-///   continuation in curvature and cant.
+/// `f(0, x) = 0` from there, as [`quasi_static_curving`] solves a curving case. If that fails,
+/// Newton on the scene itself (its own track, rails and irregularities) starts again nearer, as
+/// [`steady_state`]'s fallbacks do for a curving case:
+/// 1. for a contact model other than `polach`, from `polach`'s quasi-static start of the same
+///    scene: STRIPES' and FASTSIM's forces are not smooth enough for Newton from afar, but often
+///    are from there (the R = 150 m curve with `stripes`: 5 iterations after `polach`'s 23);
+/// 2. in a curve, from the steady state of that curve's curving case (its radius and cant at the
+///    vehicle's reference point, the speed at t = 0), reached with the scene's own model by
+///    [`steady_state`]'s continuation in curvature and cant (for `polach` after that case's own
+///    Newton).
+///
+/// Until models other than `polach` got step 2 too (with the removal of the `step_mm = 0.5`
+/// workaround of `scenes/manchester_in_curve_r300.toml`, after stop 27), the start had only
+/// step 1 for them, and that scene (`stripes` at the default 1 mm contact step, R = 300 m,
+/// 150 mm cant, 80 km/h) did not start: the direct Newton stalled after 7 iterations at a
+/// largest scaled residual of 32.4 (the leading wheelset's lateral row, 1.8 kN against the 55 N
+/// tolerance; its vertical row 22.6), and Newton from `polach`'s state after 1 at 29.8 (the
+/// same row; vertical 14.0). The steady-curving case of the same curve
+/// ([`quasi_static_curving`]) converged at 1 mm not because its equations are smoother (they
+/// are the same: `polach`'s start state is that case's `polach` solution, 0 further
+/// iterations, and `stripes` stalls from it at the same 29.8) but because [`steady_state`] has
+/// a third fallback: `stripes`' own continuation, 10 + 6 + 4 + 5 iterations to a residual of
+/// 0.096, from which the scene's Newton needs none. So the strips' piecewise-smooth forces
+/// defeat Newton's line search from `polach`'s state, 1.6 kN of lateral force away, but not
+/// from the nearer states of the continuation's steps (the likely mechanism, not measured
+/// further: the central-difference Jacobian at 1 µm sees the strips' edges, a local slope that
+/// misleads over the longer step). At the finer step of [`SMOOTH_STRIPES_STEP`] Newton from
+/// `polach`'s state converges (3 iterations, 28 in all), and Newton at 1 mm from that 0.5 mm
+/// state takes 1 iteration (residual 0.067): also a way, but at the cost of a second start (29
+/// iterations in all), so the continuation, which the curving case already relies on, is the
+/// fallback.
 ///
 /// The scene's disturbance of the leading wheelset (`[initial] lateral_offset_mm`, `yaw_mrad`)
 /// is then added to its steady position and held there while a last Newton ([`newton_held`])
@@ -649,43 +672,57 @@ fn steady_start(
         Ok(solved) => return Ok(solved),
         Err(e) => e,
     };
-    // A start nearer the solution: for a model other than `polach`, `polach`'s quasi-static
-    // state (the smooth forces Newton needs, and this fallback's continuation); for `polach`
-    // in a curve, the steady state of that curve's curving case (continuation in curvature and
-    // cant).
-    let nearer = if scene.contact.model != ContactModelKind::Polach {
+    // Newton on the scene itself from a state `x1` found in `before` iterations
+    let from = |(x1, before): (Vec<f64>, usize)| {
+        newton_steady(sim, 0.0, Some(&x1), &qs)
+            .ok()
+            .map(|(x, it, r)| (x, before + it, r))
+    };
+    // 1. For a model other than `polach`, `polach`'s quasi-static state of the scene itself (its
+    // own track and irregularities; the smooth forces Newton needs).
+    let other = scene.contact.model != ContactModelKind::Polach;
+    if other {
         // (undisturbed: the disturbance is added to this scene's own steady state)
         let mut smooth = with_polach(scene);
         smooth.initial.lateral_offset = 0.0;
         smooth.initial.yaw = 0.0;
-        Simulation::new(&smooth).ok().map(|p| {
+        let start = Simulation::new(&smooth).ok().map(|p| {
             (
                 p.initial_state().to_vec(),
                 p.quasi_static_start().map_or(0, |q| q.0),
             )
-        })
-    } else {
-        let f = scene.track.frame_at(scene.start);
-        let left = f.curvature > 0.0;
-        let case = CurveCase {
-            radius: 1.0 / f.curvature.abs(),
-            // the outer rail's height above the inner one (`TrackFrame::cant` is the left
-            // rail's)
-            cant: if left { -f.cant } else { f.cant },
-            left,
-            speed: sim.model().motion(0.0).1,
-        };
-        (f.curvature.abs() > STRAIGHT_CURVATURE)
-            .then(|| steady_state(scene, &case, &CurvingRun::default(), &qs).ok())
-            .flatten()
-            .map(|s| (s.x, s.iterations))
+        });
+        if let Some(solved) = start.and_then(from) {
+            return Ok(solved);
+        }
+    }
+    // 2. In a curve, the steady state of that curve's curving case (its radius and cant at the
+    // vehicle's reference point, the speed at t = 0) approached by the continuation in
+    // curvature and cant with the scene's own model: for `polach` after the case's own Newton
+    // ([`steady_state`]), for another model directly ([`case_continuation`]: its Newton from
+    // afar and from `polach`'s state are what failed above).
+    let f = scene.track.frame_at(scene.start);
+    let left = f.curvature > 0.0;
+    let case = CurveCase {
+        radius: 1.0 / f.curvature.abs(),
+        // the outer rail's height above the inner one (`TrackFrame::cant` is the left rail's)
+        cant: if left { -f.cant } else { f.cant },
+        left,
+        speed: sim.model().motion(0.0).1,
     };
-    let solved = nearer.and_then(|(x1, before)| {
-        newton_steady(sim, 0.0, Some(&x1), &qs)
-            .ok()
-            .map(|(x, it, r)| (x, before + it, r))
-    });
-    solved.ok_or_else(|| SimError::Initial {
+    let run = CurvingRun::default();
+    let nearer = (f.curvature.abs() > STRAIGHT_CURVATURE)
+        .then(|| {
+            if other {
+                case_continuation(scene, &case, &run, &qs)
+            } else {
+                steady_state(scene, &case, &run, &qs)
+                    .ok()
+                    .map(|s| (s.x, s.iterations))
+            }
+        })
+        .flatten();
+    nearer.and_then(from).ok_or_else(|| SimError::Initial {
         message: format!(
             "quasi-static start of scene '{}' at s = {:.2} m: no steady state found: {direct}{}; \
              start on a tangent instead ([initial] state = \"static\") and let the vehicle run into \
@@ -697,11 +734,30 @@ fn steady_start(
     })
 }
 
+/// The steady state of `case` approached by [`continuation`] alone, with `scene`'s own contact
+/// model, on the case's own study: the state and the Newton iterations of its steps, or `None`.
+fn case_continuation(
+    scene: &Scene,
+    case: &CurveCase,
+    run: &CurvingRun,
+    qs: &QuasiStatic,
+) -> Option<(Vec<f64>, usize)> {
+    let (study, curve_start) = curving_scene(scene, case, run).ok()?;
+    let sim = Simulation::new(&study).ok()?;
+    let t = (curve_start + 0.5 * run.settle) / case.speed;
+    continuation(scene, case, run, qs, &sim, t).map(|(x, it, _)| (x, it))
+}
+
 /// \[m\] the contact step at and below which STRIPES' forces are smooth enough for Newton in
-/// flange contact (measured before stop 26 on the Manchester vehicle at R = 300 m, 100 mm cant,
-/// 80 km/h: 9 iterations at 0.5 mm and 33 at 0.2 mm, where at the default 1 mm the strips left
-/// some 250 N of lateral force that no state removed, above the 55 N tolerance; with the
-/// vehicle's loaded geometry that case converges at 1 mm too, in 32 iterations).
+/// flange contact from `polach`'s steady state (measured before stop 26 on the Manchester
+/// vehicle at R = 300 m, 100 mm cant, 80 km/h: 9 iterations at 0.5 mm and 33 at 0.2 mm, where at
+/// the default 1 mm the strips left some 250 N of lateral force that no state removed; with the
+/// vehicle's loaded geometry that case converges at 1 mm too, in 32 iterations). In stop 27 the
+/// quasi-static start of `scenes/manchester_in_curve_r300.toml` (150 mm cant) stalled at 1 mm
+/// from `polach`'s state (largest scaled residual 29.8) and converged at 0.5 mm (3 iterations
+/// from there); the start now also has the continuation in curvature and cant with
+/// `stripes` itself, which reaches that scene's steady state at 1 mm ([`quasi_static_start`]),
+/// and the finer step is the error's hint for what still stalls.
 const SMOOTH_STRIPES_STEP: f64 = 0.5e-3;
 
 /// For a failed quasi-static solution with `stripes` at a coarser contact step than

@@ -43,7 +43,7 @@ use crate::curving::{CurveCase, CurvingRun, QuasiStatic, SteadyState, smooth_tra
 use crate::dynamics::Dynamics;
 use crate::error::SimError;
 use crate::model::SimModel;
-use crate::run::Simulation;
+use crate::run::{Simulation, SpinTarget, settle_spins};
 use crate::scene::{RunLength, Scene, SpeedProfile, extent};
 
 /// \[Hz\] modes slower than this are not counted as oscillatory (a real eigenvalue pair may
@@ -173,13 +173,15 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
             speed * 3.6
         ),
     };
-    let spins: Vec<usize> = model
-        .members
-        .iter()
-        .filter(|m| m.is_wheelset())
-        .filter_map(|m| m.rate[4])
-        .collect();
-    let f0 = settle_spins(&mut sys, &mut x0, &spins, opts.rate_step).map_err(|e| fail(e.0))?;
+    // Each wheelset's spin to its rolling equilibrium: [`Simulation::new`] starts it in free
+    // rolling (no creep torque about its axle, to 1e-6 rad/s²), which is this equilibrium unless
+    // the wheelset has a traction or brake torque, which the spin found here balances by creep.
+    // (Until the free-rolling start, `Simulation::new` spun each wheelset at `V / r` with `r`
+    // its mean rolling radius, but a wide conformal patch with spin also carries a longitudinal
+    // creep force (the contact benchmark's Fx at y = 0.5 mm, docs/validation.md §1), so that
+    // the axles started with a small torque: 8.6 rad/s² on the Manchester vehicle.)
+    let mut f0 = vec![0.0; x0.len()];
+    settle_spins(&mut sys, &mut x0, &mut f0, SpinTarget::Equilibrium).map_err(fail)?;
     linearise(model, &mut sys, 0.0, x0, &f0, speed, opts).map_err(fail)
 }
 
@@ -293,52 +295,6 @@ pub(crate) fn difference_steps(model: &SimModel, x: &[f64], opts: &ModalOptions)
 /// The difference step of a rate of value `v`: `step`, or 1e-7 of a large value.
 fn rate_step(step: f64, v: f64) -> f64 {
     step.max(1e-7 * v.abs())
-}
-
-/// Set the wheelsets' spin rates (states `spins`) to their rolling equilibrium, where each
-/// axle's spin acceleration vanishes: [`Simulation::new`] starts each wheelset in free rolling
-/// (no creep torque about its axle, to 1e-6 rad/s²), which is this equilibrium unless the
-/// wheelset has a traction or brake torque, which the spin found here balances by creep. (Until
-/// the free-rolling start, [`Simulation::new`] spun each wheelset at `V / r` with `r` its mean
-/// rolling radius, but a wide conformal patch with spin also carries a longitudinal creep force
-/// (the contact benchmark's Fx at y = 0.5 mm, docs/validation.md §1), so that the axles started
-/// with a small torque: 8.6 rad/s² on the Manchester vehicle.) Newton
-/// per axle on its own spin acceleration, with its derivative by central difference (the axles
-/// are coupled only through the bodies, weakly), to 1e-6 rad/s² or 20 iterations. Returns the
-/// right-hand side at the settled state.
-fn settle_spins(
-    sys: &mut Dynamics,
-    x: &mut [f64],
-    spins: &[usize],
-    step: f64,
-) -> Result<Vec<f64>, railsim_ode::RhsError> {
-    let n = x.len();
-    let (mut f, mut fp, mut fm) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let mut newton = vec![0.0; spins.len()];
-    sys.rhs(0.0, x, &mut f)?;
-    for _ in 0..20 {
-        if spins.iter().all(|&i| f[i].abs() < 1e-6) {
-            break;
-        }
-        newton.fill(0.0);
-        for (k, &i) in spins.iter().enumerate() {
-            let (xi, h) = (x[i], rate_step(step, x[i]));
-            x[i] = xi + h;
-            sys.rhs(0.0, x, &mut fp)?;
-            x[i] = xi - h;
-            sys.rhs(0.0, x, &mut fm)?;
-            x[i] = xi;
-            let d = (fp[i] - fm[i]) / (2.0 * h);
-            if d.is_finite() && d != 0.0 {
-                newton[k] = -f[i] / d;
-            }
-        }
-        for (k, &i) in spins.iter().enumerate() {
-            x[i] += newton[k];
-        }
-        sys.rhs(0.0, x, &mut f)?;
-    }
-    Ok(f)
 }
 
 /// A mode from an eigenpair: the positions' components (the first `names.len()`).

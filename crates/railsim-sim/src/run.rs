@@ -187,7 +187,7 @@ fn fnv1a(h: &mut u64, x: f64) {
 impl Simulation {
     /// Build the model and the initial state of `scene`: the static equilibrium of the vehicle
     /// on level track, each wheelset settled on its rails under its static load with the scene's
-    /// initial disturbance, spin at free rolling (`free_rolling_spins`), series dampers
+    /// initial disturbance, spin at free rolling (`settle_spins`), series dampers
     /// relaxed.
     pub fn new(scene: &Scene) -> Result<Simulation, SimError> {
         let mut model = SimModel::new(scene)?;
@@ -292,7 +292,7 @@ impl Simulation {
                 set(&mut x0, 2, z + radius - mm.p0[2]);
                 set(&mut x0, 3, roll);
                 set(&mut x0, 5, yaw);
-                // (the first guess of `free_rolling_spins`)
+                // (the first guess of `settle_spins`)
                 if let Some(ix) = mm.rate[4] {
                     x0[ix] = if pass == 0 {
                         v0 / r_roll
@@ -326,7 +326,8 @@ impl Simulation {
                     x0[ix..ix + n].copy_from_slice(&d.ws.series_delta[ei][..n]);
                 }
             }
-            free_rolling_spins(&mut d, &mut x0, &mut dx)?;
+            settle_spins(&mut d, &mut x0, &mut dx, SpinTarget::FreeRolling)
+                .map_err(|message| SimError::Initial { message })?;
             ws = d.ws;
             for (mm, spin) in model.members.iter().zip(settle_spin.iter_mut()) {
                 if mm.is_wheelset() {
@@ -951,77 +952,115 @@ fn follow_rails(model: &SimModel, x: &mut [f64]) {
     }
 }
 
-/// Newton iterations of [`free_rolling_spins`] at most.
-const FREE_ROLLING_ITERATIONS: usize = 20;
-/// \[rad/s²\] spin acceleration left by [`free_rolling_spins`] (1e-4 N·m on an axle of
-/// I_y = 112 kg·m², against ±4 kN·m of creep torque per wheel at a creepage of 1e-3).
-const FREE_ROLLING_TOLERANCE: f64 = 1e-6;
+/// Newton iterations of [`settle_spins`] at most.
+const SPIN_ITERATIONS: usize = 20;
+/// \[rad/s²\] spin acceleration left by [`settle_spins`] against its target (1e-4 N·m on an
+/// axle of I_y = 112 kg·m², against ±4 kN·m of creep torque per wheel at a creepage of 1e-3).
+const SPIN_TOLERANCE: f64 = 1e-6;
 
-/// Set each free wheelset spin rate of state `x` to **free rolling**: the spin Ω at which its
-/// wheels' creep forces exert no torque about its axle, Σ (r_c × F_c + M_c)·e_y = 0 over its
-/// contact patches, as the right-hand side computes it; the wheelset's spin acceleration is then
-/// that of its traction or brake torque alone, T/I_y (zero without one). V / r with r a rolling
-/// radius from the patches is only the first guess: the contact model's longitudinal creepage
-/// is taken where its solution takes it and its creep force integrates the creepage's variation
-/// over the patch, so that V / r left the default Manchester vehicle's axles accelerating at
-/// t = 0: `polach` and `fastsim` 76 rad/s² (the first of two wells, 4.7 kN at r = 460.364 mm,
-/// gave the spin; the other, 49.9 kN at 459.906 mm, then rolled at ξ = +9.9e-4 with
-/// Fx = −9.2 kN per wheel), `stripes` −14.3 rad/s² (ξ = 0 at the reference point, but the
-/// conformal patch's Fx = +1.7 kN per wheel). Newton's method on each spin's own acceleration,
-/// its derivative by a forward difference of 1e-7 Ω; the axles are independent (a wheelset's
-/// spin acceleration depends on its own spin only, through its contact forces), so one
-/// right-hand side serves all of them. The step is limited to 1 % of Ω (a creepage of 0.01,
-/// beyond saturation; the whole step where every patch slides and the derivative vanishes). To [`FREE_ROLLING_TOLERANCE`] within [`FREE_ROLLING_ITERATIONS`], or an
-/// error. Leaves the right-hand side at `x` in `dx`.
-fn free_rolling_spins(d: &mut Dynamics, x: &mut [f64], dx: &mut [f64]) -> Result<(), SimError> {
+/// What [`settle_spins`] sets each free wheelset spin to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SpinTarget {
+    /// **Free rolling**: the wheels' creep forces exert no torque about the axle, and the spin
+    /// accelerates at T/I_y under the wheelset's traction or brake torque T alone (zero
+    /// without one). The start of a run ([`Simulation::new`]).
+    FreeRolling,
+    /// **Rolling equilibrium**: no spin acceleration; the creep torque balances T (free rolling
+    /// when T = 0). The linearisation point of a modal analysis (`modal::modes_at`).
+    Equilibrium,
+}
+
+/// Set each free wheelset spin rate Ω of state `x` so that its spin acceleration, as the
+/// right-hand side at t = 0 computes it, is `target`'s: T/I_y for free rolling (no creep torque
+/// Σ (r_c × F_c + M_c)·e_y over its contact patches), 0 for the rolling equilibrium. V / r with
+/// r a rolling radius from the patches is only the first guess: the contact model's
+/// longitudinal creepage is taken where its solution takes it and its creep force integrates
+/// the creepage's variation over the patch, so that V / r left the default Manchester
+/// vehicle's axles accelerating at t = 0: `polach` and `fastsim` 76 rad/s² (the first of two
+/// wells, 4.7 kN at r = 460.364 mm, gave the spin; the other, 49.9 kN at 459.906 mm, then rolled
+/// at ξ = +9.9e-4 with Fx = −9.2 kN per wheel), `stripes` −14.3 rad/s² (ξ = 0 at the reference
+/// point, but the conformal patch's Fx = +1.7 kN per wheel).
+///
+/// Newton's method on each spin's own acceleration (Dennis & Schnabel, *Numerical Methods for
+/// Unconstrained Optimization and Nonlinear Equations*, 1983, ch. 2, the one-variable case),
+/// its derivative by a forward difference of 1e-7 max(|Ω|, 1 rad/s). The axles are independent
+/// (a wheelset's spin acceleration depends on its own spin only, through its contact forces: the
+/// accelerations are explicit per member, `dynamics`), so one right-hand side serves all of
+/// them: one evaluation per iteration for the derivative instead of the 2 per axle of a central
+/// difference, and Newton's solution is defined by the residual test, not by the derivative's
+/// accuracy. The step is limited to 1 % of Ω (a creepage of 0.01, beyond saturation; the whole
+/// step where every patch slides and the derivative vanishes), so that a derivative taken
+/// across a kink of piecewise-smooth forces (STRIPES' strips) cannot throw the spin far away; to
+/// [`SPIN_TOLERANCE`] within [`SPIN_ITERATIONS`], or an error naming the wheelset and what is
+/// left, as is a spin acceleration that grows with the spin (no rolling equilibrium).
+///
+/// (This one function replaces two near-copies: the run's start, which had these numerics, and
+/// the modal analysis' settling, which took a central difference per axle with no step limit
+/// and stopped silently after 20 iterations, so that a linearisation about an unsettled spin
+/// would have gone unnoticed.) Leaves the right-hand side at `x` in `dx`; the error is the
+/// message, which the caller places in its context.
+pub(crate) fn settle_spins(
+    d: &mut Dynamics,
+    x: &mut [f64],
+    dx: &mut [f64],
+    target: SpinTarget,
+) -> Result<(), String> {
     let model = d.model;
-    // each free spin's state index and its acceleration at free rolling
+    // each free spin's state index and its target acceleration
     let spins: Vec<(usize, f64, &str)> = model
         .members
         .iter()
         .filter(|m| m.is_wheelset())
-        .filter_map(|m| m.rate[4].map(|i| (i, m.torque / m.inertia[1][1], m.name.as_str())))
+        .filter_map(|m| {
+            let goal = match target {
+                SpinTarget::FreeRolling => m.torque / m.inertia[1][1],
+                SpinTarget::Equilibrium => 0.0,
+            };
+            m.rate[4].map(|i| (i, goal, m.name.as_str()))
+        })
         .collect();
-    let fail = |message: String| SimError::Initial { message };
-    let rhs =
-        |d: &mut Dynamics, x: &[f64], dx: &mut [f64]| d.rhs(0.0, x, dx).map_err(|e| fail(e.0));
+    let rhs = |d: &mut Dynamics, x: &[f64], dx: &mut [f64]| d.rhs(0.0, x, dx).map_err(|e| e.0);
+    let what = match target {
+        SpinTarget::FreeRolling => "free rolling",
+        SpinTarget::Equilibrium => "rolling equilibrium",
+    };
     let mut dh = vec![0.0; x.len()];
     let (mut base, mut steps) = (vec![0.0; spins.len()], vec![0.0; spins.len()]);
     rhs(d, x, dx)?;
-    for iteration in 0..=FREE_ROLLING_ITERATIONS {
-        // the spin furthest from free rolling
+    for iteration in 0..=SPIN_ITERATIONS {
+        // the spin furthest from its target
         let worst = spins
             .iter()
-            .map(|&(i, target, name)| (dx[i] - target, name))
+            .map(|&(i, goal, name)| (dx[i] - goal, name))
             .max_by(|a, b| a.0.abs().total_cmp(&b.0.abs()));
         let Some((left, name)) = worst else {
             return Ok(());
         };
-        if left.abs() < FREE_ROLLING_TOLERANCE {
+        if left.abs() < SPIN_TOLERANCE {
             return Ok(());
         }
-        if iteration == FREE_ROLLING_ITERATIONS {
-            return Err(fail(format!(
-                "wheelset '{name}': no free rolling within {FREE_ROLLING_ITERATIONS} iterations (spin acceleration {left:.3e} rad/s² left)"
-            )));
+        if iteration == SPIN_ITERATIONS {
+            return Err(format!(
+                "wheelset '{name}': no {what} within {SPIN_ITERATIONS} iterations (spin acceleration {left:.3e} rad/s² left)"
+            ));
         }
         for (k, &(i, ..)) in spins.iter().enumerate() {
             base[k] = x[i];
             x[i] += 1e-7 * base[k].abs().max(1.0);
         }
         rhs(d, x, &mut dh)?;
-        for (k, &(i, target, name)) in spins.iter().enumerate() {
+        for (k, &(i, goal, name)) in spins.iter().enumerate() {
             let h = x[i] - base[k];
             x[i] = base[k];
             let slope = (dh[i] - dx[i]) / h;
             // (more spin, the wheels faster over the rails: a braking creep torque; none where
             // every patch slides)
             if slope.is_nan() || slope > 0.0 {
-                return Err(fail(format!(
-                    "wheelset '{name}': no free rolling: the spin acceleration grows with the spin ({slope:.3e} 1/s)"
-                )));
+                return Err(format!(
+                    "wheelset '{name}': no {what}: the spin acceleration grows with the spin ({slope:.3e} 1/s)"
+                ));
             }
-            let (left, limit) = (dx[i] - target, 0.01 * x[i].abs());
+            let (left, limit) = (dx[i] - goal, 0.01 * x[i].abs());
             steps[k] = if slope < 0.0 {
                 (-left / slope).clamp(-limit, limit)
             } else {
@@ -1043,7 +1082,7 @@ struct Settled {
     /// \[rad\] roll
     roll: f64,
     /// \[m\] mean rolling radius of its two wheels, each the normal-force-weighted mean of its
-    /// patches' (the first guess of [`free_rolling_spins`]; a frozen spin's radius)
+    /// patches' (the first guess of [`settle_spins`]; a frozen spin's radius)
     rolling_radius: f64,
     /// \[N\] each wheel's contact force (wheelset's track frame) at its settled height
     force: [[f64; 3]; 2],

@@ -500,3 +500,55 @@ fn a_disturbance_of_steady_curving_decays_below_the_curves_linear_critical_speed
         assert_eq!(rate > 0.0, grows, "{rate}");
     }
 }
+
+/// The linearisation point's spin balances a traction torque (`run::settle_spins` with the
+/// rolling-equilibrium target): a free wheelset driven by 2 kN·m at 72 km/h starts in free
+/// rolling, its spin accelerating at T/I_y (no creep torque), and the modal analysis sets the
+/// spin where the creep torque balances T, its spin acceleration below 1e-6 rad/s² (the
+/// settling's tolerance). Fails if the analysis linearised about the free-rolling spin.
+#[test]
+fn the_modal_equilibrium_balances_a_traction_torque_by_creep() {
+    use railsim_ode::OdeSystem;
+    use railsim_sim::dynamics::Dynamics;
+    use railsim_sim::modal::modal_scene;
+    let dir = std::env::temp_dir().join(format!("railsim_modal_torque_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(common::root().join("vehicles/wheelset_free.toml")).unwrap();
+    let vehicle = dir.join("driven.toml");
+    std::fs::write(
+        &vehicle,
+        text.replace("wheel_profile = {", "torque_nm = 2000\nwheel_profile = {"),
+    )
+    .unwrap();
+    let s = scene(&format!(
+        r#"
+        vehicle = "{}"
+        track = "tracks/straight.toml"
+        speed_kmh = 72
+        duration_s = 1
+        freeze = ["ws.x"]
+        "#,
+        vehicle.display()
+    ));
+    let speed = 20.0;
+    let analysis = modes_at(&s, speed, &ModalOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let sim = Simulation::new(&modal_scene(&s, speed).unwrap()).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    let m = sim.model();
+    let spin = common::state_index(&sim, "d/dt ws.spin");
+    let i_y = m.members[0].inertia[1][1];
+    let mut d = Dynamics::new(m);
+    let mut dx = vec![0.0; m.dim()];
+    d.rhs(0.0, sim.initial_state(), &mut dx).unwrap();
+    let free = dx[spin];
+    d.rhs(0.0, &analysis.equilibrium, &mut dx).unwrap();
+    let settled = dx[spin];
+    eprintln!(
+        "spin acceleration: free rolling {free:.4} rad/s² (T/I_y {:.4}), modal equilibrium {settled:.2e}; spin {:.6} -> {:.6} rad/s",
+        2000.0 / i_y,
+        sim.initial_state()[spin],
+        analysis.equilibrium[spin]
+    );
+    assert!((free - 2000.0 / i_y).abs() < 1e-5);
+    assert!(settled.abs() < 1e-6, "{settled}");
+}

@@ -6,6 +6,7 @@
 
 mod common;
 
+use railsim_contact::{ContactModelKind, TravelOptions};
 use railsim_sim::curving::{CurveCase, CurvingRun, QuasiStatic, quasi_static_curving};
 use railsim_sim::{InitialState, Sample, Scene, Simulation};
 
@@ -173,6 +174,41 @@ fn stripes_start_from_the_polach_state() {
     );
     assert!(residual <= 1.0 && iterations > p_iterations);
     assert!(lateral < 2e-6 && force < 500.0, "{lateral} m, {force} N");
+}
+
+/// The shipped scene `scenes/manchester_in_curve_r300.toml` (R = 300 m, 150 mm cant, 80 km/h)
+/// starts with `stripes` at the default 1 mm contact step. Until the start got the curving
+/// case's continuation with the scene's own model as its last fallback it did not: Newton
+/// stalled from the static state (largest scaled residual 32.4) and from `polach`'s (29.8), and
+/// the scene set `step_mm = 0.5` as a workaround. Now the continuation reaches the steady state
+/// (25 iterations in all, residual below 0.1) and the leading wheelsets lie where the 0.5 mm
+/// start puts them (criterion 0.05 mm, as the curving test's between `stripes` and `polach`).
+#[test]
+fn the_in_curve_scene_starts_with_stripes_at_the_default_step() {
+    let path = common::root().join("scenes/manchester_in_curve_r300.toml");
+    let mut scene = Scene::from_file(&path).unwrap();
+    assert_eq!(scene.contact.model, ContactModelKind::Stripes);
+    let default_step = TravelOptions::default().step;
+    assert_eq!(scene.contact.travel.step, default_step);
+    let sim = Simulation::new(&scene).unwrap_or_else(|e| panic!("{e}"));
+    let (iterations, residual) = sim.quasi_static_start().expect("a quasi-static start");
+    scene.contact.travel.step = 0.5e-3;
+    let fine = Simulation::new(&scene).unwrap();
+    let (fine_iterations, fine_residual) = fine.quasi_static_start().unwrap();
+    println!(
+        "1 mm: {iterations} iterations, residual {residual:.3}; 0.5 mm: {fine_iterations}, {fine_residual:.3}"
+    );
+    assert!(residual <= 1.0 && iterations <= 40);
+    for ws in ["ws1", "ws3"] {
+        let i = common::state_index(&sim, &format!("{ws}.y"));
+        let (a, b) = (sim.initial_state()[i], fine.initial_state()[i]);
+        println!(
+            "{ws}: {:.4} mm at 1 mm, {:.4} mm at 0.5 mm",
+            a * 1e3,
+            b * 1e3
+        );
+        assert!(a.abs() > 5e-3 && (a - b).abs() < 0.05e-3, "{ws}: {a} / {b}");
+    }
 }
 
 /// R = 150 m, 100 mm cant at 120 km/h (6.1 m/s² uncompensated; the curving study finds no
