@@ -129,14 +129,14 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
         Ok(summary) => summary,
         Err(mut e) => {
             // What the run recorded before it stopped: printed first, then the error.
-            if let SimError::Stopped { t, summary, .. } = &mut e {
-                if let Some(s) = summary.take() {
-                    outln!(
-                        "run STOPPED at t = {t:.6} s (error below); the summary and the assessment \
-                         cover the samples up to the stop:"
-                    );
-                    print_summary(&s, a.timing)?;
-                }
+            if let SimError::Stopped { t, summary, .. } = &mut e
+                && let Some(s) = summary.take()
+            {
+                outln!(
+                    "run STOPPED at t = {t:.6} s (error below); the summary and the assessment \
+                     cover the samples up to the stop:"
+                );
+                print_summary(&s, a.timing)?;
             }
             let note = match e {
                 SimError::Stopped { .. } => stability_note(
