@@ -390,26 +390,7 @@ fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
     use railsim_ode::OdeSystem;
     use railsim_sim::dynamics::Dynamics;
     let dir = std::env::temp_dir().join(format!("railsim-torque-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string(root().join("vehicles/wheelset_free.toml")).unwrap();
-    let vehicle = dir.join("driven.toml");
-    std::fs::write(
-        &vehicle,
-        text.replace("wheel_profile = {", "torque_nm = 2000\nwheel_profile = {"),
-    )
-    .unwrap();
-    let s = scene(&format!(
-        r#"
-        vehicle = "{}"
-        track = "tracks/straight.toml"
-        speed_kmh = 72
-        duration_s = 1
-        freeze = ["ws.x"]
-        [log]
-        rate_hz = 100
-        "#,
-        vehicle.display()
-    ));
+    let s = common::driven_wheelset(&dir, "[log]\nrate_hz = 100\n");
     let (sim, samples, _) = run(&s);
     let m = sim.model();
     let last = samples.last().unwrap();

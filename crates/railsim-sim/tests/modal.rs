@@ -512,24 +512,7 @@ fn the_modal_equilibrium_balances_a_traction_torque_by_creep() {
     use railsim_sim::dynamics::Dynamics;
     use railsim_sim::modal::modal_scene;
     let dir = std::env::temp_dir().join(format!("railsim_modal_torque_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string(common::root().join("vehicles/wheelset_free.toml")).unwrap();
-    let vehicle = dir.join("driven.toml");
-    std::fs::write(
-        &vehicle,
-        text.replace("wheel_profile = {", "torque_nm = 2000\nwheel_profile = {"),
-    )
-    .unwrap();
-    let s = scene(&format!(
-        r#"
-        vehicle = "{}"
-        track = "tracks/straight.toml"
-        speed_kmh = 72
-        duration_s = 1
-        freeze = ["ws.x"]
-        "#,
-        vehicle.display()
-    ));
+    let s = common::driven_wheelset(&dir, "");
     let speed = 20.0;
     let analysis = modes_at(&s, speed, &ModalOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let sim = Simulation::new(&modal_scene(&s, speed).unwrap()).unwrap();

@@ -16,6 +16,25 @@ pub fn scene(text: &str) -> Scene {
     Scene::from_toml_str(text, "test.toml", &root()).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The shipped free S1002 wheelset (`vehicles/wheelset_free.toml`) driven by 2 kN·m of
+/// traction, held longitudinally (`ws.x` frozen) at 72 km/h on ideal straight track, with
+/// `extra` TOML appended to the scene; the vehicle file is written to `dir`.
+pub fn driven_wheelset(dir: &Path, extra: &str) -> Scene {
+    std::fs::create_dir_all(dir).unwrap();
+    let text = std::fs::read_to_string(root().join("vehicles/wheelset_free.toml")).unwrap();
+    let vehicle = dir.join("driven.toml");
+    std::fs::write(
+        &vehicle,
+        text.replace("wheel_profile = {", "torque_nm = 2000\nwheel_profile = {"),
+    )
+    .unwrap();
+    scene(&format!(
+        "vehicle = \"{}\"\ntrack = \"tracks/straight.toml\"\nspeed_kmh = 72\nduration_s = 1\n\
+         freeze = [\"ws.x\"]\n{extra}",
+        vehicle.display()
+    ))
+}
+
 /// The index of the state variable `name` (e.g. `"ws1.z"`) of a simulation.
 #[allow(dead_code)]
 pub fn state_index(sim: &Simulation, name: &str) -> usize {
