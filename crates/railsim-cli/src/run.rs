@@ -194,7 +194,9 @@ const LOOSE_ATOL: f64 = 1e-3;
 /// the default scene's first second (docs/performance.md, "Choosing the integrator"): Radau5 at
 /// rtol 1e-5, atol 1e-7 against DOPRI5 at 1e-4 / 1e-7 took 1/140 of the time at 1 km/h, 1/45 at
 /// 5, 1/6.8 at 20 and 1/1.4 at 50 km/h; at 198 km/h on irregular track DOPRI5 is about 5 times
-/// the faster.
+/// the faster. The note carries the caveat found on the R = 150 m curve at 40 km/h: there
+/// Radau5 at those tolerances damped out a friction-induced oscillation that both
+/// tight-tolerance solutions show.
 const LOW_SPEED: f64 = 50.0 / 3.6;
 
 /// A note before a run with an adaptive explicit integrator whose top speed is at most
@@ -209,7 +211,9 @@ fn low_speed_note(scene: &Scene) -> Option<String> {
         format!(
             "at {:.0} km/h the creep forces' damping (about C/V) bounds an explicit method's \
              steps by stability: radau5 at rtol 1e-5, atol 1e-7 was measured 1.4 (50 km/h) to \
-             140 (1 km/h) times faster (docs/performance.md, \"Choosing the integrator\")",
+             140 (1 km/h) times faster, but it can damp out an oscillation it does not resolve \
+             (it did on the R = 150 m curve at 40 km/h): check a case that may oscillate at \
+             tight tolerances (docs/performance.md, \"Choosing the integrator\")",
             top * 3.6
         )
     })
@@ -583,9 +587,10 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         outln!(
             "integrator: the steps were limited by stability, not accuracy ({} of {} steps; \
              stiff from t = {t:.3} s): a weakly damped stiff mode can keep an oscillation of the \
-             order of atol, which shows in Q; radau5 or a smaller atol removes it (measured: \
-             dopri5 at atol 1e-7, or radau5 at rtol 1e-5, atol 1e-7, which is also the faster \
-             at curving speeds; docs/performance.md, \"Choosing the integrator\")",
+             order of atol, which shows in Q; a smaller atol removes it (measured: atol 1e-7 \
+             against 1e-6, Q's percentile 0.5 kN from a tight-tolerance reference instead of \
+             4.4 kN), or radau5, which may also damp out a real oscillation it does not resolve \
+             (docs/performance.md, \"Choosing the integrator\")",
             st.stability_limited,
             st.steps
         );
