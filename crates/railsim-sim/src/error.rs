@@ -60,8 +60,10 @@ pub enum SimError {
         /// with a stopped one.
         digest: Option<u64>,
         /// What the run reports up to the stop (set by `Simulation::run`): its statistics and
-        /// the EN 14363 / EN 12299 assessment of the samples recorded before it, the sample
-        /// that crossed a limit included. Boxed: the error stays small on its other paths.
+        /// the EN 14363 / EN 12299 assessment of the samples recorded before it. A sample that
+        /// crossed a limit is in the statistics, the assessment and the digest but not in the
+        /// log, nor in `samples` (which counts the logged ones). Boxed: the error stays small
+        /// on its other paths.
         summary: Option<Box<crate::run::RunSummary>>,
     },
     /// A stability study (`crate::stability`) was set up wrongly or found nothing to measure.
