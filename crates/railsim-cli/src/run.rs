@@ -587,10 +587,10 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         outln!(
             "integrator: the steps were limited by stability, not accuracy ({} of {} steps; \
              stiff from t = {t:.3} s): a weakly damped stiff mode can keep an oscillation of the \
-             order of atol, which shows in Q; a smaller atol removes it (measured: atol 1e-7 \
-             against 1e-6, Q's percentile 0.5 kN from a tight-tolerance reference instead of \
-             4.4 kN), or radau5, which may also damp out a real oscillation it does not resolve \
-             (docs/performance.md, \"Choosing the integrator\")",
+             order of atol, which shows in Q; a smaller atol shrinks it in proportion \
+             (measured: atol 1e-7 against 1e-6, Q's percentile 0.5 kN from a tight-tolerance \
+             reference instead of 4.4 kN), or radau5, which may also damp out a real oscillation \
+             it does not resolve (docs/performance.md, \"Choosing the integrator\")",
             st.stability_limited,
             st.steps
         );

@@ -374,7 +374,7 @@ fn a_stability_limited_run_is_reported() {
         out.contains("limited by stability), ")
             && out.contains("integrator: the steps were limited by stability, not accuracy (")
             && out.contains("stiff from t = 0.0")
-            && out.contains("a smaller atol removes it"),
+            && out.contains("a smaller atol shrinks it in proportion"),
         "{out}"
     );
     std::fs::remove_dir_all(&dir).ok();
