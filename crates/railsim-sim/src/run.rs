@@ -227,81 +227,15 @@ impl Simulation {
             .collect();
         for pass in 0..2 {
             x0.fill(0.0);
-            let mut sink = 0.0;
-            let mut rolling = vec![0.0; model.members.len()];
-            for (wi, mm) in model.members.iter().enumerate().skip(nb) {
-                let MemberKind::Wheelset {
-                    first_wheel,
-                    radius,
-                } = mm.kind
-                else {
-                    continue;
-                };
-                let w = wi - nb;
-                let load = stat.wheel_loads[w][0] + stat.wheel_loads[w][1];
-                let (mut y, mut yaw) = (0.0, 0.0);
-                if w == scene.initial.wheelset.index() {
-                    y = scene.initial.lateral_offset;
-                    yaw = scene.initial.yaw;
-                }
-                let pose = WheelsetPose {
-                    y: mm.p0[1] + y,
-                    z: mm.p0[2] - radius,
-                    roll: 0.0,
-                    yaw,
-                };
-                let s_w = model.start + mm.p0[0];
-                let Settled {
-                    z,
-                    roll,
-                    rolling_radius: r_roll,
-                    support,
-                    ..
-                } = settle_on_rails(
-                    &model,
-                    &SettleJob {
-                        first_wheel,
-                        s: s_w,
-                        pose,
-                        v: v0,
-                        spin: settle_spin[wi],
-                        radius,
-                        load,
-                    },
-                    &mut ws,
-                )
-                .map_err(|message| SimError::Initial {
-                    message: format!("wheelset '{}': {message}", mm.name),
-                })?;
-                for (k, wheel) in model.wheels[first_wheel..first_wheel + 2]
-                    .iter()
-                    .enumerate()
-                {
-                    if let Some(i) = wheel.rail {
-                        x0[i] = support[k][0];
-                        x0[i + 1] = support[k][1];
-                    }
-                }
-                sink += z - (mm.p0[2] - radius);
-                let set = |x: &mut Vec<f64>, k: usize, val: f64| {
-                    if let Some(ix) = mm.pos[k] {
-                        x[ix] = val;
-                    }
-                };
-                set(&mut x0, 1, y);
-                set(&mut x0, 2, z + radius - mm.p0[2]);
-                set(&mut x0, 3, roll);
-                set(&mut x0, 5, yaw);
-                // (the first guess of `settle_spins`)
-                if let Some(ix) = mm.rate[4] {
-                    x0[ix] = if pass == 0 {
-                        v0 / r_roll
-                    } else {
-                        settle_spin[wi]
-                    };
-                }
-                rolling[wi] = r_roll;
-            }
+            let (sink, rolling) = place_wheelsets(
+                &model,
+                scene,
+                &stat.wheel_loads,
+                &settle_spin,
+                pass == 0,
+                &mut ws,
+                &mut x0,
+            )?;
             // (a frozen spin rolls at V / this radius; a free one's is replaced below)
             for (mm, r) in model.members.iter_mut().zip(&rolling) {
                 if mm.is_wheelset() {
@@ -950,6 +884,97 @@ fn follow_rails(model: &SimModel, x: &mut [f64]) {
             }
         }
     }
+}
+
+/// One pass of [`Simulation::new`]'s placement of the wheelsets: each settled on its rails
+/// under its static load (`wheel_loads`, file order) with the scene's initial disturbance, at
+/// spin `spins[member]`; writes its lateral position, height, roll, yaw, its rails' deflections
+/// and a first spin (`V / r` on the first pass, `spins` after: the first guess of
+/// [`settle_spins`]) into `x0`. Returns the wheelsets' summed sink on their rails and each
+/// member's rolling radius (0 for bodies).
+fn place_wheelsets(
+    model: &SimModel,
+    scene: &Scene,
+    wheel_loads: &[[f64; 2]],
+    spins: &[f64],
+    first_pass: bool,
+    ws: &mut Workspace,
+    x0: &mut [f64],
+) -> Result<(f64, Vec<f64>), SimError> {
+    let nb = scene.vehicle.bodies().len();
+    let (_, v0, _) = model.motion(0.0);
+    let mut sink = 0.0;
+    let mut rolling = vec![0.0; model.members.len()];
+    for (wi, mm) in model.members.iter().enumerate().skip(nb) {
+        let MemberKind::Wheelset {
+            first_wheel,
+            radius,
+        } = mm.kind
+        else {
+            continue;
+        };
+        let w = wi - nb;
+        let load = wheel_loads[w][0] + wheel_loads[w][1];
+        let (mut y, mut yaw) = (0.0, 0.0);
+        if w == scene.initial.wheelset.index() {
+            y = scene.initial.lateral_offset;
+            yaw = scene.initial.yaw;
+        }
+        let pose = WheelsetPose {
+            y: mm.p0[1] + y,
+            z: mm.p0[2] - radius,
+            roll: 0.0,
+            yaw,
+        };
+        let s_w = model.start + mm.p0[0];
+        let Settled {
+            z,
+            roll,
+            rolling_radius: r_roll,
+            support,
+            ..
+        } = settle_on_rails(
+            model,
+            &SettleJob {
+                first_wheel,
+                s: s_w,
+                pose,
+                v: v0,
+                spin: spins[wi],
+                radius,
+                load,
+            },
+            ws,
+        )
+        .map_err(|message| SimError::Initial {
+            message: format!("wheelset '{}': {message}", mm.name),
+        })?;
+        for (k, wheel) in model.wheels[first_wheel..first_wheel + 2]
+            .iter()
+            .enumerate()
+        {
+            if let Some(i) = wheel.rail {
+                x0[i] = support[k][0];
+                x0[i + 1] = support[k][1];
+            }
+        }
+        sink += z - (mm.p0[2] - radius);
+        let set = |x: &mut [f64], k: usize, val: f64| {
+            if let Some(ix) = mm.pos[k] {
+                x[ix] = val;
+            }
+        };
+        set(x0, 1, y);
+        set(x0, 2, z + radius - mm.p0[2]);
+        set(x0, 3, roll);
+        set(x0, 5, yaw);
+        // (the first guess of `settle_spins`)
+        if let Some(ix) = mm.rate[4] {
+            x0[ix] = if first_pass { v0 / r_roll } else { spins[wi] };
+        }
+        rolling[wi] = r_roll;
+    }
+    Ok((sink, rolling))
 }
 
 /// Newton iterations of [`settle_spins`] at most.
