@@ -506,48 +506,6 @@ pub fn welch_psd(x: &[f64], fs: f64, segment: usize) -> Option<Spectrum> {
     })
 }
 
-/// Root-mean-square values of `x` (sample rate `fs`) over consecutive, non-overlapping windows
-/// of `window` samples, each after a frequency weighting of magnitude `weight(f)` (`f` in Hz):
-/// per window, the mean removed, the periodogram of the window zero-padded to a power of two,
-/// and √(Σ weight(f_k)² G_k Δf), so that a flat weight of 1 gives the window's r.m.s. about its
-/// mean exactly (Parseval). A trailing part shorter than a window is left out.
-pub fn weighted_window_rms(
-    x: &[f64],
-    fs: f64,
-    window: usize,
-    weight: impl Fn(f64) -> f64,
-) -> Vec<f64> {
-    if !(window >= 2 && fs > 0.0) {
-        return Vec::new();
-    }
-    let l = window.next_power_of_two();
-    let w2: Vec<f64> = (0..=l / 2)
-        .map(|k| weight(k as f64 * fs / l as f64).powi(2))
-        .collect();
-    let (mut re, mut im) = (vec![0.0; l], vec![0.0; l]);
-    x.chunks_exact(window)
-        .map(|seg| {
-            let mean = seg.iter().sum::<f64>() / window as f64;
-            re.fill(0.0);
-            im.fill(0.0);
-            for (r, v) in re.iter_mut().zip(seg) {
-                *r = v - mean;
-            }
-            fft(&mut re, &mut im);
-            // Σ|X_k|² over all l bins = l Σ x²; the mean square is that / (l · window), the
-            // bins k and l - k folded together
-            let sum: f64 = (0..=l / 2)
-                .map(|k| {
-                    let p = re[k] * re[k] + im[k] * im[k];
-                    let fold = if k == 0 || k == l / 2 { 1.0 } else { 2.0 };
-                    fold * p * w2[k]
-                })
-                .sum();
-            (sum / (l as f64 * window as f64)).sqrt()
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -752,21 +710,6 @@ mod tests {
         let total = s.weighted_power((0.0, 100.0), |_| 1.0);
         assert!((total / var - 1.0).abs() < 0.03, "{total} {var}");
         assert!(welch_psd(&noise[..10], fs, 1024).is_none());
-    }
-
-    #[test]
-    fn weighted_window_rms_is_the_rms_for_a_flat_weight_and_weights_a_tone() {
-        let fs = 200.0;
-        let x: Vec<f64> = sine(4.0, fs, 3000).iter().map(|v| 3.0 * v + 1.0).collect();
-        // 5 s windows (1000 samples, 20 periods): r.m.s. 3/√2 about the mean; two whole windows
-        let r = weighted_window_rms(&x, fs, 1000, |_| 1.0);
-        assert_eq!(r.len(), 3);
-        for v in &r {
-            assert!((v - 3.0 / 2f64.sqrt()).abs() < 1e-9, "{v}");
-        }
-        let half = weighted_window_rms(&x, fs, 1000, |f| if f < 10.0 { 0.5 } else { 1.0 });
-        assert!((half[0] - 1.5 / 2f64.sqrt()).abs() < 0.01, "{}", half[0]);
-        assert_eq!(weighted_window_rms(&x[..999], fs, 1000, |_| 1.0).len(), 0);
     }
 
     #[test]
