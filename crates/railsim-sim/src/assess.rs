@@ -469,9 +469,7 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
             let sum_y_2m_percentile = (!means.is_empty()).then(|| {
                 let mut v: Vec<f64> = means.iter().map(|w| w.value).collect();
                 v.sort_by(f64::total_cmp);
-                percentile(&v, PERCENTILES.0)
-                    .abs()
-                    .max(percentile(&v, PERCENTILES.1).abs())
+                extreme_percentile(&v)
             });
             let sum_y_rms_windows = match &bandpass {
                 Some(f) => {
@@ -542,11 +540,7 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         let rms = (y.iter().map(|v| v * v).sum::<f64>() / n).sqrt();
         // the processing table's maximum: the 0.15 % and 99.85 % percentiles
         y.sort_by(f64::total_cmp);
-        let peak = (!y.is_empty()).then(|| {
-            percentile(&y, PERCENTILES.0)
-                .abs()
-                .max(percentile(&y, PERCENTILES.1).abs())
-        })?;
+        let peak = (!y.is_empty()).then(|| extreme_percentile(&y))?;
         Some((peak, rms))
     };
     let comfort = series
@@ -930,6 +924,14 @@ fn largest(w: &[WindowValue], key: impl Fn(f64) -> f64) -> Option<Extreme> {
             value: w.value,
             at: w.end,
         })
+}
+
+/// The larger magnitude of the two extreme percentiles ([`PERCENTILES`]: 0.15 % and 99.85 %)
+/// of sorted, non-empty values: the processing table's statistic of a two-sided quantity.
+fn extreme_percentile(sorted: &[f64]) -> f64 {
+    percentile(sorted, PERCENTILES.0)
+        .abs()
+        .max(percentile(sorted, PERCENTILES.1).abs())
 }
 
 /// The `p`-quantile of sorted values, linear between order statistics (Hyndman & Fan's
