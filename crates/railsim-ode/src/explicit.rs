@@ -137,6 +137,8 @@ impl Integrator {
         &mut self,
         sys: &mut S,
     ) -> Result<(), StopReason> {
+        // the end of this step's span: a breakpoint or the end of the run
+        let (target, is_end) = self.span_end();
         let Work::Erk(w) = &mut self.work else {
             unreachable!("erk_step on a non-explicit method")
         };
@@ -168,7 +170,8 @@ impl Integrator {
         // the last failed evaluation at a trial state of this step (adaptive only)
         let mut trial: Option<StopReason> = None;
         'attempt: loop {
-            let (h, last) = clip_step(t, self.t_end, self.h_max, self.h);
+            let (h, land) = clip_step(t, target, self.h_max, self.h);
+            let last = land && is_end;
             if step_too_small(t, h) {
                 return Err(trial.unwrap_or(StopReason::StepTooSmall { t, h }));
             }
@@ -276,7 +279,7 @@ impl Integrator {
             self.x_prev.copy_from_slice(&self.x);
             self.f_prev.copy_from_slice(&self.f);
             self.x.copy_from_slice(&w.x_new);
-            self.t = if last { self.t_end } else { t + h };
+            self.t = if land { target } else { t + h };
             self.stats.steps += 1;
             self.has_step = true;
             if !last {

@@ -92,6 +92,8 @@ pub struct Integrator {
     pub(crate) stats: Stats,
     out: Vec<f64>,
     pub(crate) work: Work,
+    /// \[s\] times where the right-hand side is not smooth, sorted ([`Integrator::set_breakpoints`])
+    breaks: Vec<f64>,
 }
 
 fn check_pos(name: &'static str, v: f64) -> Result<(), OdeError> {
@@ -222,6 +224,7 @@ impl Integrator {
             rtol: 0.0,
             stats: Stats::default(),
             out: vec![0.0; dim],
+            breaks: Vec::new(),
             work,
         })
     }
@@ -266,6 +269,51 @@ impl Integrator {
     /// True once `t_end` has been reached, or before [`Integrator::start`].
     pub fn is_finished(&self) -> bool {
         self.finished
+    }
+
+    /// Declares the times at which the right-hand side is not smooth in time (a kink or a
+    /// jump of `f`, e.g. where a prescribed input changes its slope): from then on no step
+    /// spans one; each ends a step, as `t_end` does (stretching a step by up to 1 % to land
+    /// on it). Replaces earlier breakpoints; kept by [`Integrator::start`]; times outside a
+    /// run are ignored, and so are all by the fixed-step methods, which keep their grid. An
+    /// error-controlled step across such a point has a local error of the
+    /// order of the jump in `f` (or in its slope) times the step, which an error estimate
+    /// can miss; landing on it avoids that (Hairer, Nørsett & Wanner, *Solving ODEs I*,
+    /// §II.6, discontinuities). Allocates (once, outside the step loop).
+    pub fn set_breakpoints(&mut self, times: &[f64]) -> Result<(), OdeError> {
+        if let Some(&t) = times.iter().find(|t| !t.is_finite()) {
+            return Err(OdeError::InvalidParameter {
+                name: "breakpoint",
+                value: t,
+                expected: "a finite time",
+            });
+        }
+        self.breaks.clear();
+        self.breaks.extend_from_slice(times);
+        self.breaks.sort_by(f64::total_cmp);
+        self.breaks.dedup();
+        Ok(())
+    }
+
+    /// The end of the span the next step may cover: the first breakpoint after `t` that a
+    /// step can reach, or `t_end`; and whether it is `t_end`.
+    pub(crate) fn span_end(&self) -> (f64, bool) {
+        let fixed = matches!(
+            self.method,
+            Method::Rk4 { .. } | Method::ExplicitFixed { .. } | Method::Radau5Fixed { .. }
+        );
+        if fixed {
+            return (self.t_end, true);
+        }
+        let t = self.t;
+        let i = self.breaks.partition_point(|&b| b <= t);
+        match self.breaks[i..]
+            .iter()
+            .find(|&&b| !step_too_small(t, b - t))
+        {
+            Some(&b) if b < self.t_end => (b, false),
+            _ => (self.t_end, true),
+        }
     }
 
     /// Prepares a run from `(t0, x0)` to `t_end` for step-wise use with

@@ -259,6 +259,8 @@ impl Integrator {
         &mut self,
         sys: &mut S,
     ) -> Result<(), StopReason> {
+        // the end of this step's span: a breakpoint or the end of the run
+        let (target, is_end) = self.span_end();
         let Work::Radau(w) = &mut self.work else {
             unreachable!("radau_step on another method")
         };
@@ -292,7 +294,8 @@ impl Integrator {
         // the last failed evaluation at a trial state of this step
         let mut trial: Option<StopReason> = None;
         loop {
-            let (h, last) = clip_step(t, self.t_end, self.h_max, self.h);
+            let (h, land) = clip_step(t, target, self.h_max, self.h);
+            let last = land && is_end;
             self.h = h;
             if step_too_small(t, h) {
                 return Err(trial.unwrap_or(StopReason::StepTooSmall { t, h }));
@@ -581,7 +584,7 @@ impl Integrator {
                 }
                 w.has_cont = true;
                 w.hold = h;
-                self.t = if last { self.t_end } else { t + h };
+                self.t = if land { target } else { t + h };
                 self.stats.steps += 1;
                 self.has_step = true;
                 self.finished = last;

@@ -1062,3 +1062,115 @@ fn non_stiff_runs_and_other_methods_report_no_stability_limit() {
         assert_eq!((s.stability_limited, s.stiff_from), (0, None), "{method:?}");
     }
 }
+
+// ---------------------------------------------------------------- breakpoints
+
+/// x' = −λ (x − g(t)) with g = c·max(0, t − 1): a stiff relaxation to an input whose slope
+/// jumps at t = 1. For t ≥ 1, x = c (t − 1) − (c/λ)(1 − e^{−λ (t − 1)}) (x = 0 before).
+struct KinkedInput {
+    lambda: f64,
+    c: f64,
+}
+
+impl OdeSystem for KinkedInput {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+        let g = self.c * (t - 1.0).max(0.0);
+        d[0] = -self.lambda * (x[0] - g);
+        Ok(())
+    }
+}
+
+/// The run of `method` on [`KinkedInput`] over [0, 2], with a breakpoint at t = 1 or none:
+/// the error at t = 2, the statistics and whether a step ended exactly at t = 1.
+fn kinked_run(method: Method, breakpoint: bool) -> (f64, Stats, bool) {
+    let mut sys = KinkedInput {
+        lambda: 1e4,
+        c: 1.0,
+    };
+    let mut integ = Integrator::new(method, 1).unwrap();
+    if breakpoint {
+        integ.set_breakpoints(&[1.0, -5.0, 7.0]).unwrap();
+    }
+    let mut x = vec![0.0];
+    let mut hit = false;
+    let (r, s) = integ
+        .integrate(&mut sys, 0.0, &mut x, 2.0, &mut |t, _| {
+            hit |= t == 1.0;
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert_eq!(r, StopReason::Reached);
+    let exact = 1.0 - (1.0 - (-1e4f64).exp()) / 1e4;
+    ((x[0] - exact).abs(), s, hit)
+}
+
+/// With the slope jump of the input declared as a breakpoint, a step of DOPRI5 and of Radau5
+/// ends on it (the others, outside the run, are ignored), fewer steps are rejected and the
+/// error at the end is within the tolerance; without it both step over the kink.
+#[test]
+fn breakpoints_end_a_step_where_the_input_has_a_kink() {
+    for method in [
+        Method::DormandPrince {
+            rtol: 1e-6,
+            atol: 1e-9,
+            h0: None,
+            h_max: f64::INFINITY,
+        },
+        Method::radau5(1e-6, 1e-9),
+    ] {
+        let (e_with, s_with, hit_with) = kinked_run(method, true);
+        let (e_without, s_without, hit_without) = kinked_run(method, false);
+        eprintln!(
+            "{method:?}: with the breakpoint error {e_with:.2e}, {s_with:?}; \
+             without {e_without:.2e}, {s_without:?}"
+        );
+        assert!(hit_with && !hit_without, "{method:?}");
+        assert!(e_with < 1e-6, "{method:?}: error {e_with:e}");
+        assert!(
+            s_with.rejected < s_without.rejected,
+            "{method:?}: {} rejected with the breakpoint, {} without",
+            s_with.rejected,
+            s_without.rejected
+        );
+    }
+}
+
+/// Fixed-step methods keep their grid: breakpoints change nothing.
+#[test]
+fn fixed_step_methods_ignore_breakpoints() {
+    let mut sys = KinkedInput {
+        lambda: 10.0,
+        c: 1.0,
+    };
+    let mut times = Vec::new();
+    let mut integ = Integrator::new(Method::Rk4 { h: 0.3 }, 1).unwrap();
+    integ.set_breakpoints(&[1.0]).unwrap();
+    let mut x = vec![0.0];
+    integ
+        .integrate(&mut sys, 0.0, &mut x, 2.0, &mut |t, _| {
+            times.push(t);
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert!(!times.contains(&1.0), "{times:?}");
+    assert!((times[4] - 1.2).abs() < 1e-12, "{times:?}");
+}
+
+#[test]
+fn a_non_finite_breakpoint_is_refused() {
+    let mut integ = Integrator::new(Method::Rk4 { h: 0.1 }, 1).unwrap();
+    let e = integ.set_breakpoints(&[0.5, f64::NAN]).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            OdeError::InvalidParameter {
+                name: "breakpoint",
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+}

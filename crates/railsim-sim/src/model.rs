@@ -479,6 +479,47 @@ impl SimModel {
         }
     }
 
+    /// \[s\] the times in `(t0, t_end)` at which the right-hand side is not smooth in time,
+    /// for the integrator to end a step on each (`railsim_ode::Integrator::set_breakpoints`):
+    /// where a member's nominal position (the reference point's plus its `p0`) reaches the
+    /// start of a track segment (curvature, cant or their slopes change there); where a
+    /// wheelset's reaches the start or the end of a rail section's transition (the contact
+    /// forces' blend starts or ends, or the rails change at once); and where the speed
+    /// profile has a point (the acceleration jumps). A member's own longitudinal motion
+    /// (millimetres at most) moves its crossing by its distance over the speed, some tens of
+    /// microseconds; the track irregularities, sampled finely, are not included.
+    pub fn breakpoints(&self, t0: f64, t_end: f64) -> Vec<f64> {
+        let mut out = Vec::new();
+        let mut at = |distance: f64| {
+            if distance > 0.0 {
+                let t = self.speed.time_at(distance);
+                if t > t0 && t < t_end {
+                    out.push(t);
+                }
+            }
+        };
+        for &d in self.speed.distances().iter().skip(1) {
+            at(d);
+        }
+        for m in &self.members {
+            let offset = self.start + m.p0[0];
+            for seg in self.track.segments().iter().skip(1) {
+                at(seg.s_start - offset);
+            }
+            if matches!(m.kind, MemberKind::Wheelset { .. }) {
+                for r in self.track.rail_sections().iter().skip(1) {
+                    at(r.start - offset);
+                    if r.transition > 0.0 {
+                        at(r.start + r.transition - offset);
+                    }
+                }
+            }
+        }
+        out.sort_by(f64::total_cmp);
+        out.dedup();
+        out
+    }
+
     /// \[m, m/s, m/s²\] distance run, speed and its time derivative at time `t`.
     pub fn motion(&self, t: f64) -> (f64, f64, f64) {
         let d = self.speed.distance_at(t);

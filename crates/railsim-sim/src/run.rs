@@ -458,6 +458,8 @@ impl Simulation {
         let first = ((self.t0 * 1e9 - 0.5) / dt_ns as f64).ceil().max(0.0) as usize;
         let mut next = first;
         let result: Result<(), SimError> = (|| {
+            self.integ
+                .set_breakpoints(&self.model.breakpoints(self.t0, t_end))?;
             self.integ.start(&dynamics, self.t0, &self.x0, t_end)?;
             loop {
                 // Samples up to the integrator's time.

@@ -353,3 +353,61 @@ fn a_lubricated_section_relieves_the_flanging_wheel_from_its_start() {
         "{before} {dry_after}"
     );
 }
+
+/// The shipped scene `scenes/manchester_rail_sections.toml` as a test scene (paths from the
+/// repository root) with its `[integrator]` replaced by `integrator`.
+fn shipped_rail_sections(integrator: &str) -> railsim_sim::Scene {
+    let text = std::fs::read_to_string(common::root().join("scenes/manchester_rail_sections.toml"))
+        .unwrap();
+    let head = text.split("[integrator]").next().unwrap();
+    common::scene(&format!(
+        "{}\n[integrator]\n{integrator}\n",
+        head.replace("\"../", "\"")
+    ))
+}
+
+/// The integrator ends a step wherever the right-hand side has a kink or a jump in time: here
+/// where each wheelset meets a rail section's transition and leaves it (`SimModel::breakpoints`).
+/// Without them Radau5 at rtol 1e-4, atol 1e-6 stepped over the start of the measured rail's
+/// transition with an error its estimate did not see, and the leading wheelset rang for a
+/// second with Q up to 81.9 kN in the samples (docs/performance.md, "Choosing the integrator");
+/// the reference solution (DOPRI5 at rtol 1e-6, atol 1e-8) has no wheel's Q above 58.0 kN.
+#[test]
+fn steps_end_where_a_wheelset_meets_a_rail_transition() {
+    let scene = shipped_rail_sections("method = \"radau5\"\nrtol = 1e-4\natol = 1e-6");
+    let sim = railsim_sim::Simulation::new(&scene).unwrap();
+    let model = sim.model();
+    let v = 120.0 / 3.6;
+    let bps = model.breakpoints(0.0, 10.8);
+    let sections = model.track.rail_sections();
+    let mut expected = Vec::new();
+    for m in model
+        .members
+        .iter()
+        .filter(|m| matches!(m.kind, railsim_sim::model::MemberKind::Wheelset { .. }))
+    {
+        for r in &sections[1..] {
+            for edge in [r.start, r.start + r.transition] {
+                expected.push((edge - 120.0 - m.p0[0]) / v);
+            }
+        }
+    }
+    assert_eq!(expected.len(), 16);
+    for t in &expected {
+        assert!(
+            bps.iter().any(|b| (b - t).abs() < 1e-9),
+            "no breakpoint at {t} s in {bps:?}"
+        );
+    }
+    assert_eq!(bps.len(), expected.len(), "{bps:?}");
+    let (_, samples, _) = run(&scene);
+    let q_max = samples
+        .iter()
+        .flat_map(|s| s.wheelsets.iter().flat_map(|w| [w.q_left_n, w.q_right_n]))
+        .fold(0.0, f64::max);
+    eprintln!(
+        "largest Q with Radau5 at 1e-4 / 1e-6: {:.1} kN",
+        q_max * 1e-3
+    );
+    assert!(q_max < 60e3, "largest Q {q_max} N");
+}
