@@ -410,3 +410,42 @@ fn a_quasi_static_start_is_reported() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The low-speed note on the elastic-rail scene (40 km/h, `stripes`): Radau5 is not the faster
+/// choice there, and the note says so; on rigid rails it does not add that.
+#[test]
+fn the_low_speed_note_excepts_stripes_on_an_elastic_rail_support() {
+    let elastic = railsim(&[
+        "run",
+        "scenes/manchester_r150_40kmh_elastic.toml",
+        "--duration-s",
+        "0.01",
+        "--no-log",
+        "--quiet",
+    ]);
+    assert_eq!(elastic.0, 0, "{}", elastic.2);
+    assert!(
+        elastic
+            .2
+            .contains("note: at 40 km/h the creep forces' damping")
+            && elastic.2.contains(
+                "not with stripes on an elastic rail support, where radau5 was the slower"
+            ),
+        "{}",
+        elastic.2
+    );
+    let rigid = railsim(&[
+        "run",
+        "scenes/manchester_r150_40kmh.toml",
+        "--duration-s",
+        "0.01",
+        "--no-log",
+        "--quiet",
+    ]);
+    assert_eq!(rigid.0, 0, "{}", rigid.2);
+    assert!(
+        rigid.2.contains("note: at 40 km/h") && !rigid.2.contains("elastic rail support"),
+        "{}",
+        rigid.2
+    );
+}
