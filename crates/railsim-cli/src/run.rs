@@ -209,8 +209,7 @@ fn low_speed_note(scene: &Scene) -> Option<String> {
         scene.integrator,
         Method::DormandPrince { .. } | Method::AdaptiveExplicit { .. }
     );
-    // STRIPES on an elastic rail support: Radau5 was the slower (its error test sees the
-    // steps of the STRIPES forces where a zone's refinement changes; docs/performance.md)
+    // STRIPES on an elastic rail support: Radau5 was the slower (docs/performance.md)
     let stripes_on_elastic_rails =
         scene.contact.model == ContactModelKind::Stripes && scene.track.rail_support().is_some();
     (explicit && top <= LOW_SPEED + 1e-9).then(|| {
@@ -224,10 +223,9 @@ fn low_speed_note(scene: &Scene) -> Option<String> {
         );
         if stripes_on_elastic_rails {
             note.push_str(
-                "; not with stripes on an elastic rail support, where radau5 was the slower (the \
-                 STRIPES forces step where a zone's refinement changes, and it rejected two steps \
-                 in three); there polach or fastsim with radau5 were 4-5 times faster than with \
-                 dopri5",
+                "; not with stripes on an elastic rail support, where radau5 was the slower (it \
+                 rejected two steps in three); there polach or fastsim with radau5 were 4-5 \
+                 times faster than with dopri5",
             );
         }
         note
