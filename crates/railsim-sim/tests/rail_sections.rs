@@ -354,18 +354,6 @@ fn a_lubricated_section_relieves_the_flanging_wheel_from_its_start() {
     );
 }
 
-/// The shipped scene `scenes/manchester_rail_sections.toml` as a test scene (paths from the
-/// repository root) with its `[integrator]` replaced by `integrator`.
-fn shipped_rail_sections(integrator: &str) -> railsim_sim::Scene {
-    let text = std::fs::read_to_string(common::root().join("scenes/manchester_rail_sections.toml"))
-        .unwrap();
-    let head = text.split("[integrator]").next().unwrap();
-    common::scene(&format!(
-        "{}\n[integrator]\n{integrator}\n",
-        head.replace("\"../", "\"")
-    ))
-}
-
 /// The integrator ends a step wherever the right-hand side has a kink or a jump in time: here
 /// where each wheelset meets a rail section's transition and leaves it (`SimModel::breakpoints`).
 /// Without them Radau5 at rtol 1e-4, atol 1e-6 stepped over the start of the measured rail's
@@ -374,7 +362,9 @@ fn shipped_rail_sections(integrator: &str) -> railsim_sim::Scene {
 /// the reference solution (DOPRI5 at rtol 1e-6, atol 1e-8) has no wheel's Q above 58.0 kN.
 #[test]
 fn steps_end_where_a_wheelset_meets_a_rail_transition() {
-    let scene = shipped_rail_sections("method = \"radau5\"\nrtol = 1e-4\natol = 1e-6");
+    let path = common::root().join("scenes/manchester_rail_sections.toml");
+    let mut scene = railsim_sim::Scene::from_file(&path).unwrap();
+    scene.integrator = railsim_ode::Method::radau5(1e-4, 1e-6);
     let sim = railsim_sim::Simulation::new(&scene).unwrap();
     let model = sim.model();
     let v = 120.0 / 3.6;
