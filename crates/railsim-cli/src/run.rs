@@ -186,10 +186,6 @@ const RK4_IMAGINARY_LIMIT: f64 = 2.828;
 /// numerical instability grow (the default is 1e-6).
 const LOOSE_ATOL: f64 = 1e-3;
 
-/// For a run that stopped (derailment, instability, a contact limit): a note when the
-/// integrator's settings can produce the same stop numerically, with how to tell. `rail_mass`
-/// \[kg\] is the rail mass of an elastic rail support: on the contact stiffness it has a mode
-/// that lowers the stability limit of fixed explicit steps to about 2√2 √(m / k).
 /// \[m/s\] at and below this top speed an adaptive explicit integrator is noted as the slower
 /// choice: the creep forces' damping grows as C/V and bounds its steps by stability. Measured on
 /// the default scene's first second (docs/performance.md, "Choosing the integrator"): Radau5 at
@@ -232,6 +228,10 @@ fn low_speed_note(scene: &Scene) -> Option<String> {
     })
 }
 
+/// For a run that stopped (derailment, instability, a contact limit): a note when the
+/// integrator's settings can produce the same stop numerically, with how to tell. `rail_mass`
+/// \[kg\] is the rail mass of an elastic rail support: on the contact stiffness it has a mode
+/// that lowers the stability limit of fixed explicit steps to about 2√2 √(m / k).
 fn stability_note(method: &Method, rail_mass: Option<f64>) -> Option<String> {
     let (limit, what) = match rail_mass {
         Some(m) => (
