@@ -294,7 +294,8 @@ pub(crate) fn split_into_wells(
 /// STRIPES: each pair's membership `chi_i = min(1, H_i / d_i)` in the well whose peak is pair
 /// `peak`, returned for the pairs `lo..lo + count` (`[i - lo]`): `d_i` the pair's
 /// interpenetration, `H_i` the lowest (coupled, `run_wells`) hump between the pair's basin and
-/// the well's; 1 in the well's own basin and outside the run. A lone well is solved whole;
+/// the well's; 1 in the well's own basin, and beyond an end of the run that of the basin at that
+/// end. A lone well is solved whole;
 /// wells separated by a positive gap do not overlap; a well that merges into its hump (or is born
 /// from a shoulder) is already counted in full by its neighbour's solution; the weights vary
 /// continuously with the pose (docs/models/contact.md §4.1).
@@ -334,6 +335,20 @@ pub(crate) fn memberships<'s>(
     for b in own + 1..n {
         h = h.min(s.hump[b - 1]);
         fill(s, b, h);
+    }
+    // Pairs outside the run (the strips' neighbours at its ends) belong with the basin at that
+    // end. With 1 there, the half segment next to the far end of another well's basin counted
+    // in full in this well's patch: a shallow tread well joined to a deep flange-root well by
+    // one touching pair took 6.4 kN of the deep well's load, lost when the pair separated.
+    let below = first.saturating_sub(lo).min(count);
+    if below > 0 && below < count {
+        let end = s.chi[below];
+        s.chi[..below].fill(end);
+    }
+    let above = (last + 1).saturating_sub(lo);
+    if above > 0 && above < count {
+        let end = s.chi[above - 1];
+        s.chi[above..].fill(end);
     }
     &s.chi
 }
