@@ -589,6 +589,14 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         st.jacobians,
         st.lu_factorizations
     );
+    if st.newton_iterations > 0 {
+        outln!(
+            "integrator: {} simplified-Newton iterations, {} step attempts abandoned because \
+             Newton diverged or converged too slowly",
+            st.newton_iterations,
+            st.newton_failures
+        );
+    }
     if st.trial_failures > 0 {
         outln!(
             "integrator: {} step attempts rejected because the model could not be evaluated at a \
