@@ -227,16 +227,8 @@ mod tests {
         Material, TractionBound, fastsim_strip, flexibilities, kalker_coeffs, linear_kalker,
     };
 
-    /// FaStrip over a Hertz ellipse (strips of equal width).
-    fn ellipse(
-        a: f64,
-        b: f64,
-        n: f64,
-        creep: &Creepages,
-        mu: f64,
-        ny: usize,
-        nx: usize,
-    ) -> [f64; 3] {
+    /// FaStrip's patch data and FASTSIM's flexibilities for a steel ellipse.
+    fn steel_patch(a: f64, b: f64) -> (FastripPatch, Flexibilities) {
         let mat = Material::new(82e9, 0.28).unwrap();
         let c = kalker_coeffs(a, b, mat.nu).unwrap();
         let patch = FastripPatch {
@@ -248,7 +240,20 @@ mod tests {
             g: mat.g,
             nu: mat.nu,
         };
-        let flex = flexibilities(a, b, &mat).unwrap();
+        (patch, flexibilities(a, b, &mat).unwrap())
+    }
+
+    /// FaStrip over a Hertz ellipse (strips of equal width).
+    fn ellipse(
+        a: f64,
+        b: f64,
+        n: f64,
+        creep: &Creepages,
+        mu: f64,
+        ny: usize,
+        nx: usize,
+    ) -> [f64; 3] {
+        let (patch, flex) = steel_patch(a, b);
         let p0 = 1.5 * n / (std::f64::consts::PI * a * b);
         let dy = 2.0 * b / ny as f64;
         let mut f = [0.0; 3];
@@ -370,18 +375,7 @@ mod tests {
     #[test]
     fn the_force_is_continuous_where_the_slip_zone_crosses_a_cell() {
         let (a, b, mu) = (0.005, 0.004, 0.3);
-        let mat = Material::new(82e9, 0.28).unwrap();
-        let c = kalker_coeffs(a, b, mat.nu).unwrap();
-        let patch = FastripPatch {
-            c11: c.c11,
-            c22: c.c22,
-            c23: c.c23,
-            a,
-            b,
-            g: mat.g,
-            nu: mat.nu,
-        };
-        let flex = flexibilities(a, b, &mat).unwrap();
+        let (patch, flex) = steel_patch(a, b);
         let p0 = 1.5 * 50e3 / (std::f64::consts::PI * a * b);
         // Largest second difference of (Fx, Fy) over n steps of xi in [0, 1e-3]: at a jump it
         // stays the jump when the steps are refined, at a kink it falls with the step.
