@@ -159,41 +159,47 @@ pub fn fastrip_strip(
         // which a time integration's error test sees; docs/models/contact.md §6).
         let (x_hi, x_lo) = (x + 0.5 * h, x - 0.5 * h);
         let x_b = (xc + 2.0 * d - hl).clamp(x_lo, x_hi);
-        let w_adh = (x_hi - x_b) / h;
-        let (mut tx, mut ty, mut tm) = (0.0, 0.0, 0.0);
-        if w_adh > 0.0 {
-            // adhesion: strip theory
-            let xa = 0.5 * (x_b + x_hi);
-            let xra = xa - xc;
-            let outer_a = (hl * hl - xra * xra).max(0.0).sqrt();
-            let inner = ((hl - d) * (hl - d) - (xra - d) * (xra - d))
-                .max(0.0)
-                .sqrt();
-            let ax = k * (kap * outer_a - kap * inner);
-            let ay = k * (lam * outer_a - lam2 * inner);
-            let lim = k * outer_a * (1.0 + 1e-9) + 1e-12 * k * hl;
-            if ax * ax + ay * ay > lim * lim {
-                fallback = true;
-            }
-            tx += w_adh * ax;
-            ty += w_adh * ay;
-            tm += w_adh * (xa * ay - y * ax);
-        }
-        if w_adh < 1.0 {
-            // slip: the bound, in FASTSIM's direction (or the adhesion edge direction)
-            let xs = 0.5 * (x_lo + x_b);
-            let xrs = xs - xc;
-            let bound_s = k * (hl * hl - xrs * xrs).max(0.0).sqrt();
-            let (sx, sy) = if mag > 0.0 {
-                (px / mag, py / mag)
+        // strip theory's traction at x (outer = sqrt(hl^2 - (x - xc)^2))
+        let adhesion = |x: f64, outer: f64| {
+            let xr = x - xc;
+            let inner = ((hl - d) * (hl - d) - (xr - d) * (xr - d)).max(0.0).sqrt();
+            (
+                k * (kap * outer - kap * inner),
+                k * (lam * outer - lam2 * inner),
+            )
+        };
+        // the bound `b` in FASTSIM's slip direction (or the adhesion edge's)
+        let slip = |b: f64| {
+            if mag > 0.0 {
+                (px * b / mag, py * b / mag)
             } else {
-                (kap, lam)
-            };
-            let w = 1.0 - w_adh;
-            tx += w * bound_s * sx;
-            ty += w * bound_s * sy;
-            tm += w * (xs * bound_s * sy - y * bound_s * sx);
-        }
+                (b * kap, b * lam)
+            }
+        };
+        let too_large = |t: (f64, f64), outer: f64| {
+            let lim = k * outer * (1.0 + 1e-9) + 1e-12 * k * hl;
+            t.0 * t.0 + t.1 * t.1 > lim * lim
+        };
+        let (tx, ty, tm) = if x_b <= x_lo {
+            let t = adhesion(x, outer);
+            fallback |= too_large(t, outer);
+            (t.0, t.1, x * t.1 - y * t.0)
+        } else if x_b >= x_hi {
+            let t = slip(bound);
+            (t.0, t.1, x * t.1 - y * t.0)
+        } else {
+            let w = (x_hi - x_b) / h;
+            let (xa, xs) = (0.5 * (x_b + x_hi), 0.5 * (x_lo + x_b));
+            let outer_a = (hl * hl - (xa - xc) * (xa - xc)).max(0.0).sqrt();
+            let ta = adhesion(xa, outer_a);
+            fallback |= too_large(ta, outer_a);
+            let ts = slip(k * (hl * hl - (xs - xc) * (xs - xc)).max(0.0).sqrt());
+            (
+                w * ta.0 + (1.0 - w) * ts.0,
+                w * ta.1 + (1.0 - w) * ts.1,
+                w * (xa * ta.1 - y * ta.0) + (1.0 - w) * (xs * ts.1 - y * ts.0),
+            )
+        };
         if xr > 2.0 * d - hl {
             n_adh_fr += 1;
         }
