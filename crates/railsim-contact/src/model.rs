@@ -221,7 +221,8 @@ pub struct PatchInput<'a> {
     pub kin: &'a WheelKinematics,
     /// Creepages at the reference point.
     pub creep: Creepages,
-    pub(crate) yawed: bool,
+    /// The pose's locus map (rotation, yaw), for the yawed locus' curvature.
+    pub(crate) ctx: crate::geometry::PoseCtx,
 }
 
 impl PatchInput<'_> {
@@ -525,7 +526,7 @@ impl WheelRailContact {
                 frame,
                 kin: &kin,
                 creep,
-                yawed: ctx.yawed,
+                ctx,
             };
             let (forces, penetration) = match self.opts.model {
                 ContactModelKind::Stripes => (
@@ -1340,7 +1341,7 @@ mod spin_moment_at_reference_tests {
                         frame,
                         kin: &kin,
                         creep: kin.creepages(frame.wheel_point, frame.t, frame.n),
-                        yawed: ctx.yawed,
+                        ctx,
                     };
                     let f = match model {
                         ContactModelKind::Fastsim => {

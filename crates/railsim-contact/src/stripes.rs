@@ -294,6 +294,15 @@ pub struct Local {
     k: f64,
     load: f64,
     width: f64,
+    /// \[m\] interpenetration along the pair's normal
+    d: f64,
+    /// \[1/m\] longitudinal relative curvature A_i
+    a_long: f64,
+    /// \[m\] arc lengths of the pair's rail and wheel points
+    s_r: f64,
+    s_w: f64,
+    /// \[1/m\] `relative_curvature` at the pair (NaN until a junction segment needs it)
+    b_exact: f64,
 }
 
 /// \[Pa\] peak of the pressure along a strip of half-length `a` that carries the line load `q`:
@@ -312,6 +321,130 @@ fn quad(a: &Local, b: &Local, c: &Local, l: f64) -> f64 {
     a.u * (l - x1) * (l - x2) / ((x0 - x1) * (x0 - x2))
         + b.u * (l - x0) * (l - x2) / ((x1 - x0) * (x1 - x2))
         + c.u * (l - x0) * (l - x1) / ((x2 - x0) * (x2 - x1))
+}
+
+/// \[-\] ln of the ratio of the line-load coefficients K at the two ends of a segment from
+/// which its load is also integrated at sub-points (`junction_segment`)...
+const JUNCTION_FROM: f64 = 0.1;
+/// \[-\] ... and from which that integral is taken alone.
+const JUNCTION_FULL: f64 = 0.3;
+/// Sub-intervals of a junction segment.
+const JSUB: usize = 4;
+
+/// \[-\] How much of a segment's load comes from the integration at sub-points: 0 where the
+/// line-load coefficients `k0`, `k1` (K = E*/(n r eps), which follows the relative curvature)
+/// at its ends differ by less than a factor e^JUNCTION_FROM, 1 from e^JUNCTION_FULL on, a C1
+/// smoothstep in ln(k1/k0) between.
+#[inline]
+fn junction_weight(k0: f64, k1: f64) -> f64 {
+    let v = (k1 / k0).ln().abs();
+    let t = ((v - JUNCTION_FROM) / (JUNCTION_FULL - JUNCTION_FROM)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// \[1/m\] the relative lateral curvature B = (κ_w − κ_r)/2, unclamped, at the wheel and rail
+/// arc lengths `s_w`, `s_r`; with yaw the locus' own curvature at a fixed difference step
+/// (`locus_curvature`), not the pairs' central difference, which spreads a change of the
+/// locus' curvature over the pairs' spacing.
+fn relative_curvature(input: &PatchInput<'_>, s_w: f64, s_r: f64) -> f64 {
+    let pair = input.pair;
+    let kw = if input.ctx.yawed {
+        crate::geometry::locus_curvature(pair, &input.ctx, s_w)
+    } else {
+        pair.wheel.curvature(s_w)
+    };
+    0.5 * (kw - pair.rail.curvature(s_r))
+}
+
+/// (load, width) of pair `p0` and of pair `p1` from the segment between them, integrated on
+/// [`JSUB`] sub-intervals with the relative curvature B taken at each sub-point from the
+/// profiles (the rail's and the wheel's curvature at the arc lengths interpolated linearly
+/// between the pairs, the yawed locus' correction interpolated), so that a steep change of the
+/// curvature inside the segment is placed where the profiles have it. The interpenetration
+/// follows the same curvature: d'' = −2B along the patch (the gap's second derivative is twice
+/// the relative curvature, Hertz's quadratic gap), integrated twice on the sub-intervals, plus
+/// the linear function that meets the pairs' own d at both ends; the mean of two parabolas
+/// through the pairs (the plain sub-intervals) misses d'' where it changes inside the segment.
+/// The line load per sub-point is K u with K and eps from the (clamped) curvature there (seed
+/// eq. 8 and 14 per strip).
+fn junction_segment(
+    p0: &Local,
+    p1: &Local,
+    input: &PatchInput<'_>,
+    variant: StripesVariant,
+    eps0: f64,
+    delta0: f64,
+    e_star: f64,
+) -> [f64; 4] {
+    let h = (p1.l - p0.l) / JSUB as f64;
+    // the relative curvature (unclamped) at the sub-points, the ends' kept with the pairs
+    let mut b = [0.0; JSUB + 1];
+    b[0] = p0.b_exact;
+    b[JSUB] = p1.b_exact;
+    for (j, bj) in b.iter_mut().enumerate().take(JSUB).skip(1) {
+        let t = j as f64 / JSUB as f64;
+        *bj = relative_curvature(
+            input,
+            p0.s_w + t * (p1.s_w - p0.s_w),
+            p0.s_r + t * (p1.s_r - p0.s_r),
+        );
+    }
+    // d'' = -2B twice integrated from p0 (value and slope 0 there), then the linear part
+    let mut d = [0.0; JSUB + 1];
+    let mut slope = 0.0;
+    for j in 1..=JSUB {
+        let next = slope - (b[j - 1] + b[j]) * h;
+        d[j] = d[j - 1] + 0.5 * (slope + next) * h;
+        slope = next;
+    }
+    let end = d[JSUB];
+    for (j, dj) in d.iter_mut().enumerate() {
+        let t = j as f64 / JSUB as f64;
+        *dj += p0.d + t * (p1.d - p0.d - end);
+    }
+    // (q = K u, u) at the sub-points
+    let at = |j: usize| -> (f64, f64) {
+        let (u, k) = {
+            let t = j as f64 / JSUB as f64;
+            let a_i = p0.a_long + t * (p1.a_long - p0.a_long);
+            let b_i = b[j].max(B_MIN);
+            let hc = hertz_coeffs_fast(a_i, b_i);
+            let eps_i = stripes_epsilon(&hc, a_i, b_i);
+            let eps = match variant {
+                StripesVariant::Seed => eps0,
+                StripesVariant::LocalEpsilon => eps_i,
+            };
+            (d[j] - (1.0 - eps) * delta0, e_star / (hc.n * hc.r * eps_i))
+        };
+        (k * u.max(0.0), u)
+    };
+    let mut out = [0.0; 4];
+    let dl = h.abs();
+    let (mut qa, mut ua) = at(0);
+    for j in 1..=JSUB {
+        let t = j as f64 / JSUB as f64;
+        let (qb, ub) = at(j);
+        // the positive part of u, the line load linear between the ends and the zero crossing
+        let (len, mean_q, mid_t) = if ua > 0.0 && ub > 0.0 {
+            (dl, 0.5 * (qa + qb), t - 0.5 / JSUB as f64)
+        } else if ua > 0.0 {
+            let f = ua / (ua - ub);
+            (dl * f, 0.5 * qa, t - (1.0 - 0.5 * f) / JSUB as f64)
+        } else if ub > 0.0 {
+            let f = ub / (ub - ua);
+            (dl * f, 0.5 * qb, t - 0.5 * f / JSUB as f64)
+        } else {
+            (0.0, 0.0, 0.0)
+        };
+        if len > 0.0 {
+            let part = len * (p0.chi + mid_t * (p1.chi - p0.chi));
+            let target = if mid_t < 0.5 { 0 } else { 2 };
+            out[target] += mean_q * part;
+            out[target + 1] += part;
+        }
+        (qa, ua) = (qb, ub);
+    }
+    out
 }
 
 /// One strip of a STRIPES patch.
@@ -381,7 +514,7 @@ pub fn solve(
         }
         let p = &pairs[i];
         let a_i = longitudinal_curvature(p.rho, p.rho_slope);
-        let kw = crate::geometry::locus_curvature_at(pairs, i, input.yawed);
+        let kw = crate::geometry::locus_curvature_at(pairs, i, input.ctx.yawed);
         let b_i = (0.5 * (kw - p.kappa_r)).max(B_MIN);
         let hc = hertz_coeffs_fast(a_i, b_i);
         let eps_i = stripes_epsilon(&hc, a_i, b_i);
@@ -399,6 +532,11 @@ pub fn solve(
             k: e_star / (hc.n * hc.r * eps_i),
             load: 0.0,
             width: 0.0,
+            d,
+            a_long: a_i,
+            s_r: p.s_r,
+            s_w: p.s_w,
+            b_exact: f64::NAN,
         });
     }
     let chi = memberships(pairs, input.zone.deepest, lo, local.len(), wells);
@@ -416,6 +554,12 @@ pub fn solve(
     // two pairs, u is interpolated by the mean of the two parabolas through the neighbouring
     // pairs (third-order accurate; linear where a neighbour is missing), the positive part is
     // integrated on SUB sub-intervals, and the load and width go to the nearer pair.
+    // Where the relative curvature B changes steeply between the two pairs (a junction of the
+    // profiles' arcs, where K and eps change by up to 30 times within a tenth of a millimetre),
+    // that interpolation does not see where the change lies, and the load converged only to
+    // first order in the step (docs/models/contact.md §5). There the segment is also integrated
+    // on JSUB sub-intervals with the profiles' own curvatures at each sub-point, and the two are
+    // blended by the size of the change (`junction_weight`), so that the load stays continuous.
     const SUB: usize = 4;
     for li in local.iter_mut() {
         li.load = 0.0;
@@ -443,6 +587,7 @@ pub fn solve(
         {
             continue;
         }
+        let junction = junction_weight(p0.k, p1.k);
         let interp = |l: f64| -> f64 {
             let lin = p0.u + (p1.u - p0.u) * (l - p0.l) / (p1.l - p0.l);
             let mut sum = 0.0;
@@ -457,6 +602,8 @@ pub fn solve(
             }
             if cnt > 0.0 { sum / cnt } else { lin }
         };
+        // (load, width) for pair k and pair k + 1, plain and at the sub-points
+        let mut plain = [0.0; 4];
         let (k0, k1) = (p0.k, p1.k);
         let (c0, c1) = (p0.chi, p1.chi);
         let mut ua = p0.u;
@@ -492,13 +639,42 @@ pub fn solve(
                 let kk = k0 + mid_t * (k1 - k0);
                 // a strip belonging partly to the well counts with part of its width
                 let part = len * (c0 + mid_t * (c1 - c0));
-                let target = if mid_t < 0.5 { k } else { k + 1 };
-                local[target].load += kk * mean_u * part;
-                local[target].width += part;
+                let target = if mid_t < 0.5 { 0 } else { 2 };
+                plain[target] += kk * mean_u * part;
+                plain[target + 1] += part;
             }
             ua = ub;
             la = lb;
         }
+        let add = if junction > 0.0 {
+            // the ends' curvatures, computed once per pair
+            for i in [k, k + 1] {
+                let li = &mut local[i];
+                if li.b_exact.is_nan() {
+                    li.b_exact = relative_curvature(input, li.s_w, li.s_r);
+                }
+            }
+            let sub = junction_segment(
+                &local[k],
+                &local[k + 1],
+                input,
+                variant,
+                eps0,
+                delta0,
+                e_star,
+            );
+            let mut add = [0.0; 4];
+            for (a, (p, s)) in add.iter_mut().zip(plain.iter().zip(&sub)) {
+                *a = p + junction * (s - p);
+            }
+            add
+        } else {
+            plain
+        };
+        local[k].load += add[0];
+        local[k].width += add[1];
+        local[k + 1].load += add[2];
+        local[k + 1].width += add[3];
     }
     strips.clear();
     // the longest strip, its half-length weighted by its membership (continuous as a strip

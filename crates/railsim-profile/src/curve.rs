@@ -192,6 +192,14 @@ impl ArcCurve {
         CurvePoint { p, t, kappa }
     }
 
+    /// \[1/m\] signed curvature at arc length `s` \[m\] (clamped), the same value as
+    /// [`Self::eval`]'s `kappa` without the position and tangent.
+    #[inline]
+    pub fn curvature(&self, s: f64) -> f64 {
+        let (i, tau) = self.locate(s);
+        (1.0 - tau) * self.nodes[i].kappa + tau * self.nodes[i + 1].kappa
+    }
+
     /// \[m\] the y range (start, end of the curve).
     pub fn y_range(&self) -> (f64, f64) {
         (self.nodes[0].p[0], self.nodes[self.nodes.len() - 1].p[0])
