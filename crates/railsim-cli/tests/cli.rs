@@ -75,7 +75,7 @@ fn a_load_that_no_height_carries_is_reported() {
         out.contains("Fz = 55000.0 N") && !out.contains("warning"),
         "{out}"
     );
-    // In a batch: the same pose under `polach` is reported by case; `stripes` at its 1 mm
+    // In a batch: a flange pose that `polach` misses is reported by case; `stripes` at its 1 mm
     // default carries both loads (before its junction segments, the flange zone of case b
     // appeared between two heights and the 1 mm step could not carry 55 kN there either).
     let dir = common::temp_dir("cli", "load_missed");
@@ -83,7 +83,7 @@ fn a_load_that_no_height_carries_is_reported() {
     std::fs::write(
         &cases,
         "case,side,y_ws_mm,yaw_ws_rad,roll_ws_rad,vpitch_rad_s,fz_target_N\n\
-         a,right,6.5,0.002,0,-4.3481181,55000\nb,right,-6.735,0.002,0,-4.3481181,55000\n",
+         a,right,6.5,0.002,0,-4.3481181,55000\nb,right,6.685,0.002,0,-4.3481181,55000\n",
     )
     .unwrap();
     let out_csv = dir.join("out.csv");
@@ -101,7 +101,7 @@ fn a_load_that_no_height_carries_is_reported() {
     let (code, out, err) = run("polach");
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("case b (right wheel, y_ws = -6.735 mm): no height carries the load")
+        err.contains("case b (right wheel, y_ws = 6.685 mm): no height carries the load")
             && !err.contains("case a"),
         "{err}"
     );
