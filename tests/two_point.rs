@@ -14,7 +14,9 @@ use railsim_contact::{
     WheelRailPair, WheelsetPose, WheelsetVelocity,
 };
 
-use crate::common::{mbench_contact, rolling_30_m_s, standard_spec, tol_scale};
+use crate::common::{
+    mbench_contact, mbench_contact_with, rolling_30_m_s, standard_spec, tol_scale,
+};
 
 /// S1002 on UIC60 1:40, gauge 1435 mm, flange-back 1360 mm (`railsim contact`'s defaults).
 fn standard_contact(model: ContactModelKind, step: f64) -> WheelRailContact {
@@ -233,4 +235,52 @@ fn every_flange_position_carries_its_load_at_the_default_step() {
         missed.is_empty(),
         "no height carries 55 kN at (y mm, residual N): {missed:?}"
     );
+}
+
+/// The two-point pose of the leading outer wheel in the elastic-rail R = 150 m curve (benchmark
+/// profiles, right wheel 6.287 mm toward its flange, 15.17 mrad of yaw, at a fixed height): the
+/// wheel's forces at the default 1 mm step with its refinement to 12 pairs in contact, and at the
+/// next level (14), against a 0.02 mm step. The flange zone's strips cross the junction of the
+/// wheel's flange-root and flange arcs, where K changes 27 times within 0.3 mm; interpolated
+/// between the pairs, the default was 2.0 % off in Fy and 1.1 % in Fz, and the two levels
+/// differed by 211 N in Fy: the step the refinement made when it changed level, which rang the
+/// elastic rail (docs/models/contact.md §3). With the junction segments: 0.23 % and 0.10 %,
+/// and 58 N between the levels.
+#[test]
+fn the_two_point_flange_contact_converges_at_the_default_step() {
+    let vel = rolling_30_m_s();
+    let pose = WheelsetPose {
+        y: -6.287e-3,
+        z: 333.8e-6,
+        roll: -0.54e-3,
+        yaw: -15.17e-3,
+    };
+    let forces = |step: f64, pairs: usize| {
+        let contact = mbench_contact_with(ContactModelKind::Stripes, step, pairs);
+        let mut ws = ContactWorkspace::new();
+        let s = contact.evaluate(Side::Right, &pose, &vel, &mut ws).unwrap();
+        assert_eq!(ws.zones.len(), 2, "a flange-root and a flange patch");
+        [s.force_track[1], s.force_track[2]]
+    };
+    let fine = forces(0.02e-3, 12);
+    let default = forces(1.0e-3, 12);
+    let next = forces(1.0e-3, 14);
+    for (k, (name, bound)) in [("Fy", 5e-3), ("Fz", 3e-3)].into_iter().enumerate() {
+        for (level, f) in [("12 pairs", default), ("14 pairs", next)] {
+            let err = (f[k] - fine[k]).abs() / fine[k].abs();
+            assert!(
+                err <= bound * tol_scale(),
+                "{name} at {level}: {:.1} N against {:.1} N at 0.02 mm ({:.2} %)",
+                f[k],
+                fine[k],
+                100.0 * err
+            );
+        }
+        let step = (default[k] - next[k]).abs() / fine[k].abs();
+        assert!(
+            step <= 2e-3 * tol_scale(),
+            "{name} steps by {:.1} N between the levels",
+            default[k] - next[k]
+        );
+    }
 }

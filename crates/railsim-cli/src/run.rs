@@ -9,7 +9,6 @@ use std::time::Instant;
 use anyhow::Result;
 use clap::Args;
 
-use railsim_contact::ContactModelKind;
 use railsim_ode::Method;
 use railsim_sim::assess::{
     Assessment, CARBODY_BAND, MIN_F0_RECORD, SPERLING_BAND, STABILITY_WINDOW, SUM_Y_WINDOW,
@@ -193,8 +192,10 @@ const LOOSE_ATOL: f64 = 1e-3;
 /// 5, 1/6.8 at 20 and 1/1.4 at 50 km/h; at 198 km/h on irregular track DOPRI5 is about 5 times
 /// the faster. The note carries the caveat found on the R = 150 m curve at 40 km/h: there
 /// Radau5 at those tolerances damped out a friction-induced oscillation that both
-/// tight-tolerance solutions show. And it excepts STRIPES on an elastic rail support, where
-/// Radau5 at 1e-4 / 1e-6 was the slower (65 s against 59 s on the elastic R = 150 m scene).
+/// tight-tolerance solutions show. Until stop 31 it excepted STRIPES on an elastic rail support,
+/// where Radau5 was the slower; since STRIPES integrates the junctions of the profiles' arcs at
+/// sub-points, Radau5 runs the elastic R = 150 m scene in 4.4 s against DOPRI5's 55.6 s
+/// (docs/performance.md).
 const LOW_SPEED: f64 = 50.0 / 3.6;
 
 /// A note before a run with an adaptive explicit integrator whose top speed is at most
@@ -205,26 +206,15 @@ fn low_speed_note(scene: &Scene) -> Option<String> {
         scene.integrator,
         Method::DormandPrince { .. } | Method::AdaptiveExplicit { .. }
     );
-    // STRIPES on an elastic rail support: Radau5 was the slower (docs/performance.md)
-    let stripes_on_elastic_rails =
-        scene.contact.model == ContactModelKind::Stripes && scene.track.rail_support().is_some();
     (explicit && top <= LOW_SPEED + 1e-9).then(|| {
-        let mut note = format!(
+        format!(
             "at {:.0} km/h the creep forces' damping (about C/V) bounds an explicit method's \
              steps by stability: radau5 at rtol 1e-5, atol 1e-7 was measured 1.4 (50 km/h) to \
              140 (1 km/h) times faster, but it can damp out an oscillation it does not resolve \
              (it did on the R = 150 m curve at 40 km/h): check a case that may oscillate at \
              tight tolerances (docs/performance.md, \"Choosing the integrator\")",
             top * 3.6
-        );
-        if stripes_on_elastic_rails {
-            note.push_str(
-                "; not with stripes on an elastic rail support, where radau5 was the slower (it \
-                 rejected two steps in three); there polach or fastsim with radau5 were 4-5 \
-                 times faster than with dopri5",
-            );
-        }
-        note
+        )
     })
 }
 

@@ -411,10 +411,12 @@ fn a_quasi_static_start_is_reported() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// The low-speed note on the elastic-rail scene (40 km/h, `stripes`): Radau5 is not the faster
-/// choice there, and the note says so; on rigid rails it does not add that.
+/// The low-speed note: the rigid-rail R = 150 m scene at 40 km/h runs DOPRI5 and gets it; the
+/// elastic-rail scene runs Radau5 since stop 31 (4.4 s against DOPRI5's 55.6 s, once STRIPES
+/// integrated the junctions of the profiles' arcs at sub-points) and gets none. Until then the
+/// note excepted STRIPES on an elastic rail support, where Radau5 had been the slower.
 #[test]
-fn the_low_speed_note_excepts_stripes_on_an_elastic_rail_support() {
+fn the_low_speed_note_comes_with_an_explicit_method_only() {
     // the scene's first 10 ms, no log: the note comes before the run (standard error)
     let note_of = |scene: &str| {
         let (code, _, err) =
@@ -423,16 +425,11 @@ fn the_low_speed_note_excepts_stripes_on_an_elastic_rail_support() {
         err
     };
     let elastic = note_of("scenes/manchester_r150_40kmh_elastic.toml");
-    assert!(
-        elastic.contains("note: at 40 km/h the creep forces' damping")
-            && elastic.contains(
-                "not with stripes on an elastic rail support, where radau5 was the slower"
-            ),
-        "{elastic}"
-    );
+    assert!(!elastic.contains("note: at 40 km/h"), "{elastic}");
     let rigid = note_of("scenes/manchester_r150_40kmh.toml");
     assert!(
-        rigid.contains("note: at 40 km/h") && !rigid.contains("elastic rail support"),
+        rigid.contains("note: at 40 km/h the creep forces' damping")
+            && !rigid.contains("elastic rail support"),
         "{rigid}"
     );
 }

@@ -358,9 +358,9 @@ fn relative_curvature(input: &PatchInput<'_>, s_w: f64, s_r: f64) -> f64 {
 
 /// (load, width) of pair `p0` and of pair `p1` from the segment between them, integrated on
 /// [`JSUB`] sub-intervals with the relative curvature B taken at each sub-point from the
-/// profiles (the rail's and the wheel's curvature at the arc lengths interpolated linearly
-/// between the pairs, the yawed locus' correction interpolated), so that a steep change of the
-/// curvature inside the segment is placed where the profiles have it. The interpenetration
+/// profiles at the arc lengths interpolated linearly between the pairs (`relative_curvature`),
+/// so that a steep change of the curvature inside the segment is placed where the profiles have
+/// it. The interpenetration
 /// follows the same curvature: d'' = −2B along the patch (the gap's second derivative is twice
 /// the relative curvature, Hertz's quadratic gap), integrated twice on the sub-intervals, plus
 /// the linear function that meets the pairs' own d at both ends; the mean of two parabolas
@@ -404,19 +404,17 @@ fn junction_segment(
     }
     // (q = K u, u) at the sub-points
     let at = |j: usize| -> (f64, f64) {
-        let (u, k) = {
-            let t = j as f64 / JSUB as f64;
-            let a_i = p0.a_long + t * (p1.a_long - p0.a_long);
-            let b_i = b[j].max(B_MIN);
-            let hc = hertz_coeffs_fast(a_i, b_i);
-            let eps_i = stripes_epsilon(&hc, a_i, b_i);
-            let eps = match variant {
-                StripesVariant::Seed => eps0,
-                StripesVariant::LocalEpsilon => eps_i,
-            };
-            (d[j] - (1.0 - eps) * delta0, e_star / (hc.n * hc.r * eps_i))
+        let t = j as f64 / JSUB as f64;
+        let a_i = p0.a_long + t * (p1.a_long - p0.a_long);
+        let b_i = b[j].max(B_MIN);
+        let hc = hertz_coeffs_fast(a_i, b_i);
+        let eps_i = stripes_epsilon(&hc, a_i, b_i);
+        let eps = match variant {
+            StripesVariant::Seed => eps0,
+            StripesVariant::LocalEpsilon => eps_i,
         };
-        (k * u.max(0.0), u)
+        let u = d[j] - (1.0 - eps) * delta0;
+        (e_star / (hc.n * hc.r * eps_i) * u.max(0.0), u)
     };
     let mut out = [0.0; 4];
     let dl = h.abs();
