@@ -293,9 +293,8 @@ pub(crate) fn locus(pair: &WheelRailPair, ctx: &PoseCtx, s: f64) -> Locus {
 /// Signed curvature of the projected locus curve at `s`: the profile curvature without yaw, a
 /// central difference of the tangent angle with yaw.
 pub(crate) fn locus_curvature(pair: &WheelRailPair, ctx: &PoseCtx, s: f64) -> f64 {
-    let l = locus(pair, ctx, s);
     if !ctx.yawed {
-        return l.kappa;
+        return locus(pair, ctx, s).kappa;
     }
     let h = 2.0 * pair.wheel.ds();
     let lo = locus(pair, ctx, (s - h).max(0.0));
