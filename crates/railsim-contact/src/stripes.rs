@@ -388,13 +388,12 @@ fn line_load(a_i: f64, b: f64, d: f64, law: &StripLaw) -> (f64, f64) {
 /// [`JSUB`] sub-intervals with the relative curvature B taken at each sub-point from the
 /// profiles at the arc lengths interpolated linearly between the pairs (`relative_curvature`),
 /// so that a steep change of the curvature inside the segment is placed where the profiles have
-/// it. The interpenetration
-/// follows the same curvature: d'' = −2B along the patch (the gap's second derivative is twice
-/// the relative curvature, Hertz's quadratic gap), integrated twice on the sub-intervals, plus
-/// the linear function that meets the pairs' own d at both ends; the mean of two parabolas
-/// through the pairs (the plain sub-intervals) misses d'' where it changes inside the segment.
-/// The line load per sub-point is K u with K and eps from the (clamped) curvature there (seed
-/// eq. 8 and 14 per strip).
+/// it. The interpenetration follows the same curvature: d'' = −2B along the patch (the gap's
+/// second derivative is twice the relative curvature, Hertz's quadratic gap), integrated twice on
+/// the sub-intervals, plus the linear function that meets the pairs' own d at both ends; the mean
+/// of two parabolas through the pairs (the plain sub-intervals) misses d'' where it changes
+/// inside the segment. The line load per sub-point is [`line_load`]; the ends' are kept with the
+/// pairs.
 fn junction_segment(p0: &Local, p1: &Local, input: &PatchInput<'_>, law: &StripLaw) -> [f64; 4] {
     let h = (p1.l - p0.l) / JSUB as f64;
     // the relative curvature (unclamped) at the sub-points, the ends' kept with the pairs
