@@ -334,3 +334,20 @@ fn profile_transforms() {
     let back = r.rotated(-0.02, [0.0, 0.0]).unwrap();
     assert!((back.points[7][1] - p.points[7][1]).abs() < 1e-15);
 }
+
+/// `ArcCurve::curvature` is `eval`'s curvature alone: the same value everywhere, including
+/// between nodes and at the clamped ends (the STRIPES junction segments use it at sub-points).
+#[test]
+fn curvature_alone_equals_evals_curvature() {
+    let c = ArcCurve::from_profile(&wheel_file(), 0.0, DEFAULT_DS).unwrap();
+    let n = 20_000;
+    let mut varied = 0.0f64;
+    for i in 0..=n {
+        let s = -1e-3 + (c.length() + 2e-3) * i as f64 / n as f64;
+        let k = c.curvature(s);
+        assert_eq!(k, c.eval(s).kappa, "at s = {s}");
+        varied = varied.max(k.abs());
+    }
+    // the S1002 file has arcs down to a few millimetres: the test sees real curvature
+    assert!(varied > 50.0, "{varied}");
+}
