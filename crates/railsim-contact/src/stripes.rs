@@ -368,12 +368,17 @@ struct StripLaw {
     e_star: f64,
 }
 
-/// (q, u) of a strip with curvatures `a_i`, `b` (unclamped) and interpenetration `d` \[m\]:
-/// u = d − (1 − ε)δ0 its virtual interpenetration and q = K max(u, 0) its line load, K =
-/// E*/(n r ε_i) (seed eq. 8 and 14 per strip).
+/// A strip with curvatures `a_i`, `b_i` (clamped to `B_MIN`) and interpenetration `d` \[m\]:
+/// its Hertz coefficients, its virtual interpenetration u = d − (1 − ε)δ0 and its line-load
+/// coefficient K = E*/(n r ε_i) \[Pa\] (seed eq. 8 and 14 per strip; ε is ε_i or the patch's
+/// ε0 by the variant).
 #[inline]
-fn line_load(a_i: f64, b: f64, d: f64, law: &StripLaw) -> (f64, f64) {
-    let b_i = b.max(B_MIN);
+fn strip_law(
+    a_i: f64,
+    b_i: f64,
+    d: f64,
+    law: &StripLaw,
+) -> (railsim_elastic::HertzCoeffs, f64, f64) {
     let hc = hertz_coeffs_fast(a_i, b_i);
     let eps_i = stripes_epsilon(&hc, a_i, b_i);
     let eps = match law.variant {
@@ -381,7 +386,15 @@ fn line_load(a_i: f64, b: f64, d: f64, law: &StripLaw) -> (f64, f64) {
         StripesVariant::LocalEpsilon => eps_i,
     };
     let u = d - (1.0 - eps) * law.delta0;
-    (law.e_star / (hc.n * hc.r * eps_i) * u.max(0.0), u)
+    (hc, u, law.e_star / (hc.n * hc.r * eps_i))
+}
+
+/// (q, u) of a strip with curvatures `a_i`, `b` (unclamped) and interpenetration `d` \[m\]:
+/// its line load q = K max(u, 0) and virtual interpenetration u ([`strip_law`]).
+#[inline]
+fn line_load(a_i: f64, b: f64, d: f64, law: &StripLaw) -> (f64, f64) {
+    let (_, u, k) = strip_law(a_i, b.max(B_MIN), d, law);
+    (k * u.max(0.0), u)
 }
 
 /// (load, width) of pair `p0` and of pair `p1` from the segment between them, integrated on
@@ -504,6 +517,12 @@ pub fn solve(
     let hc0 = hertz_coeffs_fast(fr.a_curv, fr.b_curv);
     let eps0 = stripes_epsilon(&hc0, fr.a_curv, fr.b_curv);
     let delta0 = fr.delta0;
+    let law = StripLaw {
+        variant,
+        eps0,
+        delta0,
+        e_star,
+    };
     // The patch is a well of its run (`crate::wells`): its strips are the run's, each weighted by
     // its membership in the well, and the patch carries the well's share (applied by the caller).
     let (lo, hi) = run_range(pairs, input.zone);
@@ -531,20 +550,15 @@ pub fn solve(
         let a_i = longitudinal_curvature(p.rho, p.rho_slope);
         let kw = crate::geometry::locus_curvature_at(pairs, i, input.ctx.yawed);
         let b_i = (0.5 * (kw - p.kappa_r)).max(B_MIN);
-        let hc = hertz_coeffs_fast(a_i, b_i);
-        let eps_i = stripes_epsilon(&hc, a_i, b_i);
         let d = -p.gap;
-        let eps = match variant {
-            StripesVariant::Seed => eps0,
-            StripesVariant::LocalEpsilon => eps_i,
-        };
+        let (hc, u, k) = strip_law(a_i, b_i, d, &law);
         local.push(Local {
-            u: d - (1.0 - eps) * delta0,
+            u,
             chi: 1.0,
             l: arc,
             b: b_i,
             hc,
-            k: e_star / (hc.n * hc.r * eps_i),
+            k,
             load: 0.0,
             width: 0.0,
             d,
@@ -577,12 +591,6 @@ pub fn solve(
     // on JSUB sub-intervals with the profiles' own curvatures at each sub-point, and the two are
     // blended by the size of the change (`junction_weight`), so that the load stays continuous.
     const SUB: usize = 4;
-    let law = StripLaw {
-        variant,
-        eps0,
-        delta0,
-        e_star,
-    };
     for li in local.iter_mut() {
         li.load = 0.0;
         li.width = 0.0;
