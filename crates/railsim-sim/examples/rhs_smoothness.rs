@@ -46,7 +46,7 @@ fn main() {
             {
                 println!("{:.5} {:.6e}", s.t, s.x[i]);
             }
-            x = s.x.clone();
+            x.clone_from(&s.x);
         })
         .expect("run");
     let st = summary.stats;
