@@ -587,6 +587,13 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
             st.newton_failures
         );
     }
+    if let Some(each) = st.jacobian_rhs_evals.checked_div(st.jacobians) {
+        outln!(
+            "integrator: the Jacobians took {} right-hand sides ({each} each, by column groups \
+             of the model's coupling pattern)",
+            st.jacobian_rhs_evals,
+        );
+    }
     if st.trial_failures > 0 {
         outln!(
             "integrator: {} step attempts rejected because the model could not be evaluated at a \

@@ -383,7 +383,20 @@ impl Integrator {
         self.stats = Stats::default();
         match &mut self.work {
             Work::Erk(w) => w.reset(),
-            Work::Radau(w) => w.reset(rtol),
+            Work::Radau(w) => {
+                let pattern = sys.jacobian_pattern();
+                if let Some(p) = &pattern
+                    && p.dim() != self.n
+                {
+                    return Err(OdeError::DimensionMismatch {
+                        what: "Jacobian pattern",
+                        expected: self.n,
+                        found: p.dim(),
+                    });
+                }
+                w.reset(rtol);
+                w.set_pattern(pattern);
+            }
         }
         Ok(())
     }

@@ -5,6 +5,10 @@
 //! `J e_j = (f(x + h_j e_j) − f(x − h_j e_j)) / (2 h_j)`, second-order accurate in the steps
 //! `h_j` that the caller gives (a right-hand side computed by inner iterations, such as a
 //! contact search, needs steps well above its own tolerance, which only the caller knows).
+//! With the system's [`OdeSystem::jacobian_pattern`] the columns of a group share no row and
+//! are differenced together (`crate::JacobianPattern::column_groups`): `2 g` right-hand sides
+//! for `g` groups instead of `2 n`, each entry from its own row as in the column-by-column
+//! difference (to rounding).
 //! Near an equilibrium `x*` (`f(t, x*) = 0`) the motion `x = x* + Σ c_k v_k e^{λ_k t}` is
 //! governed by the eigenpairs `(λ_k, v_k)` of `J`: the equilibrium is asymptotically stable
 //! when every `Re λ_k < 0` (Lyapunov's indirect method). The eigenpairs come from faer's
@@ -17,7 +21,8 @@ use crate::{OdeSystem, RhsError};
 
 /// The Jacobian of `sys` at `(t, x)` by central differences with steps `steps` (one per
 /// component, each finite and non-zero), column-major in an n×n matrix. Costs `2 n`
-/// right-hand sides. A failed right-hand side is returned as it is; a non-finite entry is
+/// right-hand sides, or two per column group of the system's Jacobian pattern (its other
+/// entries zero). A failed right-hand side is returned as it is; a non-finite entry is
 /// reported as an error naming its row and column.
 pub fn jacobian<S: OdeSystem + ?Sized>(
     sys: &mut S,
@@ -43,23 +48,48 @@ pub fn jacobian<S: OdeSystem + ?Sized>(
         )));
     }
     let mut jac = Mat::<f64>::zeros(n, n);
+    let sparse = sys.jacobian_pattern().map(|p| {
+        let g = p.column_groups();
+        (p, g)
+    });
+    if let Some((p, _)) = &sparse
+        && p.dim() != n
+    {
+        return Err(RhsError(format!(
+            "linearisation: the Jacobian pattern has dimension {}, the system {n}",
+            p.dim()
+        )));
+    }
+    let groups: Vec<Vec<usize>> = match &sparse {
+        Some((_, g)) => g.clone(),
+        None => (0..n).map(|j| vec![j]).collect(),
+    };
+    let every_row: Vec<usize> = (0..n).collect();
     let (mut xs, mut fp, mut fm) = (x.to_vec(), vec![0.0; n], vec![0.0; n]);
-    for j in 0..n {
-        xs[j] = x[j] + steps[j];
-        let hp = xs[j] - x[j];
+    let (mut hp, mut hm) = (vec![0.0; n], vec![0.0; n]);
+    for cols in &groups {
+        for &j in cols {
+            xs[j] = x[j] + steps[j];
+            hp[j] = xs[j] - x[j];
+        }
         sys.rhs(t, &xs, &mut fp)?;
-        xs[j] = x[j] - steps[j];
-        let hm = x[j] - xs[j];
+        for &j in cols {
+            xs[j] = x[j] - steps[j];
+            hm[j] = x[j] - xs[j];
+        }
         sys.rhs(t, &xs, &mut fm)?;
-        xs[j] = x[j];
-        for i in 0..n {
-            let d = (fp[i] - fm[i]) / (hp + hm);
-            if !d.is_finite() {
-                return Err(RhsError(format!(
-                    "linearisation: the derivative of component {i} with respect to component {j} is not finite ({d})"
-                )));
+        for &j in cols {
+            xs[j] = x[j];
+            let rows = sparse.as_ref().map_or(&every_row[..], |(p, _)| p.rows(j));
+            for &i in rows {
+                let d = (fp[i] - fm[i]) / (hp[j] + hm[j]);
+                if !d.is_finite() {
+                    return Err(RhsError(format!(
+                        "linearisation: the derivative of component {i} with respect to component {j} is not finite ({d})"
+                    )));
+                }
+                jac[(i, j)] = d;
             }
-            jac[(i, j)] = d;
         }
     }
     Ok(jac)

@@ -15,7 +15,7 @@ use crate::integrator::{
     step_too_small,
 };
 use crate::linalg::DenseLu;
-use crate::{OdeSystem, StopReason};
+use crate::{JacobianPattern, OdeSystem, StopReason};
 
 /// √6
 const SQ6: f64 = 2.449_489_742_783_178;
@@ -127,6 +127,11 @@ pub(crate) struct RadauWork {
     erracc: f64,
     nsing: usize,
     fnewt: f64,
+    /// The system's Jacobian pattern and its column groups (`None`: one column at a time),
+    /// set by `start`.
+    sparse: Option<(JacobianPattern, Vec<Vec<usize>>)>,
+    /// Each column's difference step, as represented in floating point.
+    delta: Vec<f64>,
 }
 
 /// Lagrange basis at nodes {0, c₁, c₂, 1}, without the node 0 (where Z = 0).
@@ -182,6 +187,23 @@ impl RadauWork {
             erracc: 1e-2,
             nsing: 0,
             fnewt: 0.03,
+            sparse: None,
+            delta: vec![0.0; n],
+        }
+    }
+
+    /// Takes the system's Jacobian pattern for this run (`None`: dense) and zeroes the
+    /// Jacobian, whose entries outside a pattern are never written.
+    pub(crate) fn set_pattern(&mut self, pattern: Option<JacobianPattern>) {
+        self.sparse = pattern.map(|p| {
+            let groups = p.column_groups();
+            (p, groups)
+        });
+        let n = self.jac.nrows();
+        for j in 0..n {
+            for i in 0..n {
+                self.jac[(i, j)] = 0.0;
+            }
         }
     }
 
@@ -193,7 +215,14 @@ impl RadauWork {
         for arr in [&self.z, &self.w, &self.g, &self.cont] {
             v.extend(arr.iter().map(p));
         }
-        for b in [&self.dw1, &self.xs, &self.scal, &self.err, &self.err_f] {
+        for b in [
+            &self.dw1,
+            &self.xs,
+            &self.scal,
+            &self.err,
+            &self.err_f,
+            &self.delta,
+        ] {
             v.push(p(b));
         }
         v.push((self.dw23.as_ptr() as usize, self.dw23.capacity()));
@@ -302,16 +331,37 @@ impl Integrator {
             }
             if w.need_jac {
                 self.stats.jacobians += 1;
-                for j in 0..n {
-                    let xj = self.x[j];
-                    let typical = self.atol_v[j] / rtol;
-                    let mut delta = f64::EPSILON.sqrt() * xj.abs().max(typical);
+                // Forward differences (Hairer & Wanner's RADAU5 step sqrt(eps)·max(|x_j|,
+                // typical)); with a pattern, the columns of a group share no row and are
+                // perturbed together (Curtis, Powell & Reid 1974; crate::sparsity).
+                let groups = w.sparse.as_ref().map(|(_, g)| g.len()).unwrap_or(n);
+                for k in 0..groups {
                     w.xs.copy_from_slice(&self.x);
-                    w.xs[j] = xj + delta;
-                    delta = w.xs[j] - xj;
+                    let cols = match &w.sparse {
+                        Some((_, g)) => &g[k][..],
+                        None => std::slice::from_ref(&k),
+                    };
+                    for &j in cols {
+                        let xj = self.x[j];
+                        let typical = self.atol_v[j] / rtol;
+                        w.xs[j] = xj + f64::EPSILON.sqrt() * xj.abs().max(typical);
+                        w.delta[j] = w.xs[j] - xj;
+                    }
                     eval_rhs(sys, &mut self.stats, t, &w.xs, &mut w.err, t)?;
-                    for i in 0..n {
-                        w.jac[(i, j)] = (w.err[i] - self.f[i]) / delta;
+                    self.stats.jacobian_rhs_evals += 1;
+                    match &w.sparse {
+                        Some((p, g)) => {
+                            for &j in &g[k] {
+                                for &i in p.rows(j) {
+                                    w.jac[(i, j)] = (w.err[i] - self.f[i]) / w.delta[j];
+                                }
+                            }
+                        }
+                        None => {
+                            for i in 0..n {
+                                w.jac[(i, k)] = (w.err[i] - self.f[i]) / w.delta[k];
+                            }
+                        }
                     }
                 }
                 w.need_jac = false;

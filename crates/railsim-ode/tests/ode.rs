@@ -6,9 +6,11 @@
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
 
+use railsim_ode::linear::jacobian;
 use railsim_ode::tableau::{BS3, DOPRI5, RK4};
 use railsim_ode::{
-    Integrator, Method, OdeError, OdeSystem, RhsError, Stats, StepOutcome, StopReason,
+    Integrator, JacobianPattern, Method, OdeError, OdeSystem, RhsError, Stats, StepOutcome,
+    StopReason,
 };
 
 fn go(_: f64, _: &[f64]) -> ControlFlow<()> {
@@ -1173,4 +1175,193 @@ fn a_non_finite_breakpoint_is_refused() {
         ),
         "{e:?}"
     );
+}
+
+// ---------------------------------------------------------------- Jacobian patterns
+
+/// The Brusselator with diffusion on N grid points of (0, 1) (Hairer & Wanner, *Solving ODEs
+/// II*, §IV.1, "BRUSS"): u_i' = 1 + u_i² v_i − 4 u_i + c (u_{i−1} − 2 u_i + u_{i+1}),
+/// v_i' = 3 u_i − u_i² v_i + c (v_{i−1} − 2 v_i + v_{i+1}), c = α (N + 1)², α = 1/50,
+/// u = 1 and v = 3 at both ends; stiff for large N. State interleaved (u_1, v_1, u_2, …), so
+/// each derivative depends on at most five neighbouring variables.
+struct Bruss {
+    n: usize,
+    /// Declare the pattern (else dense).
+    sparse: bool,
+}
+
+impl Bruss {
+    fn start(&self) -> Vec<f64> {
+        (0..self.n)
+            .flat_map(|i| {
+                let x = (i + 1) as f64 / (self.n + 1) as f64;
+                [1.0 + (2.0 * PI * x).sin(), 3.0]
+            })
+            .collect()
+    }
+}
+
+impl OdeSystem for Bruss {
+    fn dim(&self) -> usize {
+        2 * self.n
+    }
+    fn rhs(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+        let n = self.n;
+        let c = (n + 1) as f64 * (n + 1) as f64 / 50.0;
+        for i in 0..n {
+            let (u, v) = (x[2 * i], x[2 * i + 1]);
+            let (ul, vl) = if i == 0 {
+                (1.0, 3.0)
+            } else {
+                (x[2 * i - 2], x[2 * i - 1])
+            };
+            let (ur, vr) = if i + 1 == n {
+                (1.0, 3.0)
+            } else {
+                (x[2 * i + 2], x[2 * i + 3])
+            };
+            d[2 * i] = 1.0 + u * u * v - 4.0 * u + c * (ul - 2.0 * u + ur);
+            d[2 * i + 1] = 3.0 * u - u * u * v + c * (vl - 2.0 * v + vr);
+        }
+        Ok(())
+    }
+    fn jacobian_pattern(&self) -> Option<JacobianPattern> {
+        if !self.sparse {
+            return None;
+        }
+        let m = 2 * self.n;
+        let mut p = JacobianPattern::new(m);
+        for i in 0..self.n {
+            for (row, col) in [(0, 1), (1, 0)] {
+                p.insert(2 * i + row, 2 * i + col).unwrap();
+            }
+            for k in 0..2 {
+                for j in [i.wrapping_sub(1), i, i + 1] {
+                    if j < self.n {
+                        p.insert(2 * i + k, 2 * j + k).unwrap();
+                    }
+                }
+            }
+        }
+        Some(p)
+    }
+}
+
+/// Radau5 with the Brusselator's pattern: a handful of right-hand sides per Jacobian instead of
+/// one per variable, and the same solution (within the tolerance) as with the dense difference.
+#[test]
+fn radau5_estimates_a_banded_jacobian_by_column_groups() {
+    let n = 40;
+    let run = |sparse: bool| {
+        let mut sys = Bruss { n, sparse };
+        let mut x = sys.start();
+        let mut integ = Integrator::new(Method::radau5(1e-6, 1e-8), 2 * n).unwrap();
+        let (r, s) = integ
+            .integrate(&mut sys, 0.0, &mut x, 10.0, &mut go)
+            .unwrap();
+        assert_eq!(r, StopReason::Reached);
+        (x, s)
+    };
+    let (xd, sd) = run(false);
+    let (xs, ss) = run(true);
+    eprintln!("BRUSS N = {n}: dense {sd:?}\n  grouped {ss:?}");
+    let worst = xd
+        .iter()
+        .zip(&xs)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-5, "solutions differ by {worst:.2e}");
+    assert_eq!(sd.jacobian_rhs_evals, sd.jacobians * 2 * n, "{sd:?}");
+    // at most five variables per column's rows: the greedy colouring needs four groups here
+    let groups = Bruss { n, sparse: true }
+        .jacobian_pattern()
+        .unwrap()
+        .column_groups()
+        .len();
+    assert_eq!(groups, 4);
+    assert_eq!(ss.jacobian_rhs_evals, ss.jacobians * groups, "{ss:?}");
+    // the same Jacobians to rounding: the same steps and Newton iterations
+    let other = |s: &Stats| (s.rhs_evals - s.jacobian_rhs_evals) as f64;
+    assert!(
+        (other(&ss) / other(&sd) - 1.0).abs() < 0.05,
+        "{ss:?} against {sd:?}"
+    );
+    assert!(ss.rhs_evals < sd.rhs_evals * 2 / 3, "{ss:?} against {sd:?}");
+}
+
+/// The linearisation with the pattern equals the column-by-column one to rounding, at a
+/// fraction of the right-hand sides.
+#[test]
+fn the_linearisation_with_a_pattern_equals_the_dense_one() {
+    struct Counted(Bruss, usize);
+    impl OdeSystem for Counted {
+        fn dim(&self) -> usize {
+            self.0.dim()
+        }
+        fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+            self.1 += 1;
+            self.0.rhs(t, x, d)
+        }
+        fn jacobian_pattern(&self) -> Option<JacobianPattern> {
+            self.0.jacobian_pattern()
+        }
+    }
+    let n = 30;
+    let x = Bruss { n, sparse: false }.start();
+    let steps = vec![1e-5; 2 * n];
+    let mut dense = Counted(Bruss { n, sparse: false }, 0);
+    let mut grouped = Counted(Bruss { n, sparse: true }, 0);
+    let jd = jacobian(&mut dense, 0.0, &x, &steps).unwrap();
+    let jg = jacobian(&mut grouped, 0.0, &x, &steps).unwrap();
+    assert_eq!((dense.1, grouped.1), (4 * n, 8));
+    let scale = (0..2 * n)
+        .flat_map(|j| (0..2 * n).map(move |i| (i, j)))
+        .map(|(i, j)| jd[(i, j)].abs())
+        .fold(0.0, f64::max);
+    for j in 0..2 * n {
+        for i in 0..2 * n {
+            let d = (jd[(i, j)] - jg[(i, j)]).abs();
+            assert!(
+                d <= 1e-9 * scale,
+                "({i}, {j}): {} against {}",
+                jg[(i, j)],
+                jd[(i, j)]
+            );
+        }
+    }
+    // the pattern is not vacuous: the diffusion couples neighbours
+    assert!(jd[(0, 2)].abs() > 1.0 && jg[(0, 2)] == jd[(0, 2)]);
+}
+
+/// A pattern of the wrong dimension is refused before integrating.
+#[test]
+fn a_pattern_of_the_wrong_dimension_is_refused() {
+    struct Wrong;
+    impl OdeSystem for Wrong {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+            d[0] = -x[0];
+            d[1] = -x[1];
+            Ok(())
+        }
+        fn jacobian_pattern(&self) -> Option<JacobianPattern> {
+            Some(JacobianPattern::new(3))
+        }
+    }
+    let mut integ = Integrator::new(Method::radau5(1e-6, 1e-8), 2).unwrap();
+    let mut x = [1.0, 1.0];
+    let e = integ
+        .integrate(&mut Wrong, 0.0, &mut x, 1.0, &mut go)
+        .unwrap_err();
+    assert_eq!(
+        e,
+        OdeError::DimensionMismatch {
+            what: "Jacobian pattern",
+            expected: 2,
+            found: 3
+        }
+    );
+    assert!(jacobian(&mut Wrong, 0.0, &x, &[1e-6; 2]).is_err());
 }

@@ -808,6 +808,12 @@ impl OdeSystem for Held<'_> {
         }
         Ok(())
     }
+
+    /// The model's: a held row (a member's acceleration) depends on a position of the same
+    /// member, inside the member's own block.
+    fn jacobian_pattern(&self) -> Option<railsim_ode::JacobianPattern> {
+        self.sys.jacobian_pattern()
+    }
 }
 
 /// [`newton_steady`] with the positions `held` (position index, index of its acceleration row)

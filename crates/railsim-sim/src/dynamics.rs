@@ -1092,4 +1092,8 @@ impl OdeSystem for Dynamics<'_> {
             1.0
         }
     }
+
+    fn jacobian_pattern(&self) -> Option<railsim_ode::JacobianPattern> {
+        Some(self.model.jacobian_pattern())
+    }
 }

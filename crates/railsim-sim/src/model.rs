@@ -546,6 +546,92 @@ impl SimModel {
         }
     }
 
+    /// The structure of the right-hand side's Jacobian ([`railsim_ode::JacobianPattern`]),
+    /// from the model's topology: a member's derivatives depend on its own states and on
+    /// those of every member, element state and rail it is coupled to. The couplings, each
+    /// taken in both directions (a superset of the true dependences, which is safe):
+    /// - a force element couples its end members and its internal states; a friction element
+    ///   also the ends and states of its normal-load element;
+    /// - a wheel couples its wheelset and the states of the rail mass under it (its contact
+    ///   force depends on both and acts on both);
+    /// - a wheelset's traction torque couples it to the body that takes the reaction (the
+    ///   axle's direction follows the wheelset's position along the track).
+    ///
+    /// Nothing else couples members: each follows the track at its own position, and the
+    /// speed and the track depend on time only. A dependence missing here would make the
+    /// grouped Jacobians wrong; `tests/jacobian_pattern.rs` compares them with the
+    /// column-by-column difference on the scenes that use each coupling.
+    pub fn jacobian_pattern(&self) -> railsim_ode::JacobianPattern {
+        let n = self.dim();
+        // the state indices of each block: members, then elements, then wheels' rails
+        let mut blocks: Vec<Vec<usize>> = self
+            .members
+            .iter()
+            .map(|mm| {
+                mm.pos
+                    .iter()
+                    .chain(mm.rate.iter())
+                    .flatten()
+                    .copied()
+                    .collect()
+            })
+            .collect();
+        let element_block = blocks.len();
+        for el in &self.elements {
+            let k = el.law.internal_states();
+            blocks.push(el.internal.map_or(Vec::new(), |i| (i..i + k).collect()));
+        }
+        let rail_block = blocks.len();
+        for w in &self.wheels {
+            blocks.push(w.rail.map_or(Vec::new(), |i| (i..i + 4).collect()));
+        }
+        fn ends(el: &ElementModel) -> impl Iterator<Item = usize> + '_ {
+            el.ends.iter().filter_map(|e| match e {
+                End::Member(MemberIx(m)) => Some(*m),
+                End::Track => None,
+            })
+        }
+        let mut couplings: Vec<Vec<usize>> = (0..self.members.len()).map(|m| vec![m]).collect();
+        for (ei, el) in self.elements.iter().enumerate() {
+            let mut c: Vec<usize> = ends(el).collect();
+            c.push(element_block + ei);
+            if let ForceLaw::Friction {
+                normal: Some(j), ..
+            }
+            | ForceLaw::PlanarFriction {
+                normal: Some(j), ..
+            } = &el.law
+            {
+                c.extend(ends(&self.elements[j.index()]));
+                c.push(element_block + j.index());
+            }
+            couplings.push(c);
+        }
+        for (wi, w) in self.wheels.iter().enumerate() {
+            couplings.push(vec![w.member.0, rail_block + wi]);
+        }
+        for (m, mm) in self.members.iter().enumerate() {
+            if let Some(MemberIx(b)) = mm.torque_reaction {
+                couplings.push(vec![m, b]);
+            }
+        }
+        let mut pattern = railsim_ode::JacobianPattern::new(n);
+        for c in &couplings {
+            for &rb in c {
+                for &cb in c {
+                    for &row in &blocks[rb] {
+                        for &col in &blocks[cb] {
+                            pattern
+                                .insert(row, col)
+                                .expect("state indices are below the model's dimension");
+                        }
+                    }
+                }
+            }
+        }
+        pattern
+    }
+
     /// The contact pose of a wheelset's axle relative to the local track (no irregularity).
     pub fn wheelset_pose(&self, m: usize, x: &[f64]) -> WheelsetPose {
         let mm = &self.members[m];
