@@ -17,7 +17,8 @@
 use std::time::Instant;
 
 use railsim_contact::{
-    ContactError, ContactWorkspace, PatchResult, Side, WarmStart, WheelsetPose, WheelsetVelocity,
+    ContactError, ContactWorkspace, PatchResult, Side, WarmStart, WheelRailContact, WheelsetPose,
+    WheelsetVelocity,
 };
 use railsim_ode::{OdeSystem, RhsError};
 use railsim_track::TrackFrame;
@@ -243,10 +244,12 @@ impl Workspace {
     }
 
     /// Make every wheel's next contact searches cold (the rails before and in a transition).
+    /// Also forgets the evaluations kept for reuse, so that a run does not depend on the
+    /// evaluations before it.
     pub fn invalidate_warm_starts(&mut self) {
         for w in &mut self.wheel_contact {
-            w.main.warm.invalidate();
-            w.partner.warm.invalidate();
+            w.main.invalidate();
+            w.partner.invalidate();
         }
     }
 }
@@ -267,12 +270,70 @@ struct WheelInput {
 
 /// The buffers of one contact evaluation: its workspace (whose `patches` hold the patches of
 /// the last evaluation), its warm start (used when the model asks for it) and the error of its
-/// last evaluation, if it failed.
+/// last evaluation, if it failed; and the inputs and patches of its last two successful
+/// evaluations, which an evaluation of the same input reuses (`ContactSlot::evaluate`).
 #[derive(Default)]
 struct ContactSlot {
     contact: ContactWorkspace,
     warm: WarmStart,
     error: Option<ContactError>,
+    /// the input whose patches `contact.patches` holds
+    key: Option<EvalKey>,
+    /// the evaluation before it: its input and its patches
+    saved_key: Option<EvalKey>,
+    saved: Vec<PatchResult>,
+}
+
+/// What a contact evaluation depends on: the rail section (which pair) and the wheelset's pose
+/// and velocities relative to its rail.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct EvalKey {
+    section: usize,
+    pose: WheelsetPose,
+    vel: WheelsetVelocity,
+}
+
+impl ContactSlot {
+    /// Evaluates `key` with `contact` (warm-started if `warm`), or reuses the patches of the
+    /// last or the one before, if either had the same input exactly. A difference Jacobian by
+    /// column groups (railsim_ode) moves one wheelset or rail per group and returns to the base
+    /// state between groups, so the other wheels' inputs repeat: the base's patches are kept
+    /// beside the perturbed ones. The result is then that of the earlier evaluation of the
+    /// same input (with the warm start, as found from that evaluation's starting point).
+    fn evaluate(&mut self, contact: &WheelRailContact, side: Side, key: EvalKey, warm: bool) {
+        if self.key == Some(key) {
+            self.error = None;
+            return;
+        }
+        if self.saved_key == Some(key) {
+            std::mem::swap(&mut self.contact.patches, &mut self.saved);
+            std::mem::swap(&mut self.key, &mut self.saved_key);
+            self.error = None;
+            return;
+        }
+        if self.key.is_some() {
+            std::mem::swap(&mut self.contact.patches, &mut self.saved);
+            self.saved_key = self.key;
+        }
+        let result = if warm {
+            contact.evaluate_warm(side, &key.pose, &key.vel, &mut self.warm, &mut self.contact)
+        } else {
+            contact.evaluate(side, &key.pose, &key.vel, &mut self.contact)
+        };
+        self.error = result.err();
+        self.key = if self.error.is_none() {
+            Some(key)
+        } else {
+            None
+        };
+    }
+
+    /// Forgets the warm start and the reusable evaluations.
+    fn invalidate(&mut self) {
+        self.warm.invalidate();
+        self.key = None;
+        self.saved_key = None;
+    }
 }
 
 /// One wheel's buffers of the contact stage: the evaluation on the rails under it, and while the
@@ -856,19 +917,12 @@ impl Dynamics<'_> {
         let evaluate = |(wi, slots): (usize, &mut WheelContact)| {
             let (wheel, inp) = (&m.wheels[wi], &inputs[wi]);
             let one = |section: usize, slot: &mut ContactSlot| {
-                let contact = &wheel.contacts[section];
-                let result = if m.warm_start {
-                    contact.evaluate_warm(
-                        wheel.side,
-                        &inp.pose,
-                        &inp.vel,
-                        &mut slot.warm,
-                        &mut slot.contact,
-                    )
-                } else {
-                    contact.evaluate(wheel.side, &inp.pose, &inp.vel, &mut slot.contact)
+                let key = EvalKey {
+                    section,
+                    pose: inp.pose,
+                    vel: inp.vel,
                 };
-                slot.error = result.err();
+                slot.evaluate(&wheel.contacts[section], wheel.side, key, m.warm_start);
             };
             one(inp.section, &mut slots.main);
             if inp.weight < 1.0 {

@@ -179,3 +179,44 @@ fn the_pattern_holds_for_torque_reactions_and_friction_loaded_by_another_element
         "torque reactions, friction on a primary spring's load",
     );
 }
+
+/// A grouped Jacobian re-evaluates only the wheels whose inputs a group moves: the other
+/// wheels' evaluations at the base state are kept and reused (`dynamics::ContactSlot`). On the
+/// Manchester vehicle (`stripes`, warm-started) the central difference then takes four
+/// evaluations per wheelset column (two wheels, ±) and eight for the first group's unmoved
+/// wheels at most, against 16 per group without the reuse; the Jacobian is the same as the
+/// column-by-column one (the first test of this file).
+#[test]
+fn a_grouped_jacobian_evaluates_only_the_wheels_it_moves() {
+    let s = scene(
+        "vehicle = \"vehicles/manchester_vehicle1.toml\"\ntrack = \"tracks/straight.toml\"\n\
+         speed_kmh = 72\nduration_s = 0.1\nfreeze = [\"carbody.x\"]\n",
+    );
+    let sim = Simulation::new(&s).unwrap();
+    let model = sim.model();
+    let x = sim.initial_state();
+    let n = x.len();
+    let wheelset_columns = model
+        .members
+        .iter()
+        .filter(|m| m.is_wheelset())
+        .map(|m| m.pos.iter().chain(m.rate.iter()).flatten().count())
+        .sum::<usize>();
+    let groups = model.jacobian_pattern().column_groups().len();
+    let mut d = Dynamics::new(model);
+    let count = |d: &Dynamics| {
+        d.ws.warm_starts()
+            .map(|w| w.warm_count + w.cold_count)
+            .sum::<u64>() as usize
+    };
+    jacobian(&mut d, 0.0, x, &vec![1e-6; n]).unwrap();
+    let evaluations = count(&d);
+    eprintln!(
+        "{n} states, {groups} groups, {wheelset_columns} wheelset columns: {evaluations} wheel \
+         evaluations (without reuse {})",
+        2 * groups * model.wheels.len()
+    );
+    assert!(evaluations >= 4 * wheelset_columns, "{evaluations}");
+    assert!(evaluations <= 4 * wheelset_columns + 8, "{evaluations}");
+    assert!(4 * wheelset_columns + 8 < 2 * groups * model.wheels.len());
+}
