@@ -296,9 +296,9 @@ struct EvalKey {
 impl ContactSlot {
     /// Evaluates `key` with `contact` (warm-started if `warm`), or reuses the patches of the
     /// last or the one before, if either had the same input exactly. A difference Jacobian by
-    /// column groups (railsim_ode) moves one wheelset or rail per group and returns to the base
-    /// state between groups, so the other wheels' inputs repeat: the base's patches are kept
-    /// beside the perturbed ones. The result is then that of the earlier evaluation of the
+    /// column groups (railsim_ode) moves a few wheelsets and rails per group and returns to the
+    /// base state between groups, so the other wheels' inputs repeat: the base's patches are
+    /// kept beside the perturbed ones. The result is then that of the earlier evaluation of the
     /// same input (with the warm start, as found from that evaluation's starting point).
     fn evaluate(&mut self, contact: &WheelRailContact, side: Side, key: EvalKey, warm: bool) {
         if self.key == Some(key) {
