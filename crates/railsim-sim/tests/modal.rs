@@ -535,3 +535,63 @@ fn the_modal_equilibrium_balances_a_traction_torque_by_creep() {
     assert!((free - 2000.0 / i_y).abs() < 1e-5);
     assert!(settled.abs() < 1e-6, "{settled}");
 }
+
+/// The friction-induced instability of two-point flange contact on rigid rails
+/// (docs/models/contact.md §8, docs/validation.md §6) in the linearisation about steady curving:
+/// Manchester vehicle 1 in R = 150 m with 100 mm cant at 40 km/h. With `stripes` at friction 0.3
+/// an oscillatory mode of the leading wheelset on its contact stiffness (z, roll, y; about
+/// 135 Hz) grows, as its time integration oscillates; at friction 0.2, where the time
+/// integration settles, and with `polach` at 0.3, which settles too, every oscillatory mode
+/// decays. (The growth rate depends little on the difference step: +67.6, +73.0, +35.1, +5.6/s
+/// at 0.25, 1, 4, 16 µm, `railsim modes --step-um`.)
+#[test]
+fn two_point_flange_contact_on_rigid_rails_linearises_unstable_where_its_time_integration_oscillates()
+ {
+    use railsim_sim::curving::{CurveCase, CurvingRun, QuasiStatic};
+    use railsim_sim::modal::modes_in_curve;
+    let case = CurveCase {
+        radius: 150.0,
+        cant: 0.1,
+        left: true,
+        speed: 40.0 / 3.6,
+    };
+    for (model, friction, unstable) in [
+        ("stripes", 0.3, true),
+        ("stripes", 0.2, false),
+        ("polach", 0.3, false),
+    ] {
+        let s = scene(&format!(
+            "vehicle = \"vehicles/manchester_vehicle1.toml\"\ntrack = \"tracks/straight.toml\"\n\
+             speed_kmh = 40\nduration_s = 1\nfreeze = [\"carbody.x\"]\n[contact]\n\
+             model = \"{model}\"\nfriction = {friction}\n"
+        ));
+        let c = modes_in_curve(
+            &s,
+            &case,
+            &CurvingRun::default(),
+            &QuasiStatic::default(),
+            &ModalOptions::default(),
+        )
+        .unwrap();
+        let least = c.least_stable().unwrap();
+        eprintln!(
+            "{model}, friction {friction}: least damped {:.3} Hz, Re λ {:+.3}/s, {:?}",
+            least.frequency, least.re, least.shape
+        );
+        if unstable {
+            assert!(least.re > 10.0, "{least:?}");
+            assert!(
+                (100.0..170.0).contains(&least.frequency),
+                "{}",
+                least.frequency
+            );
+            assert!(
+                least.shape[0].0.starts_with("ws1.") && least.shape[1].0.starts_with("ws1."),
+                "{:?}",
+                least.shape
+            );
+        } else {
+            assert!(least.re < 0.0, "{least:?}");
+        }
+    }
+}
