@@ -43,7 +43,10 @@
 //! that applies before a formal assessment. The signal processing is
 //! [`crate::signal`]. The samples are the run's instantaneous values at the log rate; no
 //! anti-aliasing filter precedes them, so a log rate well above 40 Hz is needed for the 20 Hz
-//! low-pass to mean what it says.
+//! low-pass to mean what it says, and content above half the log rate (the wheelsets on the
+//! contact stiffness, 120–220 Hz) folds into the 20 Hz band: at the shipped 100–200 Hz log
+//! rates this overstates Q percentiles by up to 8 kN (docs/models/dynamics.md, "Aliasing"), a
+//! known error until the samples are anti-aliased.
 
 use railsim_contact::Side;
 
