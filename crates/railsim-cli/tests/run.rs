@@ -433,3 +433,37 @@ fn the_low_speed_note_comes_with_an_explicit_method_only() {
         "{rigid}"
     );
 }
+
+/// The aliasing note (docs/models/dynamics.md, "Aliasing"): a run logged below 1 kHz is told that
+/// its EN 14363 statistics come from unfiltered samples at that rate; the same scene at 1 kHz is
+/// not.
+#[test]
+fn a_log_rate_below_one_kilohertz_notes_the_assessments_aliasing() {
+    let dir = temp_dir("aliasing-note");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(root().join("scenes/default.toml")).unwrap();
+    assert!(text.contains("rate_hz = 200"));
+    let fast = dir.join("fast_log.toml");
+    std::fs::write(
+        &fast,
+        text.replace("rate_hz = 200", "rate_hz = 1000")
+            .replace("\"../", &format!("\"{}/", root().display())),
+    )
+    .unwrap();
+    let note_of = |scene: &str| {
+        let (code, _, err) =
+            railsim(&["run", scene, "--duration-s", "0.01", "--no-log", "--quiet"]);
+        assert_eq!(code, 0, "{err}");
+        err
+    };
+    let default = note_of("scenes/default.toml");
+    assert!(
+        default.contains(
+            "note: the EN 14363 statistics below come from the samples at the log rate, 200 Hz"
+        ) && default.contains("above 100 Hz"),
+        "{default}"
+    );
+    let fast = note_of(fast.to_str().unwrap());
+    assert!(!fast.contains("anti-aliasing"), "{fast}");
+    std::fs::remove_dir_all(&dir).ok();
+}
