@@ -434,36 +434,53 @@ fn the_low_speed_note_comes_with_an_explicit_method_only() {
     );
 }
 
-/// The aliasing note (docs/models/dynamics.md, "Aliasing"): a run logged below 1 kHz is told that
-/// its EN 14363 statistics come from unfiltered samples at that rate; the same scene at 1 kHz is
-/// not.
+/// The aliasing note (docs/models/dynamics.md, "Aliasing"): a run whose assessment samples come
+/// at less than 1 kHz (by default the log rate) is told that its EN 14363 statistics come from
+/// unfiltered samples; the same scene with `[assessment] rate_hz = 1000`, or logged at 1 kHz, is
+/// not. A rate that is no whole multiple of the log rate is refused, naming the key.
 #[test]
 fn a_log_rate_below_one_kilohertz_notes_the_assessments_aliasing() {
     let dir = temp_dir("aliasing-note");
     std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string(root().join("scenes/default.toml")).unwrap();
-    assert!(text.contains("rate_hz = 200"));
-    let fast = dir.join("fast_log.toml");
-    std::fs::write(
-        &fast,
-        text.replace("rate_hz = 200", "rate_hz = 1000")
-            .replace("\"../", &format!("\"{}/", root().display())),
-    )
-    .unwrap();
-    let note_of = |scene: &str| {
-        let (code, _, err) =
-            railsim(&["run", scene, "--duration-s", "0.01", "--no-log", "--quiet"]);
-        assert_eq!(code, 0, "{err}");
-        err
+    let text = std::fs::read_to_string(root().join("scenes/default.toml"))
+        .unwrap()
+        .replace("\"../", &format!("\"{}/", root().display()));
+    assert!(text.contains("rate_hz = 200") && !text.contains("[assessment]"));
+    let write = |name: &str, text: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_owned()
     };
-    let default = note_of("scenes/default.toml");
+    let fast_log = write(
+        "fast_log.toml",
+        text.replace("rate_hz = 200", "rate_hz = 1000"),
+    );
+    let assessed = write(
+        "assessed.toml",
+        format!("{text}\n[assessment]\nrate_hz = 1000\n"),
+    );
+    let uneven = write(
+        "uneven.toml",
+        format!("{text}\n[assessment]\nrate_hz = 1100\n"),
+    );
+    let run = |scene: &str| railsim(&["run", scene, "--duration-s", "0.01", "--no-log", "--quiet"]);
+    let (code, _, default) = run("scenes/default.toml");
+    assert_eq!(code, 0, "{default}");
     assert!(
-        default.contains(
-            "note: the EN 14363 statistics below come from the samples at the log rate, 200 Hz"
-        ) && default.contains("above 100 Hz"),
+        default.contains("note: the EN 14363 statistics below come from samples at 200 Hz")
+            && default.contains("above 100 Hz"),
         "{default}"
     );
-    let fast = note_of(fast.to_str().unwrap());
-    assert!(!fast.contains("anti-aliasing"), "{fast}");
+    for scene in [&fast_log, &assessed] {
+        let (code, _, err) = run(scene);
+        assert_eq!(code, 0, "{err}");
+        assert!(!err.contains("anti-aliasing"), "{err}");
+    }
+    let (code, _, err) = run(&uneven);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("rate_hz = 1100 Hz: expected a whole multiple of the log rate"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -45,8 +45,9 @@
 //! anti-aliasing filter precedes them, so a log rate well above 40 Hz is needed for the 20 Hz
 //! low-pass to mean what it says, and content above half the log rate (the wheelsets on the
 //! contact stiffness, 120–220 Hz) folds into the 20 Hz band: at the shipped 100–200 Hz log
-//! rates this overstates Q percentiles by up to 8 kN (docs/models/dynamics.md, "Aliasing"), a
-//! known error until the samples are anti-aliased.
+//! rates this overstates Q percentiles by up to 8 kN (docs/models/dynamics.md, "Aliasing").
+//! [`AssessOptions::rate_hz`] (`[assessment] rate_hz`) takes the samples at a multiple of the
+//! log rate that resolves that content.
 
 use railsim_contact::Side;
 
@@ -223,6 +224,12 @@ pub struct AssessOptions {
     pub comfort_points: Vec<ComfortPoint>,
     /// The limits of the running-safety and track-loading quantities.
     pub limits: Limits,
+    /// \[Hz\] the rate of the samples the assessment is made from, a whole multiple of the log
+    /// rate (`crate::Simulation::run` evaluates the run between the log's samples too);
+    /// `None`: the log rate. A rate that resolves the wheelsets' contact-stiffness content
+    /// (120–220 Hz) keeps it from folding into the 20 Hz band (docs/models/dynamics.md,
+    /// "Aliasing").
+    pub rate_hz: Option<f64>,
 }
 
 impl Default for AssessOptions {
@@ -232,6 +239,7 @@ impl Default for AssessOptions {
             instability_frequency: None,
             comfort_points: Vec::new(),
             limits: Limits::default(),
+            rate_hz: None,
         }
     }
 }

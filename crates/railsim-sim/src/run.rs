@@ -101,7 +101,8 @@ pub struct ElementEnergy {
     /// change of the energy they store.
     pub dissipates: bool,
     /// \[J\] work absorbed from the bodies between the first and the last sample: the integral
-    /// of `ElementRecord::power` by the trapezoidal rule over the samples (at the log rate).
+    /// of `ElementRecord::power` by the trapezoidal rule over the samples (at the assessment's
+    /// rate, `[assessment] rate_hz`, by default the log rate).
     pub work: f64,
     /// \[J\] the part of `work` dissipated (the rest is the change of the energy it stores):
     /// the integral of `ElementRecord::dissipation`, likewise.
@@ -139,7 +140,8 @@ pub struct RunSummary {
     pub stats: Stats,
     /// Samples taken (at the log rate).
     pub samples: u64,
-    /// FNV-1a digest of the bits of every sampled state: equal digests mean identical runs.
+    /// FNV-1a digest of the bits of every sampled state (at the assessment's rate, which
+    /// includes the log's samples): equal digests mean identical runs.
     pub digest: u64,
     /// Cost of the right-hand side's stages.
     pub cost: CostSplit,
@@ -448,15 +450,28 @@ impl Simulation {
         dynamics.ws.invalidate_warm_starts();
         let searches0 = searches(&dynamics.ws);
         let dt_ns = (1e9 / scene.log.rate_hz).round().max(1.0) as u64;
+        // the assessment's samples: `per_log` of them per log sample, the log's among them
+        // (`[assessment] rate_hz`, a whole multiple of the log rate; docs/models/dynamics.md,
+        // "Aliasing")
+        let per_log = scene
+            .assessment
+            .rate_hz
+            .map_or(1, |f| (f / scene.log.rate_hz).round().max(1.0) as usize);
         let n = self.model.dim();
         let mut xs = vec![0.0; n];
         let mut dxs = vec![0.0; n];
-        let mut state = LoopState::new(&self.model, scene.log.rate_hz, &self.static_loads);
+        let mut state = LoopState::new(
+            &self.model,
+            scene.log.rate_hz * per_log as f64,
+            &self.static_loads,
+        );
         let wall = Instant::now();
         let mut logging = 0.0;
         // the first sample on the log's grid at or after the start
         let first = ((self.t0 * 1e9 - 0.5) / dt_ns as f64).ceil().max(0.0) as usize;
-        let mut next = first;
+        // the next sample, counted on the assessment's grid
+        let mut next = first * per_log;
+        let mut logged = 0u64;
         let result: Result<(), SimError> = (|| {
             self.integ
                 .set_breakpoints(&self.model.breakpoints(self.t0, t_end))?;
@@ -464,7 +479,9 @@ impl Simulation {
             loop {
                 // Samples up to the integrator's time.
                 loop {
-                    let t_ns = step_time_ns(next as u64, dt_ns)?;
+                    let (log_ix, sub) = (next / per_log, next % per_log);
+                    let t_ns =
+                        step_time_ns(log_ix as u64, dt_ns)? + sub as u64 * dt_ns / per_log as u64;
                     let ts = t_ns as f64 * 1e-9;
                     // The integrator's time is a sum of steps: allow it to lag the sample time
                     // by rounding (1 ns) and evaluate the dense output at its own end then.
@@ -472,7 +489,7 @@ impl Simulation {
                     if ts > t_int + 1e-9 || ts > t_end + 1e-9 {
                         break;
                     }
-                    if next == first && ts <= self.t0 + 1e-9 {
+                    if next == first * per_log && ts <= self.t0 + 1e-9 {
                         xs.copy_from_slice(&self.x0);
                     } else {
                         self.integ.dense(ts.min(t_int), &mut xs)?;
@@ -480,11 +497,14 @@ impl Simulation {
                     record_sample(&mut dynamics, &mut state, ts, ts, t_ns, &xs, &mut dxs)?;
                     let sample = &state.sample;
                     check_limits(&self.model, sample, ts <= self.t0 + 1e-9)?;
-                    on_sample(sample);
-                    if let Some(rec) = recorder.as_mut() {
-                        let t0 = Instant::now();
-                        rec.write(&self.model, &dynamics.ws, sample)?;
-                        logging += t0.elapsed().as_secs_f64();
+                    if sub == 0 {
+                        on_sample(sample);
+                        if let Some(rec) = recorder.as_mut() {
+                            let t0 = Instant::now();
+                            rec.write(&self.model, &dynamics.ws, sample)?;
+                            logging += t0.elapsed().as_secs_f64();
+                        }
+                        logged += 1;
                     }
                     next += 1;
                 }
@@ -530,7 +550,7 @@ impl Simulation {
                 max_rail: state.max_rail,
                 assessment: assess(&state.series, &axle_loads, &scene.assessment),
                 stats,
-                samples: (next - first) as u64,
+                samples: logged,
                 digest: state.digest,
                 cost,
                 contact_searches,

@@ -53,6 +53,9 @@ pub const CONTACT_STEP_RANGE_MM: (f64, f64) = (1e-3, 5.0);
 pub const MAX_LOG_RATE_HZ: f64 = 10_000.0;
 /// \[Hz\] logging rate when the file gives none.
 pub const DEFAULT_LOG_RATE_HZ: f64 = 200.0;
+
+/// \[Hz\] the largest `[assessment] rate_hz`.
+pub const MAX_ASSESSMENT_RATE_HZ: f64 = 100e3;
 /// \[Hz\] largest instability frequency of `[assessment]` (hunting of wheelsets and bogies lies
 /// far below).
 pub const MAX_INSTABILITY_HZ: f64 = 50.0;
@@ -826,6 +829,29 @@ impl Compiler<'_> {
                             ok = false;
                         }
                         _ => out.instability_frequency = Some(f),
+                    }
+                }
+                None => ok = false,
+            }
+        }
+        if let Some(v) = &a.rate_hz {
+            let log_rate = log.map_or(DEFAULT_LOG_RATE_HZ, |l| l.rate_hz);
+            match self.range(v, "rate_hz", "Hz", (0.0, MAX_ASSESSMENT_RATE_HZ), true) {
+                Some(f) => {
+                    let k = f / log_rate;
+                    if k < 1.0 - 1e-9 || (k - k.round()).abs() > 1e-9 * k {
+                        self.err(
+                            &v.span(),
+                            "rate_hz",
+                            format!(
+                                "[assessment] rate_hz = {f} Hz: expected a whole multiple of the \
+                                 log rate, [log] rate_hz = {log_rate} Hz (the log's samples are \
+                                 among the assessment's)"
+                            ),
+                        );
+                        ok = false;
+                    } else {
+                        out.rate_hz = Some(f);
                     }
                 }
                 None => ok = false,

@@ -190,6 +190,10 @@ pub struct AssessmentSpec {
     /// dominant frequency of the track-shift force.
     #[serde(default)]
     pub instability_frequency_hz: Option<Spanned<f64>>,
+    /// \[Hz\] the rate of the samples the assessment is made from, a whole multiple of the log
+    /// rate; default: the log rate.
+    #[serde(default)]
+    pub rate_hz: Option<Spanned<f64>>,
     /// The carbody's measuring points; default: its centre and above each bogie.
     #[serde(default)]
     pub comfort_points: Option<Spanned<Vec<Spanned<ComfortPointSpec>>>>,
@@ -270,6 +274,7 @@ pub const INITIAL_KEYS: &[&str] = &["state", "lateral_offset_mm", "yaw_mrad"];
 pub const ASSESSMENT_KEYS: &[&str] = &[
     "alpha",
     "instability_frequency_hz",
+    "rate_hz",
     "comfort_points",
     "y_over_q_limit",
     "y_over_q_limit_small_radius",

@@ -439,3 +439,39 @@ fn a_bloss_transition_sways_the_carbody_less_than_a_clothoid() {
     assert!(y_c > 15e3, "the outer wheel carries the curve: {y_c}");
     assert!(bloss < 0.5 * clothoid, "{bloss} against {clothoid} m/s²");
 }
+
+/// `[assessment] rate_hz` (docs/models/dynamics.md, "Aliasing"): the assessment's samples
+/// between the log's. A run logged at 200 Hz and assessed at 1 kHz is the run logged at 1 kHz
+/// to the bit (the same evaluations: the same state digest and assessment), with a fifth of the
+/// log's samples; assessed at its 200 Hz log rate, the same run differs.
+#[test]
+fn the_assessment_rate_samples_between_the_log_samples() {
+    let scene = |log_hz: u32, extra: &str| {
+        manchester(
+            "tracks/straight_irregular.toml",
+            198.0,
+            30.0,
+            &format!("[log]\nrate_hz = {log_hz}\n{extra}"),
+        )
+    };
+    let (_, fast_log, fast) = run(&scene(1000, ""));
+    let (_, slow_log, assessed) = run(&scene(200, "[assessment]\nrate_hz = 1000"));
+    let (_, _, plain) = run(&scene(200, ""));
+    eprintln!(
+        "log samples {} / {}; digests {:016x} {:016x} {:016x}",
+        fast.samples, assessed.samples, fast.digest, assessed.digest, plain.digest
+    );
+    assert_eq!(fast.digest, assessed.digest);
+    assert_eq!(
+        format!("{:?}", fast.assessment),
+        format!("{:?}", assessed.assessment)
+    );
+    assert_eq!(
+        (fast.max_q, fast.max_y_over_q),
+        (assessed.max_q, assessed.max_y_over_q)
+    );
+    assert_eq!(fast_log.len() as u64, fast.samples);
+    assert_eq!(slow_log.len() as u64, assessed.samples);
+    assert_eq!(fast.samples, 5 * (assessed.samples - 1) + 1);
+    assert_ne!(fast.digest, plain.digest);
+}
