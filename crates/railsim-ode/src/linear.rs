@@ -17,7 +17,7 @@
 
 use faer::Mat;
 
-use crate::{OdeSystem, RhsError};
+use crate::{JacobianPattern, OdeSystem, RhsError};
 
 /// The Jacobian of `sys` at `(t, x)` by central differences with steps `steps` (one per
 /// component, each finite and non-zero), column-major in an n×n matrix. Costs `2 n`
@@ -48,40 +48,31 @@ pub fn jacobian<S: OdeSystem + ?Sized>(
         )));
     }
     let mut jac = Mat::<f64>::zeros(n, n);
-    let sparse = sys.jacobian_pattern().map(|p| {
-        let g = p.column_groups();
-        (p, g)
-    });
-    if let Some((p, _)) = &sparse
-        && p.dim() != n
-    {
+    let pattern = sys
+        .jacobian_pattern()
+        .unwrap_or_else(|| JacobianPattern::dense(n));
+    if pattern.dim() != n {
         return Err(RhsError(format!(
             "linearisation: the Jacobian pattern has dimension {}, the system {n}",
-            p.dim()
+            pattern.dim()
         )));
     }
-    let groups: Vec<Vec<usize>> = match &sparse {
-        Some((_, g)) => g.clone(),
-        None => (0..n).map(|j| vec![j]).collect(),
-    };
-    let every_row: Vec<usize> = (0..n).collect();
     let (mut xs, mut fp, mut fm) = (x.to_vec(), vec![0.0; n], vec![0.0; n]);
     let (mut hp, mut hm) = (vec![0.0; n], vec![0.0; n]);
-    for cols in &groups {
-        for &j in cols {
+    for cols in pattern.column_groups() {
+        for &j in &cols {
             xs[j] = x[j] + steps[j];
             hp[j] = xs[j] - x[j];
         }
         sys.rhs(t, &xs, &mut fp)?;
-        for &j in cols {
+        for &j in &cols {
             xs[j] = x[j] - steps[j];
             hm[j] = x[j] - xs[j];
         }
         sys.rhs(t, &xs, &mut fm)?;
-        for &j in cols {
+        for &j in &cols {
             xs[j] = x[j];
-            let rows = sparse.as_ref().map_or(&every_row[..], |(p, _)| p.rows(j));
-            for &i in rows {
+            for &i in pattern.rows(j) {
                 let d = (fp[i] - fm[i]) / (hp[j] + hm[j]);
                 if !d.is_finite() {
                     return Err(RhsError(format!(

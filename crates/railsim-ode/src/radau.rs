@@ -127,9 +127,10 @@ pub(crate) struct RadauWork {
     erracc: f64,
     nsing: usize,
     fnewt: f64,
-    /// The system's Jacobian pattern and its column groups (`None`: one column at a time),
-    /// set by `start`.
-    sparse: Option<(JacobianPattern, Vec<Vec<usize>>)>,
+    /// The system's Jacobian pattern (dense if it declares none) and its column groups, set by
+    /// `start`.
+    pattern: JacobianPattern,
+    groups: Vec<Vec<usize>>,
     /// Each column's difference step, as represented in floating point.
     delta: Vec<f64>,
 }
@@ -187,19 +188,18 @@ impl RadauWork {
             erracc: 1e-2,
             nsing: 0,
             fnewt: 0.03,
-            sparse: None,
+            pattern: JacobianPattern::new(0),
+            groups: Vec::new(),
             delta: vec![0.0; n],
         }
     }
 
-    /// Takes the system's Jacobian pattern for this run (`None`: dense) and zeroes the
-    /// Jacobian, whose entries outside a pattern are never written.
+    /// Takes the system's Jacobian pattern for this run (`None`: dense, one column per group)
+    /// and zeroes the Jacobian, whose entries outside the pattern are never written.
     pub(crate) fn set_pattern(&mut self, pattern: Option<JacobianPattern>) {
-        self.sparse = pattern.map(|p| {
-            let groups = p.column_groups();
-            (p, groups)
-        });
         let n = self.jac.nrows();
+        self.pattern = pattern.unwrap_or_else(|| JacobianPattern::dense(n));
+        self.groups = self.pattern.column_groups();
         for j in 0..n {
             for i in 0..n {
                 self.jac[(i, j)] = 0.0;
@@ -332,15 +332,11 @@ impl Integrator {
             if w.need_jac {
                 self.stats.jacobians += 1;
                 // Forward differences (Hairer & Wanner's RADAU5 step sqrt(eps)·max(|x_j|,
-                // typical)); with a pattern, the columns of a group share no row and are
-                // perturbed together (Curtis, Powell & Reid 1974; crate::sparsity).
-                let groups = w.sparse.as_ref().map(|(_, g)| g.len()).unwrap_or(n);
-                for k in 0..groups {
+                // typical)); the columns of a group share no row and are perturbed together
+                // (Curtis, Powell & Reid 1974; crate::sparsity; without a pattern, one column
+                // per group).
+                for cols in &w.groups {
                     w.xs.copy_from_slice(&self.x);
-                    let cols = match &w.sparse {
-                        Some((_, g)) => &g[k][..],
-                        None => std::slice::from_ref(&k),
-                    };
                     for &j in cols {
                         let xj = self.x[j];
                         let typical = self.atol_v[j] / rtol;
@@ -349,18 +345,9 @@ impl Integrator {
                     }
                     eval_rhs(sys, &mut self.stats, t, &w.xs, &mut w.err, t)?;
                     self.stats.jacobian_rhs_evals += 1;
-                    match &w.sparse {
-                        Some((p, g)) => {
-                            for &j in &g[k] {
-                                for &i in p.rows(j) {
-                                    w.jac[(i, j)] = (w.err[i] - self.f[i]) / w.delta[j];
-                                }
-                            }
-                        }
-                        None => {
-                            for i in 0..n {
-                                w.jac[(i, k)] = (w.err[i] - self.f[i]) / w.delta[k];
-                            }
+                    for &j in cols {
+                        for &i in w.pattern.rows(j) {
+                            w.jac[(i, j)] = (w.err[i] - self.f[i]) / w.delta[j];
                         }
                     }
                 }
