@@ -19,7 +19,8 @@
 //!
 //! Bad settings are construction errors ([`OdeError`]); what happens during a run is a
 //! [`StopReason`]. Nothing panics on bad input and a non-finite state is never returned
-//! silently. All buffers are allocated in [`Integrator::new`]; a step allocates nothing.
+//! silently. All buffers are allocated in [`Integrator::new`] (Radau5's Jacobian pattern and
+//! column groups in [`Integrator::start`], once per run); a step allocates nothing.
 //!
 //! ```
 //! use railsim_ode::{Integrator, Method, OdeSystem, RhsError, StopReason};
