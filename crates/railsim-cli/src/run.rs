@@ -11,7 +11,8 @@ use clap::Args;
 
 use railsim_ode::Method;
 use railsim_sim::assess::{
-    Assessment, CARBODY_BAND, MIN_F0_RECORD, SPERLING_BAND, STABILITY_WINDOW, SUM_Y_WINDOW,
+    Assessment, CARBODY_BAND, DEFAULT_ASSESSMENT_RATE_HZ, MIN_F0_RECORD, SPERLING_BAND,
+    STABILITY_WINDOW, SUM_Y_WINDOW,
 };
 use railsim_sim::{RunOptions, RunSummary, Scene, SimError, Simulation};
 
@@ -221,24 +222,19 @@ fn low_speed_note(scene: &Scene) -> Option<String> {
     })
 }
 
-/// \[Hz\] the log rate from which the EN 14363 statistics are not aliased by the wheelsets'
-/// contact-stiffness content (120–220 Hz; docs/models/dynamics.md, "Aliasing").
-const ASSESSMENT_RATE_HZ: f64 = 1000.0;
-
-/// A note before a run whose assessment samples (`[assessment] rate_hz`, by default the log
-/// rate) come at less than [`ASSESSMENT_RATE_HZ`]: they are taken without an anti-aliasing
-/// filter (found in stop 32: on the default scene's 200 Hz the Q percentiles are up to 8.2 kN
-/// higher than at 1 kHz).
+/// A note before a run whose assessment samples come at less than
+/// [`DEFAULT_ASSESSMENT_RATE_HZ`], which only a scene's own `[assessment] rate_hz` can make
+/// happen: they are taken without an anti-aliasing filter (found in stop 32: assessed at the
+/// default scene's 200 Hz log rate, the Q percentiles are up to 8.2 kN higher than at 1 kHz).
 fn aliasing_note(scene: &Scene) -> Option<String> {
-    let rate = scene.assessment.rate_hz.unwrap_or(scene.log.rate_hz);
-    (rate < ASSESSMENT_RATE_HZ).then(|| {
+    let rate = scene.assessment.rate(scene.log.rate_hz);
+    (rate < DEFAULT_ASSESSMENT_RATE_HZ).then(|| {
         format!(
-            "the EN 14363 statistics below come from samples at {rate} Hz without an \
-             anti-aliasing filter: wheel forces above {} Hz (the wheelsets on the contact \
-             stiffness, 120-220 Hz) fold into the 20 Hz band and can overstate Q by several kN; \
-             [assessment] rate_hz = {ASSESSMENT_RATE_HZ} (a whole multiple of the log rate) \
-             samples that content below half the rate without changing the log \
-             (docs/models/dynamics.md, \"Aliasing\")",
+            "the EN 14363 statistics below come from samples at {rate} Hz ([assessment] rate_hz) \
+             without an anti-aliasing filter: wheel forces above {} Hz (the wheelsets on the \
+             contact stiffness, 120-220 Hz) fold into the 20 Hz band and can overstate Q by \
+             several kN; without the key the assessment samples at the log rate's multiple at or \
+             above {DEFAULT_ASSESSMENT_RATE_HZ} Hz (docs/models/dynamics.md, \"Aliasing\")",
             rate / 2.0
         )
     })

@@ -226,10 +226,39 @@ pub struct AssessOptions {
     pub limits: Limits,
     /// \[Hz\] the rate of the samples the assessment is made from, a whole multiple of the log
     /// rate (`crate::Simulation::run` evaluates the run between the log's samples too);
-    /// `None`: the log rate. A rate that resolves the wheelsets' contact-stiffness content
-    /// (120–220 Hz) keeps it from folding into the 20 Hz band (docs/models/dynamics.md,
-    /// "Aliasing").
+    /// `None`: the default, the smallest whole multiple of the log rate at or above
+    /// [`DEFAULT_ASSESSMENT_RATE_HZ`] ([`AssessOptions::samples_per_log`]). A rate that resolves
+    /// the wheelsets' contact-stiffness content (120–220 Hz) keeps it from folding into the
+    /// 20 Hz band (docs/models/dynamics.md, "Aliasing").
     pub rate_hz: Option<f64>,
+}
+
+/// \[Hz\] the lowest assessment rate when a scene sets none: it resolves the wheelsets' content
+/// on the contact stiffness (120–220 Hz, with harmonics to some 450 Hz) without an
+/// anti-aliasing filter (docs/models/dynamics.md, "Aliasing", measured against 2 and 5 kHz).
+pub const DEFAULT_ASSESSMENT_RATE_HZ: f64 = 1000.0;
+
+impl AssessOptions {
+    /// The assessment's samples per log sample at log rate `log_hz` \[Hz\]: `rate_hz / log_hz`,
+    /// or by default the fewest that reach [`DEFAULT_ASSESSMENT_RATE_HZ`] (1 from that log rate
+    /// up). At least 1.
+    pub fn samples_per_log(&self, log_hz: f64) -> usize {
+        let k = match self.rate_hz {
+            Some(f) => (f / log_hz).round(),
+            // (a relative tolerance so that 1000 / 200 is 5, not 6, after rounding)
+            None => (DEFAULT_ASSESSMENT_RATE_HZ / log_hz * (1.0 - 1e-12)).ceil(),
+        };
+        if k.is_finite() {
+            k.max(1.0) as usize
+        } else {
+            1
+        }
+    }
+
+    /// \[Hz\] the assessment's sample rate at log rate `log_hz` \[Hz\].
+    pub fn rate(&self, log_hz: f64) -> f64 {
+        log_hz * self.samples_per_log(log_hz) as f64
+    }
 }
 
 impl Default for AssessOptions {
@@ -957,6 +986,30 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// By default the assessment samples at the smallest whole multiple of the log rate at or
+    /// above 1 kHz; a given rate is kept as the multiple it is.
+    #[test]
+    fn the_default_assessment_rate_is_the_log_rates_multiple_at_or_above_one_kilohertz() {
+        let default = AssessOptions::default();
+        for (log, per_log, rate) in [
+            (100.0, 10, 1000.0),
+            (200.0, 5, 1000.0),
+            (300.0, 4, 1200.0),
+            (1000.0, 1, 1000.0),
+            (2000.0, 1, 2000.0),
+            (15.0, 67, 1005.0),
+        ] {
+            assert_eq!(default.samples_per_log(log), per_log, "log {log} Hz");
+            assert_eq!(default.rate(log), rate, "log {log} Hz");
+        }
+        let given = AssessOptions {
+            rate_hz: Some(400.0),
+            ..AssessOptions::default()
+        };
+        assert_eq!(given.samples_per_log(200.0), 2);
+        assert_eq!(given.samples_per_log(400.0), 1);
+    }
 
     /// A series at 200 Hz and 50 m/s: ΣY = a constant `bias` plus a sine of `amp` at `f` Hz
     /// on each of two axles (the second at half the amplitude).

@@ -143,8 +143,8 @@ pub enum CurvingSolution {
 
 /// The scene of a curving case: `scene` with the case's track (the scene's track file with its
 /// alignment replaced and its irregularities removed), constant speed, the rearmost wheelset
-/// starting at s = 0, no disturbance. Returns the scene and the track position where the curve
-/// begins.
+/// starting at s = 0, no disturbance, assessed at its log rate (the study's means come from
+/// the log's samples). Returns the scene and the track position where the curve begins.
 pub fn curving_scene(
     scene: &Scene,
     case: &CurveCase,
@@ -190,11 +190,14 @@ pub fn curving_scene(
     let mut base = scene.clone();
     base.track = track;
     base.start = -x_min;
-    let study = base.study(
+    let mut study = base.study(
         SpeedProfile::constant(case.speed),
         RunLength::Distance(curve_start + run.settle + run.average),
         0.0,
     )?;
+    // (the means come from the log's samples; the assessment, which would evaluate the run
+    // between them, is not used)
+    study.assessment.rate_hz = Some(study.log.rate_hz);
     Ok((study, curve_start))
 }
 

@@ -453,10 +453,7 @@ impl Simulation {
         // the assessment's samples: `per_log` of them per log sample, the log's among them
         // (`[assessment] rate_hz`, a whole multiple of the log rate; docs/models/dynamics.md,
         // "Aliasing")
-        let per_log = scene
-            .assessment
-            .rate_hz
-            .map_or(1, |f| (f / scene.log.rate_hz).round().max(1.0) as usize);
+        let per_log = scene.assessment.samples_per_log(scene.log.rate_hz);
         let n = self.model.dim();
         let mut xs = vec![0.0; n];
         let mut dxs = vec![0.0; n];
@@ -1522,6 +1519,10 @@ impl Recorder {
                 crate::scene::integrator_text(&scene.integrator),
             )
             .scene_entry("log_rate_hz", format!("{}", scene.log.rate_hz))
+            .scene_entry(
+                "assessment_rate_hz",
+                format!("{}", scene.assessment.rate(scene.log.rate_hz)),
+            )
             .scene_entry("state_dim", format!("{}", model.dim()));
         if let Some(text) = sources.get("scene") {
             header = header.scene_toml(text.clone());

@@ -10,7 +10,9 @@ use railsim_track::{SegmentKind, TrackError, TrackModel, TrackSpec};
 use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel, WheelsetId};
 use toml::Spanned;
 
-use crate::assess::{AssessOptions, ComfortPoint, STABILITY_HALF_BAND, stability_band};
+use crate::assess::{
+    AssessOptions, ComfortPoint, DEFAULT_ASSESSMENT_RATE_HZ, STABILITY_HALF_BAND, stability_band,
+};
 use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::spec::{
     AssessmentSpec, ContactSpec, FrictionSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec,
@@ -803,37 +805,6 @@ impl Compiler<'_> {
                 None => ok = false,
             }
         }
-        if let Some(v) = &a.instability_frequency_hz {
-            match self.range(
-                v,
-                "instability_frequency_hz",
-                "Hz",
-                (0.0, MAX_INSTABILITY_HZ),
-                true,
-            ) {
-                Some(f) => {
-                    let top = stability_band(f).1;
-                    match log {
-                        Some(l) if 2.0 * top >= l.rate_hz => {
-                            self.err(
-                                &v.span(),
-                                "instability_frequency_hz",
-                                format!(
-                                    "[assessment] instability_frequency_hz = {f} Hz: its band \
-                                     reaches {top} Hz (f0 + {STABILITY_HALF_BAND} Hz), which \
-                                     needs a log rate above {} Hz; [log] rate_hz is {} Hz",
-                                    2.0 * top,
-                                    l.rate_hz
-                                ),
-                            );
-                            ok = false;
-                        }
-                        _ => out.instability_frequency = Some(f),
-                    }
-                }
-                None => ok = false,
-            }
-        }
         if let Some(v) = &a.rate_hz {
             let log_rate = log.map_or(DEFAULT_LOG_RATE_HZ, |l| l.rate_hz);
             match self.range(v, "rate_hz", "Hz", (0.0, MAX_ASSESSMENT_RATE_HZ), true) {
@@ -852,6 +823,41 @@ impl Compiler<'_> {
                         ok = false;
                     } else {
                         out.rate_hz = Some(f);
+                    }
+                }
+                None => ok = false,
+            }
+        }
+        if let Some(v) = &a.instability_frequency_hz {
+            match self.range(
+                v,
+                "instability_frequency_hz",
+                "Hz",
+                (0.0, MAX_INSTABILITY_HZ),
+                true,
+            ) {
+                Some(f) => {
+                    let top = stability_band(f).1;
+                    // (the band must lie below half the assessment's rate, the log rate's
+                    // multiple compiled above)
+                    match log.map(|l| out.rate(l.rate_hz)) {
+                        Some(rate) if 2.0 * top >= rate => {
+                            self.err(
+                                &v.span(),
+                                "instability_frequency_hz",
+                                format!(
+                                    "[assessment] instability_frequency_hz = {f} Hz: its band \
+                                     reaches {top} Hz (f0 + {STABILITY_HALF_BAND} Hz), which \
+                                     needs an assessment rate above {} Hz; the assessment \
+                                     samples at {rate} Hz ([assessment] rate_hz, by default the \
+                                     log rate's multiple at or above \
+                                     {DEFAULT_ASSESSMENT_RATE_HZ} Hz)",
+                                    2.0 * top,
+                                ),
+                            );
+                            ok = false;
+                        }
+                        _ => out.instability_frequency = Some(f),
                     }
                 }
                 None => ok = false,

@@ -367,12 +367,15 @@ pub fn growth_at(
     duration: f64,
     offset: f64,
 ) -> Result<Growth, SimError> {
-    let study = scene.study(
+    let mut study = scene.study(
         SpeedProfile::constant(speed),
         RunLength::Duration(duration),
         offset,
     )?;
     check_straight(&study, "growth-rate run")?;
+    // (the growth rate comes from the lateral displacements at the log's samples; the
+    // assessment, which would evaluate the run between them, is not used)
+    study.assessment.rate_hz = Some(study.log.rate_hz);
     let opts = RunOptions {
         no_log: true,
         ..Default::default()

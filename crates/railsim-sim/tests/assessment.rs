@@ -56,8 +56,27 @@ fn in_a_steady_curve_the_track_shift_forces_carry_the_uncompensated_acceleration
         (mean / expect - 1.0).abs() < 0.01,
         "{mean} N against {expect} N"
     );
+    // each axle's steady share, by wheelset number
+    let mut share = [0.0; 4];
+    let mut n_steady = 0;
+    for smp in samples
+        .iter()
+        .filter(|smp| (450.0..=650.0).contains(&(smp.t * v)))
+    {
+        for w in &smp.wheelsets {
+            share[w.wheelset as usize] += w.y_left_n - w.y_right_n;
+        }
+        n_steady += 1;
+    }
+    share.iter_mut().for_each(|x| *x /= n_steady as f64);
+    println!("steady ΣY per axle [kN]: {:.3?}", share.map(|x| x * 1e-3));
     // The assessment: one axle per wheelset, Prud'homme's limit of its static axle load, and
-    // the largest (ΣY)2m at least the steady share of its axle, toward the outside (-y).
+    // the standard's statistic at least the steady share of its axle. The axles that carry a
+    // large share (the bogies' trailing wheelsets, -16.8 and -18.3 kN) have their largest
+    // (ΣY)2m toward the outside (-y); the leading ones (-2.2 and -0.8 kN) may reach theirs in
+    // the transition, in either direction: the rear bogie's read -2.42 kN at the transition's
+    // start from the 200 Hz samples before stop 33, an alias; assessed at 1, 2 and 5 kHz it is
+    // +2.18 kN within the transition.
     let a = &summary.assessment;
     assert_eq!(a.axles.len(), 4);
     assert!(a.lowpass && a.alpha == 1.0);
@@ -65,19 +84,24 @@ fn in_a_steady_curve_the_track_shift_forces_carry_the_uncompensated_acceleration
     for (pair, q) in sim.model().wheels.chunks(2).zip(&axle_loads) {
         loads_by_number[pair[0].wheelset_number as usize] = *q;
     }
-    let mut sum_of_largest = 0.0;
     for ax in &a.axles {
         let q0 = loads_by_number[ax.wheelset as usize];
         assert!((ax.axle_load - q0).abs() < 1e-9);
         assert!((ax.sum_y_limit - (10e3 + q0 / 3.0)).abs() < 1e-6);
         let m = ax.sum_y_2m.unwrap();
-        assert!(m.value < 0.0, "wheelset {}: {m:?}", ax.wheelset);
-        sum_of_largest += m.value;
+        let steady = share[ax.wheelset as usize];
+        if steady < -5e3 {
+            assert!(m.value < 0.0, "wheelset {}: {m:?}", ax.wheelset);
+        }
         // the standard's statistic lies between the steady share and the largest value
         let p = ax.sum_y_2m_percentile.unwrap();
         assert!(p <= m.value.abs() + 1e-9);
+        assert!(
+            p >= 0.98 * steady.abs(),
+            "wheelset {}: statistic {p} N, steady share {steady} N",
+            ax.wheelset
+        );
     }
-    assert!(sum_of_largest < expect, "{sum_of_largest} {expect}");
     // below the limits: a curve this mild is no test of the vehicle's safety
     for ax in &a.axles {
         assert!(ax.sum_y_2m.unwrap().value.abs() < ax.sum_y_limit);
@@ -193,8 +217,13 @@ fn in_a_steady_curve_the_track_shift_forces_carry_the_uncompensated_acceleration
     }
 }
 
+/// Flange-contact hunting against a decaying disturbance: the track-shift force's statistic
+/// near its limit, its running-stability r.m.s. at it, the ride and the bogie frames'
+/// criterion, against values far below. Until stop 32 the assessment sampled this 200 Hz run
+/// at 200 Hz and gave (ΣY)2m 3.1 times its limit, an alias of the flange impacts; assessed at
+/// the default 1 kHz it is 0.80, and 0.79 at 2 and 5 kHz (docs/validation.md §9).
 #[test]
-fn flange_hunting_exceeds_the_track_shift_limit_where_stable_running_does_not() {
+fn flange_hunting_nears_the_track_shift_limit_where_stable_running_does_not() {
     // Ideal straight track, the leading wheelset 5 mm off centre. With `polach` the vehicle
     // hunts in flange contact at 300 km/h and settles at 160 km/h (docs/validation.md §8:
     // the ramp-down fold of `polach` is near 190 km/h).
@@ -224,10 +253,11 @@ fn flange_hunting_exceeds_the_track_shift_limit_where_stable_running_does_not() 
         worst_rms(&h),
         worst_rms(&st)
     );
-    assert!(worst(&h) > 1.5, "{}", worst(&h));
+    // (ΣY)2m: hunting 0.80 of the limit, stable 0.21 (assessed at 1 kHz)
+    assert!(worst(&h) > 0.6, "{}", worst(&h));
     assert!(worst(&st) < 0.4, "{}", worst(&st));
-    // the r.m.s. criterion: hunting near its limit (0.95 when written), the decaying
-    // disturbance far below (0.08)
+    // the r.m.s. criterion: hunting at its limit (0.95 when written, 1.02 since stop 33), the
+    // decaying disturbance far below (0.08)
     assert!(worst_rms(&h) > 0.7, "{}", worst_rms(&h));
     assert!(worst_rms(&st) < 0.2, "{}", worst_rms(&st));
     // the ride: hunting shakes the carbody over its bogies far more than the decaying
@@ -443,7 +473,8 @@ fn a_bloss_transition_sways_the_carbody_less_than_a_clothoid() {
 /// `[assessment] rate_hz` (docs/models/dynamics.md, "Aliasing"): the assessment's samples
 /// between the log's. A run logged at 200 Hz and assessed at 1 kHz is the run logged at 1 kHz
 /// to the bit (the same evaluations: the same state digest and assessment), with a fifth of the
-/// log's samples; assessed at its 200 Hz log rate, the same run differs.
+/// log's samples; without the key, a 200 Hz log is assessed at 1 kHz too (the default); assessed
+/// at its 200 Hz log rate, the same run differs.
 #[test]
 fn the_assessment_rate_samples_between_the_log_samples() {
     let scene = |log_hz: u32, extra: &str| {
@@ -456,22 +487,32 @@ fn the_assessment_rate_samples_between_the_log_samples() {
     };
     let (_, fast_log, fast) = run(&scene(1000, ""));
     let (_, slow_log, assessed) = run(&scene(200, "[assessment]\nrate_hz = 1000"));
-    let (_, _, plain) = run(&scene(200, ""));
+    let (_, default_log, default) = run(&scene(200, ""));
+    let (_, _, aliased) = run(&scene(200, "[assessment]\nrate_hz = 200"));
     eprintln!(
-        "log samples {} / {}; digests {:016x} {:016x} {:016x}",
-        fast.samples, assessed.samples, fast.digest, assessed.digest, plain.digest
+        "log samples {} / {}; digests {:016x} {:016x} {:016x} {:016x}",
+        fast.samples,
+        assessed.samples,
+        fast.digest,
+        assessed.digest,
+        default.digest,
+        aliased.digest
     );
-    assert_eq!(fast.digest, assessed.digest);
-    assert_eq!(
-        format!("{:?}", fast.assessment),
-        format!("{:?}", assessed.assessment)
-    );
-    assert_eq!(
-        (fast.max_q, fast.max_y_over_q),
-        (assessed.max_q, assessed.max_y_over_q)
-    );
+    for other in [&assessed, &default] {
+        assert_eq!(fast.digest, other.digest);
+        assert_eq!(
+            format!("{:?}", fast.assessment),
+            format!("{:?}", other.assessment)
+        );
+        assert_eq!(
+            (fast.max_q, fast.max_y_over_q),
+            (other.max_q, other.max_y_over_q)
+        );
+    }
     assert_eq!(fast_log.len() as u64, fast.samples);
     assert_eq!(slow_log.len() as u64, assessed.samples);
+    assert_eq!(default_log.len() as u64, default.samples);
+    assert_eq!(default.samples, assessed.samples);
     assert_eq!(fast.samples, 5 * (assessed.samples - 1) + 1);
-    assert_ne!(fast.digest, plain.digest);
+    assert_ne!(fast.digest, aliased.digest);
 }

@@ -85,7 +85,9 @@ fn an_elastic_rail_support_starts_in_static_equilibrium() {
     );
     assert!(worst_q < 0.01, "wheel load off by {:.2} %", worst_q * 100.0);
     assert!(worst_drift < 1e-3, "wheel loads drift by {worst_drift:.2e}");
-    // The run summary's largest rail displacements are those of the samples.
+    // The run summary's largest rail displacements are those of its samples: the log's and,
+    // since stop 33, the assessment's between them (1 kHz on this 100 Hz log), so at least the
+    // log samples' largest and, the rails being at rest, within their balance of it.
     let [lat, vert] = summary.max_rail.expect("rail maxima in the summary");
     let max_of = |k: [usize; 2]| {
         samples
@@ -97,8 +99,13 @@ fn an_elastic_rail_support_starts_in_static_equilibrium() {
             })
             .fold(0.0, f64::max)
     };
-    assert_eq!(lat.0, max_of([0, 2]));
-    assert_eq!(vert.0, max_of([1, 3]));
+    for (summary_max, k) in [(lat.0, [0, 2]), (vert.0, [1, 3])] {
+        let logged = max_of(k);
+        assert!(
+            summary_max >= logged && summary_max - logged < 2e-7,
+            "{summary_max} against {logged} m"
+        );
+    }
     assert!((vert.0 - 54.5e3 / sup.vertical_stiffness).abs() < 0.01 * 0.545e-3);
 }
 

@@ -676,17 +676,21 @@ fn assessment_settings_are_read_and_checked() {
         &["instability_frequency_hz must lie in", "Hz, found 0"],
     );
     expect(&p, 8, &["bogus"]);
-    let p = problems(&format!(
-        "{GOOD}[log]\nrate_hz = 15\n[assessment]\ninstability_frequency_hz = 6\n"
-    ));
+    // the band is checked against the assessment's rate: at a 15 Hz log it is 1005 Hz by
+    // default, which carries the band; set to the log rate, it cannot
+    let low_log =
+        format!("{GOOD}[log]\nrate_hz = 15\n[assessment]\ninstability_frequency_hz = 6\n");
+    let s = compile(&low_log).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.assessment.rate(s.log.rate_hz), 1005.0);
+    let p = problems(&format!("{low_log}rate_hz = 15\n"));
     expect(
         &p,
         8,
         &[
             "instability_frequency_hz = 6 Hz",
             "reaches 8 Hz",
-            "log rate above 16 Hz",
-            "rate_hz is 15 Hz",
+            "assessment rate above 16 Hz",
+            "samples at 15 Hz",
         ],
     );
 }
