@@ -41,13 +41,14 @@
 //! UIC 518 (`../shared` vehicle reference §6, marked there as recalled): every limit can be set
 //! in the scene (`[assessment]`, [`Limits`]); check them against the edition of the standard
 //! that applies before a formal assessment. The signal processing is
-//! [`crate::signal`]. The samples are the run's instantaneous values at the log rate; no
-//! anti-aliasing filter precedes them, so a log rate well above 40 Hz is needed for the 20 Hz
-//! low-pass to mean what it says, and content above half the log rate (the wheelsets on the
-//! contact stiffness, 120–220 Hz) folds into the 20 Hz band: at the shipped 100–200 Hz log
-//! rates this overstates Q percentiles by up to 8 kN (docs/models/dynamics.md, "Aliasing").
-//! [`AssessOptions::rate_hz`] (`[assessment] rate_hz`) takes the samples at a multiple of the
-//! log rate that resolves that content.
+//! [`crate::signal`]. The samples are the run's instantaneous values at the assessment's rate
+//! ([`AssessOptions::rate_hz`], `[assessment] rate_hz`: a whole multiple of the log rate, by
+//! default the smallest at or above [`DEFAULT_ASSESSMENT_RATE_HZ`]). No anti-aliasing filter
+//! precedes them, so content above half that rate folds into the 20 Hz band: sampled at the
+//! shipped 100–200 Hz log rates, as until stop 32, the wheelsets' 120–220 Hz content on the
+//! contact stiffness overstated the default scene's Q percentiles by up to 8 kN, and flange
+//! impacts in hunting made them 1.8 to 2.7 times too high; from 1 kHz on they agree with 5 kHz
+//! to 0.1 kN, but Hertz flange impacts need 2 kHz (docs/models/dynamics.md, "Aliasing").
 
 use railsim_contact::Side;
 

@@ -1,5 +1,5 @@
-//! Running a scene: the initial state, the step loop, samples at the log rate, blow-up checks,
-//! the MCAP log and the run summary.
+//! Running a scene: the initial state, the step loop, samples at the assessment's rate (every
+//! few of them logged), blow-up checks, the MCAP log and the run summary.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -102,7 +102,7 @@ pub struct ElementEnergy {
     pub dissipates: bool,
     /// \[J\] work absorbed from the bodies between the first and the last sample: the integral
     /// of `ElementRecord::power` by the trapezoidal rule over the samples (at the assessment's
-    /// rate, `[assessment] rate_hz`, by default the log rate).
+    /// rate, `[assessment] rate_hz`, by default at or above 1 kHz).
     pub work: f64,
     /// \[J\] the part of `work` dissipated (the rest is the change of the energy it stores):
     /// the integral of `ElementRecord::dissipation`, likewise.
@@ -138,7 +138,7 @@ pub struct RunSummary {
     pub assessment: Assessment,
     /// Integrator statistics.
     pub stats: Stats,
-    /// Samples taken (at the log rate).
+    /// Samples logged (at the log rate; the assessment's between them are not counted).
     pub samples: u64,
     /// FNV-1a digest of the bits of every sampled state (at the assessment's rate, which
     /// includes the log's samples): equal digests mean identical runs.
@@ -402,7 +402,7 @@ impl Simulation {
     }
 
     /// Run to the end (or `opts.t_end`), calling `progress(t, t_end)` after each accepted step
-    /// and `on_sample` at every sample (at the log rate). Writes the log when the scene asks
+    /// and `on_sample` at every log sample (at the log rate). Writes the log when the scene asks
     /// for one and `opts.no_log` is unset.
     pub fn run(
         &mut self,
