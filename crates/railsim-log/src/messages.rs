@@ -344,7 +344,9 @@ pub struct ElementMessage {
     /// anti-roll bars)
     #[serde(default)]
     pub dissipation_w: f64,
-    /// \[J\] work it has absorbed since the first sample (trapezoidal rule over the samples)
+    /// \[J\] work it has absorbed since the first sample (trapezoidal rule over the run's
+    /// samples, which may be more than the log holds: the scene metadata's
+    /// `assessment_rate_hz`)
     #[serde(default)]
     pub work_j: f64,
     /// \[J\] energy it has dissipated since the first sample (likewise)
