@@ -75,7 +75,7 @@ fn in_a_steady_curve_the_track_shift_forces_carry_the_uncompensated_acceleration
     // large share (the bogies' trailing wheelsets, -16.8 and -18.3 kN) have their largest
     // (ΣY)2m toward the outside (-y); the leading ones (-2.2 and -0.8 kN) may reach theirs in
     // the transition, in either direction: the rear bogie's read -2.42 kN at the transition's
-    // start from the 200 Hz samples before stop 33, an alias; assessed at 1, 2 and 5 kHz it is
+    // start from the 200 Hz samples before stop 33, an alias; assessed at 1 and 5 kHz it is
     // +2.18 kN within the transition.
     let a = &summary.assessment;
     assert_eq!(a.axles.len(), 4);
