@@ -627,10 +627,12 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         outln!(
             "integrator: the steps were limited by stability, not accuracy ({} of {} steps; \
              stiff from t = {t:.3} s): a weakly damped stiff mode can keep an oscillation of the \
-             order of atol, which shows in Q; a smaller atol shrinks it in proportion \
-             (measured: atol 1e-7 against 1e-6, Q's percentile 0.5 kN from a tight-tolerance \
-             reference instead of 4.4 kN), or radau5, which may also damp out a real oscillation \
-             it does not resolve (docs/performance.md, \"Choosing the integrator\")",
+             order of atol, which shows in the wheel loads; a smaller atol shrinks it in \
+             proportion (measured on the default scene: atol 1e-7 against 1e-6, the wheel loads \
+             0.2 kN r.m.s. from a tight-tolerance reference instead of 2.0 kN; the EN 14363 \
+             statistics from 1 kHz samples alike at both), or radau5, which may also damp out a \
+             real oscillation it does not resolve (docs/performance.md, \"Choosing the \
+             integrator\")",
             st.stability_limited,
             st.steps
         );
