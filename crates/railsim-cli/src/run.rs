@@ -576,6 +576,10 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         s.max_q.1,
         side(s.max_q.2)
     );
+    outln!(
+        "EN 14363 assessment, maxima at a sample and energies from the run's samples at {} Hz",
+        s.assessment_rate_hz
+    );
     print_assessment(&s.assessment)?;
     if let Some([lat, vert]) = s.max_rail {
         outln!(

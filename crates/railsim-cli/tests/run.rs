@@ -47,6 +47,7 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
         "real-time factor",
         "max |lateral displacement|",
         "max Y/Q",
+        "EN 14363 assessment, maxima at a sample and energies from the run's samples at 1000 Hz",
         "track-shift force ΣY (EN 14363",
         "wheelset 0: (ΣY)2m max",
         "integrator:",

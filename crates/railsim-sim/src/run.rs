@@ -140,6 +140,10 @@ pub struct RunSummary {
     pub stats: Stats,
     /// Samples logged (at the log rate; the assessment's between them are not counted).
     pub samples: u64,
+    /// \[Hz\] the rate of the samples the assessment, the maxima "at a sample", the elements'
+    /// energies and the digest come from (`[assessment] rate_hz`, by default the log rate's
+    /// multiple at or above 1 kHz), a whole multiple of the log rate.
+    pub assessment_rate_hz: f64,
     /// FNV-1a digest of the bits of every sampled state (at the assessment's rate, which
     /// includes the log's samples): equal digests mean identical runs.
     pub digest: u64,
@@ -548,6 +552,7 @@ impl Simulation {
                 assessment: assess(&state.series, &axle_loads, &scene.assessment),
                 stats,
                 samples: logged,
+                assessment_rate_hz: scene.log.rate_hz * per_log as f64,
                 digest: state.digest,
                 cost,
                 contact_searches,

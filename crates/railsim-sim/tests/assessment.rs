@@ -515,4 +515,6 @@ fn the_assessment_rate_samples_between_the_log_samples() {
     assert_eq!(default.samples, assessed.samples);
     assert_eq!(fast.samples, 5 * (assessed.samples - 1) + 1);
     assert_ne!(fast.digest, aliased.digest);
+    let rates = [&fast, &assessed, &default, &aliased].map(|s| s.assessment_rate_hz);
+    assert_eq!(rates, [1000.0, 1000.0, 1000.0, 200.0]);
 }
