@@ -11,8 +11,8 @@ use clap::Args;
 
 use railsim_ode::Method;
 use railsim_sim::assess::{
-    Assessment, CARBODY_BAND, DEFAULT_ASSESSMENT_RATE_HZ, MIN_F0_RECORD, SPERLING_BAND,
-    STABILITY_WINDOW, SUM_Y_WINDOW,
+    Assessment, CARBODY_BAND, MIN_F0_RECORD, SPERLING_BAND, STABILITY_WINDOW, SUM_Y_WINDOW,
+    default_assessment_rate,
 };
 use railsim_sim::{RunOptions, RunSummary, Scene, SimError, Simulation};
 
@@ -222,20 +222,23 @@ fn low_speed_note(scene: &Scene) -> Option<String> {
     })
 }
 
-/// A note before a run whose assessment samples come at less than
-/// [`DEFAULT_ASSESSMENT_RATE_HZ`], which only a scene's own `[assessment] rate_hz` can make
+/// A note before a run whose assessment samples come at less than the contact model's
+/// [`default_assessment_rate`], which only a scene's own `[assessment] rate_hz` can make
 /// happen: they are taken without an anti-aliasing filter (found in stop 32: assessed at the
 /// default scene's 200 Hz log rate, the Q percentiles are up to 8.2 kN higher than at 1 kHz).
 fn aliasing_note(scene: &Scene) -> Option<String> {
-    let rate = scene.assessment.rate(scene.log.rate_hz);
-    (rate < DEFAULT_ASSESSMENT_RATE_HZ).then(|| {
+    let rate = scene.assessment_rate();
+    let default = default_assessment_rate(scene.contact.model);
+    (rate < default).then(|| {
         format!(
             "the EN 14363 statistics below come from samples at {rate} Hz ([assessment] rate_hz) \
              without an anti-aliasing filter: wheel forces above {} Hz (the wheelsets on the \
-             contact stiffness, 120-220 Hz) fold into the 20 Hz band and can overstate Q by \
-             several kN; without the key the assessment samples at the log rate's multiple at or \
-             above {DEFAULT_ASSESSMENT_RATE_HZ} Hz (docs/models/dynamics.md, \"Aliasing\")",
-            rate / 2.0
+             contact stiffness, 120-220 Hz, and flange impacts) fold into the 20 Hz band and can \
+             overstate Q by several kN; without the key the assessment samples at the log rate's \
+             multiple at or above {default} Hz for contact model {} \
+             (docs/models/dynamics.md, \"Aliasing\")",
+            rate / 2.0,
+            scene.contact.model.name()
         )
     })
 }

@@ -43,14 +43,16 @@
 //! that applies before a formal assessment. The signal processing is
 //! [`crate::signal`]. The samples are the run's instantaneous values at the assessment's rate
 //! ([`AssessOptions::rate_hz`], `[assessment] rate_hz`: a whole multiple of the log rate, by
-//! default the smallest at or above [`DEFAULT_ASSESSMENT_RATE_HZ`]). No anti-aliasing filter
+//! default the smallest at or above [`DEFAULT_ASSESSMENT_RATE_HZ`], or
+//! [`HERTZ_ASSESSMENT_RATE_HZ`] for the Hertz models). No anti-aliasing filter
 //! precedes them, so content above half that rate folds into the 20 Hz band: sampled at the
 //! shipped 100–200 Hz log rates, as until stop 32, the wheelsets' 120–220 Hz content on the
 //! contact stiffness overstated the default scene's Q percentiles by up to 8 kN, and flange
 //! impacts in hunting made them 1.8 to 2.7 times too high; from 1 kHz on they agree with 5 kHz
-//! to 0.1 kN, but Hertz flange impacts need 2 kHz (docs/models/dynamics.md, "Aliasing").
+//! to 0.1 kN, but the Hertz models' flange impacts need 2 kHz (docs/models/dynamics.md,
+//! "Aliasing").
 
-use railsim_contact::Side;
+use railsim_contact::{ContactModelKind, Side};
 
 use crate::signal::{
     AnalogSection, Filter, FilterError, WindowValue, dominant_frequency, sliding_mean, sliding_rms,
@@ -227,27 +229,43 @@ pub struct AssessOptions {
     pub limits: Limits,
     /// \[Hz\] the rate of the samples the assessment is made from, a whole multiple of the log
     /// rate (`crate::Simulation::run` evaluates the run between the log's samples too);
-    /// `None`: the default, the smallest whole multiple of the log rate at or above
-    /// [`DEFAULT_ASSESSMENT_RATE_HZ`] ([`AssessOptions::samples_per_log`]). A rate that resolves
-    /// the wheelsets' contact-stiffness content (120–220 Hz) keeps it from folding into the
-    /// 20 Hz band (docs/models/dynamics.md, "Aliasing").
+    /// `None`: the default, the smallest whole multiple of the log rate at or above the contact
+    /// model's [`default_assessment_rate`] ([`AssessOptions::samples_per_log`]). A rate that
+    /// resolves the wheelsets' contact-stiffness content (120–220 Hz) keeps it from folding into
+    /// the 20 Hz band (docs/models/dynamics.md, "Aliasing").
     pub rate_hz: Option<f64>,
 }
 
-/// \[Hz\] the lowest assessment rate when a scene sets none: it resolves the wheelsets' content
-/// on the contact stiffness (120–220 Hz, with harmonics to some 450 Hz) without an
-/// anti-aliasing filter (docs/models/dynamics.md, "Aliasing", measured against 2 and 5 kHz).
+/// \[Hz\] the lowest assessment rate when a scene sets none, for STRIPES and the half-space: it
+/// resolves the wheelsets' content on the contact stiffness (120–220 Hz, with harmonics) without
+/// an anti-aliasing filter (docs/models/dynamics.md, "Aliasing": the default scene's and the
+/// hunting runs' statistics within 0.1–0.2 kN of 2 and 5 kHz).
 pub const DEFAULT_ASSESSMENT_RATE_HZ: f64 = 1000.0;
+
+/// \[Hz\] ... and for the Hertz models (`linear`, `polach`, `fastsim`), whose single ellipse per
+/// well makes flange contact shorter, stiffer pulses: at 1 kHz `polach`'s (ΣY)2m statistics
+/// were 7 % off the 5 and 10 kHz values on the default scene and up to 40 % in flange-contact
+/// hunting, at 2 kHz within 0.5 % and 7 % (docs/models/dynamics.md, "Aliasing").
+pub const HERTZ_ASSESSMENT_RATE_HZ: f64 = 2000.0;
+
+/// \[Hz\] the lowest assessment rate of a scene that sets none, by its contact model.
+pub fn default_assessment_rate(model: ContactModelKind) -> f64 {
+    if model.is_hertz() {
+        HERTZ_ASSESSMENT_RATE_HZ
+    } else {
+        DEFAULT_ASSESSMENT_RATE_HZ
+    }
+}
 
 impl AssessOptions {
     /// The assessment's samples per log sample at log rate `log_hz` \[Hz\]: `rate_hz / log_hz`,
-    /// or by default the fewest that reach [`DEFAULT_ASSESSMENT_RATE_HZ`] (1 from that log rate
-    /// up). At least 1.
-    pub fn samples_per_log(&self, log_hz: f64) -> usize {
+    /// or by default the fewest that reach `default_hz` \[Hz\] ([`default_assessment_rate`]; 1
+    /// from that log rate up). At least 1.
+    pub fn samples_per_log(&self, log_hz: f64, default_hz: f64) -> usize {
         let k = match self.rate_hz {
             Some(f) => (f / log_hz).round(),
             // (a relative tolerance so that 1000 / 200 is 5, not 6, after rounding)
-            None => (DEFAULT_ASSESSMENT_RATE_HZ / log_hz * (1.0 - 1e-12)).ceil(),
+            None => (default_hz / log_hz * (1.0 - 1e-12)).ceil(),
         };
         if k.is_finite() {
             k.max(1.0) as usize
@@ -256,9 +274,10 @@ impl AssessOptions {
         }
     }
 
-    /// \[Hz\] the assessment's sample rate at log rate `log_hz` \[Hz\].
-    pub fn rate(&self, log_hz: f64) -> f64 {
-        log_hz * self.samples_per_log(log_hz) as f64
+    /// \[Hz\] the assessment's sample rate at log rate `log_hz` \[Hz\], by default at or above
+    /// `default_hz` \[Hz\].
+    pub fn rate(&self, log_hz: f64, default_hz: f64) -> f64 {
+        log_hz * self.samples_per_log(log_hz, default_hz) as f64
     }
 }
 
@@ -989,10 +1008,11 @@ mod tests {
     use super::*;
 
     /// By default the assessment samples at the smallest whole multiple of the log rate at or
-    /// above 1 kHz; a given rate is kept as the multiple it is.
+    /// above 1 kHz (2 kHz for the Hertz models); a given rate is kept as the multiple it is.
     #[test]
     fn the_default_assessment_rate_is_the_log_rates_multiple_at_or_above_one_kilohertz() {
         let default = AssessOptions::default();
+        let stripes = default_assessment_rate(ContactModelKind::Stripes);
         for (log, per_log, rate) in [
             (100.0, 10, 1000.0),
             (200.0, 5, 1000.0),
@@ -1001,15 +1021,26 @@ mod tests {
             (2000.0, 1, 2000.0),
             (15.0, 67, 1005.0),
         ] {
-            assert_eq!(default.samples_per_log(log), per_log, "log {log} Hz");
-            assert_eq!(default.rate(log), rate, "log {log} Hz");
+            assert_eq!(
+                default.samples_per_log(log, stripes),
+                per_log,
+                "log {log} Hz"
+            );
+            assert_eq!(default.rate(log, stripes), rate, "log {log} Hz");
         }
+        for model in ContactModelKind::ALL {
+            let expect = if model.is_hertz() { 2000.0 } else { 1000.0 };
+            assert_eq!(default_assessment_rate(model), expect, "{model:?}");
+        }
+        let polach = default_assessment_rate(ContactModelKind::Polach);
+        assert_eq!(default.samples_per_log(200.0, polach), 10);
+        assert_eq!(default.rate(300.0, polach), 2100.0);
         let given = AssessOptions {
             rate_hz: Some(400.0),
             ..AssessOptions::default()
         };
-        assert_eq!(given.samples_per_log(200.0), 2);
-        assert_eq!(given.samples_per_log(400.0), 1);
+        assert_eq!(given.samples_per_log(200.0, polach), 2);
+        assert_eq!(given.samples_per_log(400.0, stripes), 1);
     }
 
     /// A series at 200 Hz and 50 m/s: ΣY = a constant `bias` plus a sine of `amp` at `f` Hz

@@ -102,7 +102,7 @@ pub struct ElementEnergy {
     pub dissipates: bool,
     /// \[J\] work absorbed from the bodies between the first and the last sample: the integral
     /// of `ElementRecord::power` by the trapezoidal rule over the samples (at the assessment's
-    /// rate, `[assessment] rate_hz`, by default at or above 1 kHz).
+    /// rate, `[assessment] rate_hz`, by default at or above 1 kHz, 2 kHz for the Hertz models).
     pub work: f64,
     /// \[J\] the part of `work` dissipated (the rest is the change of the energy it stores):
     /// the integral of `ElementRecord::dissipation`, likewise.
@@ -457,7 +457,7 @@ impl Simulation {
         // the assessment's samples: `per_log` of them per log sample, the log's among them
         // (`[assessment] rate_hz`, a whole multiple of the log rate; docs/models/dynamics.md,
         // "Aliasing")
-        let per_log = scene.assessment.samples_per_log(scene.log.rate_hz);
+        let per_log = scene.assessment_samples_per_log();
         let n = self.model.dim();
         let mut xs = vec![0.0; n];
         let mut dxs = vec![0.0; n];
@@ -1524,10 +1524,7 @@ impl Recorder {
                 crate::scene::integrator_text(&scene.integrator),
             )
             .scene_entry("log_rate_hz", format!("{}", scene.log.rate_hz))
-            .scene_entry(
-                "assessment_rate_hz",
-                format!("{}", scene.assessment.rate(scene.log.rate_hz)),
-            )
+            .scene_entry("assessment_rate_hz", format!("{}", scene.assessment_rate()))
             .scene_entry("state_dim", format!("{}", model.dim()));
         if let Some(text) = sources.get("scene") {
             header = header.scene_toml(text.clone());

@@ -11,7 +11,8 @@ use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel
 use toml::Spanned;
 
 use crate::assess::{
-    AssessOptions, ComfortPoint, DEFAULT_ASSESSMENT_RATE_HZ, STABILITY_HALF_BAND, stability_band,
+    AssessOptions, ComfortPoint, DEFAULT_ASSESSMENT_RATE_HZ, STABILITY_HALF_BAND,
+    default_assessment_rate, stability_band,
 };
 use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::spec::{
@@ -442,6 +443,22 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The assessment's samples per log sample: `[assessment] rate_hz` over the log rate, or by
+    /// default the fewest that reach the contact model's
+    /// [`crate::assess::default_assessment_rate`] (docs/models/dynamics.md, "Aliasing").
+    pub fn assessment_samples_per_log(&self) -> usize {
+        self.assessment.samples_per_log(
+            self.log.rate_hz,
+            default_assessment_rate(self.contact.model),
+        )
+    }
+
+    /// \[Hz\] the rate of the assessment's samples ([`Scene::assessment_samples_per_log`]
+    /// times the log rate).
+    pub fn assessment_rate(&self) -> f64 {
+        self.log.rate_hz * self.assessment_samples_per_log() as f64
+    }
+
     /// Read and compile a scene file; the vehicle and track paths are resolved from its
     /// directory.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
@@ -839,8 +856,8 @@ impl Compiler<'_> {
                 Some(f) => {
                     let top = stability_band(f).1;
                     // (the band must lie below half the assessment's rate, the log rate's
-                    // multiple compiled above)
-                    match log.map(|l| out.rate(l.rate_hz)) {
+                    // multiple compiled above; by default at or above 1 kHz for any model)
+                    match log.map(|l| out.rate(l.rate_hz, DEFAULT_ASSESSMENT_RATE_HZ)) {
                         Some(rate) if 2.0 * top >= rate => {
                             self.err(
                                 &v.span(),
@@ -851,7 +868,8 @@ impl Compiler<'_> {
                                      needs an assessment rate above {} Hz; the assessment \
                                      samples at {rate} Hz ([assessment] rate_hz, by default the \
                                      log rate's multiple at or above \
-                                     {DEFAULT_ASSESSMENT_RATE_HZ} Hz)",
+                                     {DEFAULT_ASSESSMENT_RATE_HZ} Hz, 2000 Hz for the Hertz \
+                                     models)",
                                     2.0 * top,
                                 ),
                             );

@@ -191,7 +191,7 @@ pub struct AssessmentSpec {
     #[serde(default)]
     pub instability_frequency_hz: Option<Spanned<f64>>,
     /// \[Hz\] the rate of the samples the assessment is made from, a whole multiple of the log
-    /// rate; default: the smallest such multiple at or above 1 kHz.
+    /// rate; default: the smallest such multiple at or above 1 kHz (2 kHz for the Hertz models).
     #[serde(default)]
     pub rate_hz: Option<Spanned<f64>>,
     /// The carbody's measuring points; default: its centre and above each bogie.

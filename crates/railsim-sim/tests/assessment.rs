@@ -75,8 +75,8 @@ fn in_a_steady_curve_the_track_shift_forces_carry_the_uncompensated_acceleration
     // large share (the bogies' trailing wheelsets, -16.8 and -18.3 kN) have their largest
     // (ΣY)2m toward the outside (-y); the leading ones (-2.2 and -0.8 kN) may reach theirs in
     // the transition, in either direction: the rear bogie's read -2.42 kN at the transition's
-    // start from the 200 Hz samples before stop 33, an alias; assessed at 1 and 5 kHz it is
-    // +2.18 kN within the transition.
+    // start from the 200 Hz samples before stop 33, an alias; assessed at 1, 2 (this test's
+    // default with `polach`) and 5 kHz it is +2.18 kN within the transition.
     let a = &summary.assessment;
     assert_eq!(a.axles.len(), 4);
     assert!(a.lowpass && a.alpha == 1.0);
@@ -221,7 +221,8 @@ fn in_a_steady_curve_the_track_shift_forces_carry_the_uncompensated_acceleration
 /// near its limit, its running-stability r.m.s. at it, the ride and the bogie frames'
 /// criterion, against values far below. Until stop 32 the assessment sampled this 200 Hz run
 /// at 200 Hz and gave (ΣY)2m 3.1 times its limit, an alias of the flange impacts; assessed at
-/// the default 1 kHz it is 0.80, and 0.79 at 2 and 5 kHz (docs/validation.md §9).
+/// the Hertz models' default 2 kHz it is 0.79 (0.80 at 1 kHz, 0.79 at 5 kHz; docs/validation.md
+/// §9).
 #[test]
 fn flange_hunting_nears_the_track_shift_limit_where_stable_running_does_not() {
     // Ideal straight track, the leading wheelset 5 mm off centre. With `polach` the vehicle
@@ -253,7 +254,7 @@ fn flange_hunting_nears_the_track_shift_limit_where_stable_running_does_not() {
         worst_rms(&h),
         worst_rms(&st)
     );
-    // (ΣY)2m: hunting 0.80 of the limit, stable 0.21 (assessed at 1 kHz)
+    // (ΣY)2m: hunting 0.79 of the limit, stable 0.21 (assessed at 2 kHz)
     assert!(worst(&h) > 0.6, "{}", worst(&h));
     assert!(worst(&st) < 0.4, "{}", worst(&st));
     // the r.m.s. criterion: hunting at its limit (0.95 when written, 1.02 since stop 33), the
@@ -471,10 +472,10 @@ fn a_bloss_transition_sways_the_carbody_less_than_a_clothoid() {
 }
 
 /// `[assessment] rate_hz` (docs/models/dynamics.md, "Aliasing"): the assessment's samples
-/// between the log's. A run logged at 200 Hz and assessed at 1 kHz is the run logged at 1 kHz
-/// to the bit (the same evaluations: the same state digest and assessment), with a fifth of the
-/// log's samples; without the key, a 200 Hz log is assessed at 1 kHz too (the default); assessed
-/// at its 200 Hz log rate, the same run differs.
+/// between the log's. A `polach` run logged at 200 Hz and assessed at 2 kHz is the run logged at
+/// 2 kHz to the bit (the same evaluations: the same state digest and assessment), with a tenth of
+/// the log's samples; without the key, a 200 Hz log is assessed at 2 kHz too (the Hertz models'
+/// default; 1 kHz for STRIPES); assessed at 1 kHz or at its 200 Hz log rate, the same run differs.
 #[test]
 fn the_assessment_rate_samples_between_the_log_samples() {
     let scene = |log_hz: u32, extra: &str| {
@@ -485,17 +486,19 @@ fn the_assessment_rate_samples_between_the_log_samples() {
             &format!("[log]\nrate_hz = {log_hz}\n{extra}"),
         )
     };
-    let (_, fast_log, fast) = run(&scene(1000, ""));
-    let (_, slow_log, assessed) = run(&scene(200, "[assessment]\nrate_hz = 1000"));
+    let (_, fast_log, fast) = run(&scene(2000, ""));
+    let (_, slow_log, assessed) = run(&scene(200, "[assessment]\nrate_hz = 2000"));
     let (_, default_log, default) = run(&scene(200, ""));
+    let (_, _, at_1k) = run(&scene(200, "[assessment]\nrate_hz = 1000"));
     let (_, _, aliased) = run(&scene(200, "[assessment]\nrate_hz = 200"));
     eprintln!(
-        "log samples {} / {}; digests {:016x} {:016x} {:016x} {:016x}",
+        "log samples {} / {}; digests {:016x} {:016x} {:016x} {:016x} {:016x}",
         fast.samples,
         assessed.samples,
         fast.digest,
         assessed.digest,
         default.digest,
+        at_1k.digest,
         aliased.digest
     );
     for other in [&assessed, &default] {
@@ -513,8 +516,9 @@ fn the_assessment_rate_samples_between_the_log_samples() {
     assert_eq!(slow_log.len() as u64, assessed.samples);
     assert_eq!(default_log.len() as u64, default.samples);
     assert_eq!(default.samples, assessed.samples);
-    assert_eq!(fast.samples, 5 * (assessed.samples - 1) + 1);
+    assert_eq!(fast.samples, 10 * (assessed.samples - 1) + 1);
+    assert_ne!(fast.digest, at_1k.digest);
     assert_ne!(fast.digest, aliased.digest);
-    let rates = [&fast, &assessed, &default, &aliased].map(|s| s.assessment_rate_hz);
-    assert_eq!(rates, [1000.0, 1000.0, 1000.0, 200.0]);
+    let rates = [&fast, &assessed, &default, &at_1k, &aliased].map(|s| s.assessment_rate_hz);
+    assert_eq!(rates, [2000.0, 2000.0, 2000.0, 1000.0, 200.0]);
 }

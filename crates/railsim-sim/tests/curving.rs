@@ -183,8 +183,8 @@ fn bad_curving_cases_are_reported() {
     // the study's means come from the log's samples: it is assessed at its log rate and does
     // not evaluate the run between them (the scene itself, without the key, at 1 kHz)
     assert_eq!(s.assessment.rate_hz, None);
-    assert!(s.assessment.rate(s.log.rate_hz) >= 1000.0);
-    assert_eq!(scene.assessment.samples_per_log(scene.log.rate_hz), 1);
+    assert!(s.assessment_rate() >= 1000.0);
+    assert_eq!(scene.assessment_samples_per_log(), 1);
 }
 
 /// The quasi-static solution of the R = 300 m case against the time integration's means (the

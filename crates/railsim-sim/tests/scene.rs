@@ -681,7 +681,7 @@ fn assessment_settings_are_read_and_checked() {
     let low_log =
         format!("{GOOD}[log]\nrate_hz = 15\n[assessment]\ninstability_frequency_hz = 6\n");
     let s = compile(&low_log).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(s.assessment.rate(s.log.rate_hz), 1005.0);
+    assert_eq!(s.assessment_rate(), 1005.0);
     let p = problems(&format!("{low_log}rate_hz = 15\n"));
     expect(
         &p,
