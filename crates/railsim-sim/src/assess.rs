@@ -243,9 +243,10 @@ pub struct AssessOptions {
 pub const DEFAULT_ASSESSMENT_RATE_HZ: f64 = 1000.0;
 
 /// \[Hz\] ... and for the Hertz models (`linear`, `polach`, `fastsim`), whose single ellipse per
-/// well makes flange contact shorter, stiffer pulses: at 1 kHz `polach`'s (ΣY)2m statistics
-/// were 7 % off the 5 and 10 kHz values on the default scene and up to 40 % in flange-contact
-/// hunting, at 2 kHz within 0.5 % and 7 % (docs/models/dynamics.md, "Aliasing").
+/// well makes flange contact shorter, stiffer pulses: at 1 kHz `polach`'s (ΣY)2m statistic of
+/// the leading axle was 7 % off the 5 and 10 kHz values on the default scene, and those of the
+/// impacting axles up to 40 % in flange-contact hunting; at 2 kHz within 0.5 % and 7 %
+/// (docs/models/dynamics.md, "Aliasing").
 pub const HERTZ_ASSESSMENT_RATE_HZ: f64 = 2000.0;
 
 /// \[Hz\] the lowest assessment rate of a scene that sets none, by its contact model.
