@@ -472,6 +472,12 @@ fn an_assessment_rate_below_one_kilohertz_notes_its_aliasing() {
         "uneven.toml",
         format!("{text}\n[assessment]\nrate_hz = 1100\n"),
     );
+    // a Hertz model's default is 2 kHz: 1 kHz is below it
+    let hertz_1k = write(
+        "hertz_1k.toml",
+        format!("{text}\n[assessment]\nrate_hz = 1000\n")
+            .replace("model = \"stripes\"", "model = \"polach\""),
+    );
     let run = |scene: &str| railsim(&["run", scene, "--duration-s", "0.01", "--no-log", "--quiet"]);
     let (code, _, err) = run(&aliased);
     assert_eq!(code, 0, "{err}");
@@ -485,6 +491,13 @@ fn an_assessment_rate_below_one_kilohertz_notes_its_aliasing() {
         assert_eq!(code, 0, "{err}");
         assert!(!err.contains("anti-aliasing"), "{err}");
     }
+    let (code, _, err) = run(&hertz_1k);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("samples at 1000 Hz ([assessment] rate_hz)")
+            && err.contains("at or above 2000 Hz for contact model polach"),
+        "{err}"
+    );
     let (code, _, err) = run(&uneven);
     assert_ne!(code, 0);
     assert!(
