@@ -79,7 +79,10 @@ fn rerun(reader: &railsim_log::LogReader) -> Result<ExitCode> {
         }
     }
     let scene_path = PathBuf::from(&sources["scene_path"]);
-    let scene = railsim_sim::Scene::from_file(&scene_path)?;
+    let mut scene = railsim_sim::Scene::from_file(&scene_path)?;
+    if let Some(note) = assess_as_logged(reader.scene(), &mut scene) {
+        eprintln!("note: {note}");
+    }
     let result = &meta["railsim_result"];
     let mut sim = railsim_sim::Simulation::new(&scene)?;
     // A stopped run is re-run to its scene's end, where it must stop again; a finished one to
@@ -130,6 +133,28 @@ fn rerun(reader: &railsim_log::LogReader) -> Result<ExitCode> {
         outln!("the re-run DIFFERS from the log");
         Ok(ExitCode::from(1))
     }
+}
+
+/// A log written before stop 33 records no `assessment_rate_hz`: its run sampled at the log rate,
+/// where a scene without `[assessment] rate_hz` is now assessed at 1 or 2 kHz between the log's
+/// samples (docs/models/dynamics.md, "Aliasing"). Such a scene is re-run at its log rate, as it
+/// was, with a note saying so.
+fn assess_as_logged(
+    logged: Option<&std::collections::BTreeMap<String, String>>,
+    scene: &mut railsim_sim::Scene,
+) -> Option<String> {
+    let before_stop_33 = logged.is_some_and(|m| !m.contains_key("assessment_rate_hz"));
+    if !before_stop_33 || scene.assessment.rate_hz.is_some() {
+        return None;
+    }
+    let now = scene.assessment_rate();
+    scene.assessment.rate_hz = Some(scene.log.rate_hz);
+    Some(format!(
+        "the log records no assessment rate (written before stop 33, when runs were sampled at \
+         the log rate): re-running at the log's {} Hz, not the {now} Hz a run of the scene now \
+         takes",
+        scene.log.rate_hz
+    ))
 }
 
 pub fn run_replay(a: &ReplayArgs) -> Result<ExitCode> {
@@ -758,4 +783,37 @@ fn file_name(path: &Path) -> String {
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A log without `assessment_rate_hz` (before stop 33) re-runs its scene at the log rate; a
+    /// log with it, or a scene that sets its own rate, is re-run as it is.
+    #[test]
+    fn a_log_from_before_stop_33_is_re_run_at_its_log_rate() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/default.toml");
+        let scene = railsim_sim::Scene::from_file(path).unwrap();
+        assert_eq!(scene.assessment.rate_hz, None);
+        let old = std::collections::BTreeMap::from([("log_rate_hz".to_owned(), "200".to_owned())]);
+        let mut new = old.clone();
+        new.insert("assessment_rate_hz".to_owned(), "1000".to_owned());
+        let mut s = scene.clone();
+        let note = assess_as_logged(Some(&old), &mut s).expect("a note");
+        assert!(
+            note.contains("at the log's 200 Hz, not the 1000 Hz"),
+            "{note}"
+        );
+        assert_eq!(s.assessment_rate(), 200.0);
+        for logged in [Some(&new), None] {
+            let mut s = scene.clone();
+            assert_eq!(assess_as_logged(logged, &mut s), None);
+            assert_eq!(s.assessment_rate(), 1000.0);
+        }
+        let mut own = scene.clone();
+        own.assessment.rate_hz = Some(400.0);
+        assert_eq!(assess_as_logged(Some(&old), &mut own), None);
+        assert_eq!(own.assessment_rate(), 400.0);
+    }
 }
