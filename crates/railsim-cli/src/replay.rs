@@ -148,7 +148,7 @@ fn assess_as_logged(
         return None;
     }
     let now = scene.assessment_rate();
-    scene.assessment.rate_hz = Some(scene.log.rate_hz);
+    scene.sample_at_log_rate();
     Some(format!(
         "the log records no assessment rate (written before stop 33, when runs were sampled at \
          the log rate): re-running at the log's {} Hz, not the {now} Hz a run of the scene now \

@@ -455,29 +455,19 @@ fn an_assessment_rate_below_one_kilohertz_notes_its_aliasing() {
         .unwrap()
         .replace("\"../", &format!("\"{}/", root().display()));
     assert!(text.contains("rate_hz = 200") && !text.contains("[assessment]"));
-    let write = |name: &str, text: String| {
+    // the default scene with `[assessment] rate_hz` and contact model `model`
+    let with_rate = |name: &str, rate_hz: u32, model: &str| {
         let path = dir.join(name);
-        std::fs::write(&path, text).unwrap();
+        let scene = format!("{text}\n[assessment]\nrate_hz = {rate_hz}\n")
+            .replace("model = \"stripes\"", &format!("model = \"{model}\""));
+        std::fs::write(&path, scene).unwrap();
         path.to_str().unwrap().to_owned()
     };
-    let aliased = write(
-        "aliased.toml",
-        format!("{text}\n[assessment]\nrate_hz = 200\n"),
-    );
-    let assessed = write(
-        "assessed.toml",
-        format!("{text}\n[assessment]\nrate_hz = 1000\n"),
-    );
-    let uneven = write(
-        "uneven.toml",
-        format!("{text}\n[assessment]\nrate_hz = 1100\n"),
-    );
+    let aliased = with_rate("aliased.toml", 200, "stripes");
+    let assessed = with_rate("assessed.toml", 1000, "stripes");
+    let uneven = with_rate("uneven.toml", 1100, "stripes");
     // a Hertz model's default is 2 kHz: 1 kHz is below it
-    let hertz_1k = write(
-        "hertz_1k.toml",
-        format!("{text}\n[assessment]\nrate_hz = 1000\n")
-            .replace("model = \"stripes\"", "model = \"polach\""),
-    );
+    let hertz_1k = with_rate("hertz_1k.toml", 1000, "polach");
     let run = |scene: &str| railsim(&["run", scene, "--duration-s", "0.01", "--no-log", "--quiet"]);
     let (code, _, err) = run(&aliased);
     assert_eq!(code, 0, "{err}");

@@ -195,9 +195,8 @@ pub fn curving_scene(
         RunLength::Distance(curve_start + run.settle + run.average),
         0.0,
     )?;
-    // (the means come from the log's samples; the assessment, which would evaluate the run
-    // between them, is not used)
-    study.assessment.rate_hz = Some(study.log.rate_hz);
+    // (the means come from the log's samples; the assessment is not used)
+    study.sample_at_log_rate();
     Ok((study, curve_start))
 }
 

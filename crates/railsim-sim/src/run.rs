@@ -458,14 +458,11 @@ impl Simulation {
         // (`[assessment] rate_hz`, a whole multiple of the log rate; docs/models/dynamics.md,
         // "Aliasing")
         let per_log = scene.assessment_samples_per_log();
+        let assessment_rate = scene.assessment_rate();
         let n = self.model.dim();
         let mut xs = vec![0.0; n];
         let mut dxs = vec![0.0; n];
-        let mut state = LoopState::new(
-            &self.model,
-            scene.log.rate_hz * per_log as f64,
-            &self.static_loads,
-        );
+        let mut state = LoopState::new(&self.model, assessment_rate, &self.static_loads);
         let wall = Instant::now();
         let mut logging = 0.0;
         // the first sample on the log's grid at or after the start
@@ -552,7 +549,7 @@ impl Simulation {
                 assessment: assess(&state.series, &axle_loads, &scene.assessment),
                 stats,
                 samples: logged,
-                assessment_rate_hz: scene.log.rate_hz * per_log as f64,
+                assessment_rate_hz: assessment_rate,
                 digest: state.digest,
                 cost,
                 contact_searches,

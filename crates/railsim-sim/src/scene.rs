@@ -459,6 +459,14 @@ impl Scene {
         self.log.rate_hz * self.assessment_samples_per_log() as f64
     }
 
+    /// Sample the run at the log rate only: for runs whose results come from the log's samples
+    /// (a study's callbacks), where the assessment's samples between them would cost recording
+    /// evaluations and give nothing, and for re-running a log written before stop 33, when every
+    /// run was sampled so.
+    pub fn sample_at_log_rate(&mut self) {
+        self.assessment.rate_hz = Some(self.log.rate_hz);
+    }
+
     /// Read and compile a scene file; the vehicle and track paths are resolved from its
     /// directory.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {

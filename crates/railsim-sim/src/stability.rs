@@ -374,8 +374,8 @@ pub fn growth_at(
     )?;
     check_straight(&study, "growth-rate run")?;
     // (the growth rate comes from the lateral displacements at the log's samples; the
-    // assessment, which would evaluate the run between them, is not used)
-    study.assessment.rate_hz = Some(study.log.rate_hz);
+    // assessment is not used)
+    study.sample_at_log_rate();
     let opts = RunOptions {
         no_log: true,
         ..Default::default()
