@@ -327,6 +327,64 @@ fn halfspace_penetration_matches_contact() {
     );
 }
 
+/// `halfspace` with the exact tangential solution is the counterpart of CONTACT's own solution
+/// (exact normal and tangential problems in one plane per patch, the reference point's, with its
+/// creepages; since stop 34): its creep forces within 0.005 Fn of CONTACT's on every
+/// single-region case, and within 0.01 of the wheel's Fn on each region of the right wheel at
+/// y = 5 mm, which CONTACT solves as one patch and railsim as two. Found 0.0024 Fn (Fx, right
+/// wheel at y = 0.5 mm) and 0.0009 Fn (Fs), and 0.0064 on the regions. With the rigid pair's
+/// creepages and plane (before stop 34): 0.0110 Fn in Fx and 0.0107 Fn in Fs.
+#[test]
+fn halfspace_with_exact_tangential_matches_contacts_creep_forces() {
+    let tol = tolerances("mbench_a22", "halfspace_exact");
+    let reference = Table::read("tests/reference/mbench_a22/reference.csv");
+    let regions = Table::read("tests/reference/mbench_a22/regions.csv");
+    let mut contact = mbench_contact(
+        ContactModelKind::Halfspace,
+        ContactOptions::default().travel.step,
+    );
+    contact.opts.tangential = Tangential::Exact;
+    let mut failures = Vec::new();
+    let mut worst: f64 = 0.0;
+    for (r, rows) in &run_all_with(&contact) {
+        let (side, y) = (reference.s(*r, "side"), reference.f(*r, "y_ws_mm"));
+        let fn_ref = reference.f(*r, "fn_N");
+        let regs = regions_of(&regions, side, y);
+        // (what, ours, CONTACT's, bound)
+        let mut checks = Vec::new();
+        if regs.len() > 1 {
+            for &g in &regs {
+                let y_reg = regions.f(g, "ycp_r_patch_mm") + regions.f(g, "s_pn_mm");
+                let p = rows
+                    .iter()
+                    .min_by(|a, b| {
+                        (a.ycp_r_mm - y_reg)
+                            .abs()
+                            .total_cmp(&(b.ycp_r_mm - y_reg).abs())
+                    })
+                    .expect("at least one patch");
+                let bound = tol["region_force_abs_of_fn"] * fn_ref;
+                checks.push(("region fx", p.fx_n, regions.f(g, "fx_N"), bound));
+                checks.push(("region fs", p.fs_n, regions.f(g, "fs_N"), bound));
+            }
+        } else {
+            let m = main_patch(rows);
+            let bound = tol["force_abs_of_fn"] * fn_ref;
+            checks.push(("fx", m.fx_n, reference.f(*r, "fx_N"), bound));
+            checks.push(("fs", m.fs_n, reference.f(*r, "fs_N"), bound));
+        }
+        for (what, got, want, bound) in checks {
+            eprintln!("{side:>5} {y:>5} {what}: {got:8.1} against {want:8.1} N");
+            worst = worst.max((got - want).abs() / fn_ref);
+            if (got - want).abs() > bound {
+                failures.push(format!("{side} y={y}: {what} {got:.1} against {want:.1} N"));
+            }
+        }
+    }
+    eprintln!("largest difference {worst:.4} Fn");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
 #[test]
 fn wheelset_frame_forces_follow_contacts_convention() {
     // CONTACT reports each wheel's total force in track and in wheelset coordinates; our

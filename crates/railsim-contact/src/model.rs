@@ -26,8 +26,8 @@ use crate::geometry::{
 };
 use crate::pair::WheelRailPair;
 use crate::patch::{
-    PatchFrame, WheelKinematics, longitudinal_curvature, patch_frame, reference_point,
-    spin_moment_moved,
+    PatchFrame, WheelKinematics, from_plane_to_frame, longitudinal_curvature, patch_frame,
+    reference_point, spin_moment_moved,
 };
 use crate::point;
 
@@ -557,7 +557,13 @@ impl WheelRailContact {
                     frame.delta0,
                 ),
                 ContactModelKind::Halfspace => {
-                    let f = solve_halfspace(&input, &self.opts, &mut ws.halfspace, &mut ws.exact)?;
+                    let mut f =
+                        solve_halfspace(&input, &self.opts, &mut ws.halfspace, &mut ws.exact)?;
+                    // The half-space patch is planar: its plane is the reference point's
+                    // (CONTACT's, D = 2), not the rigid pair's (until stop 34), which on a wide
+                    // conformal patch leans by 0.01 rad (docs/models/contact.md §5).
+                    let angle = reference_point(&ws.pairs, &zone).1;
+                    (f.fn_, f.fs) = from_plane_to_frame(f.fn_, f.fs, angle, frame.contact_angle);
                     (f, frame.delta0)
                 }
             };

@@ -311,6 +311,16 @@ pub fn reference_point(pairs: &[IsoPair], zone: &Zone) -> (IsoPair, f64) {
     )
 }
 
+/// A patch's normal force `fn_` and lateral force `fs`, given along the normal and tangent of a
+/// plane at contact angle `plane_angle`, expressed along the normal and tangent of the patch
+/// frame at `frame_angle` (both angles as `PatchFrame::contact_angle`): a rotation by their
+/// difference `d` in the cross-section, `n_plane = n cos d - t sin d` and
+/// `t_plane = t cos d + n sin d`. Returns `(fn_, fs)` in the frame's axes.
+pub fn from_plane_to_frame(fn_: f64, fs: f64, plane_angle: f64, frame_angle: f64) -> (f64, f64) {
+    let (sd, cd) = (plane_angle - frame_angle).sin_cos();
+    (fn_ * cd + fs * sd, fs * cd - fn_ * sd)
+}
+
 /// \[N·m\] A patch's spin moment moved from one point to another: `mz` about the normal at the
 /// first point, the patch force `fx` (along the track) and `fs` (along the patch tangent `t`),
 /// the second point `dx` along the track and `dl` along `t` from the first. The moment about
@@ -323,7 +333,31 @@ pub fn spin_moment_moved(mz: f64, fx: f64, fs: f64, dx: f64, dl: f64) -> f64 {
 
 #[cfg(test)]
 mod moved_tests {
-    use super::spin_moment_moved;
+    use super::{from_plane_to_frame, spin_moment_moved};
+
+    /// The force given along one plane's normal and tangent is the same vector along the
+    /// frame's (n = (−sin δ, cos δ), t = (cos δ, sin δ) in the cross-section, as the patch
+    /// frame's), for both signs of the planes' difference.
+    #[test]
+    fn a_force_in_the_reference_plane_is_the_same_vector_in_the_frame() {
+        let axes = |a: f64| {
+            let (s, c) = a.sin_cos();
+            ([-s, c], [c, s])
+        };
+        for (plane, frame) in [(-0.0568, -0.0460), (0.31, 0.29), (1.2, 1.22), (0.0, 0.0)] {
+            let (fn_p, fs_p) = (9870.0, -2579.0);
+            let (fn_f, fs_f) = from_plane_to_frame(fn_p, fs_p, plane, frame);
+            let ((np, tp), (nf, tf)) = (axes(plane), axes(frame));
+            for k in 0..2 {
+                let want = fn_p * np[k] + fs_p * tp[k];
+                let got = fn_f * nf[k] + fs_f * tf[k];
+                assert!(
+                    (got - want).abs() < 1e-9,
+                    "{plane} {frame}: {got} vs {want}"
+                );
+            }
+        }
+    }
     use crate::pose::{cross, dot3};
 
     /// Against the cross product in three dimensions, for patch tangents at several contact

@@ -35,7 +35,7 @@ use railsim_elastic::{
 use crate::error::ContactError;
 use crate::geometry::{IsoPair, Zone};
 use crate::model::{PatchForces, PatchInput};
-use crate::patch::{B_MIN, longitudinal_curvature, mid};
+use crate::patch::{B_MIN, from_plane_to_frame, longitudinal_curvature, mid};
 use crate::wells::{WellScratch, memberships};
 
 /// The tangential solution per strip.
@@ -114,11 +114,14 @@ pub const EXACT_MAX_SWEEPS: usize = 1000;
 /// reference point). Sets `fx`, `fs`, `mz` (about the reference point) and the adhesion fraction.
 ///
 /// The rigid slip is that of CONTACT's planar contact approach (D = 2, the reference's own
-/// definition): one contact plane per patch, the creepages of the reference point, and
-/// `w = (xi - phi y, eta + phi x)` over the plane (Kalker 1990; Vollebregt, VSD 60, 2022). The
-/// per-strip FASTSIM/FaStrip levels use each strip's own creepages instead; on the benchmark the
-/// two differ by up to 0.015 Fn in Fx on the 14 mm wide conformal patch (right wheel,
-/// y = 0.5 mm, docs/validation.md) and by much less elsewhere.
+/// definition): one contact plane per patch, the creepages of the patch reference point (the
+/// `d^(5/2)`-weighted centroid, [`crate::patch::reference_point`], with its own normal and
+/// tangent), and `w = (xi - phi (y - y_c), eta + phi (x - x_c))` over the plane about that point
+/// (Kalker 1990; Vollebregt, VSD 60, 2022). The returned `fx`, `fs` lie along the track and the
+/// reference point's tangent. Until stop 34 the creepages and origin were the rigid pair's: on
+/// the 14 mm wide conformal patch of the benchmark (right wheel, y = 0.5 mm) the two points'
+/// spins differ by 16 % (docs/models/contact.md §6). The per-strip FASTSIM/FaStrip levels use
+/// each strip's own creepages instead.
 pub(crate) fn solve_exact(
     input: &PatchInput<'_>,
     grid: Grid,
@@ -126,12 +129,12 @@ pub(crate) fn solve_exact(
     f: &mut PatchForces,
 ) -> Result<(), ContactError> {
     let (nx, ny) = (grid.nx, grid.ny);
-    let c = input.creep;
+    let (c, dx, dl) = planar_creepages(input);
     for iy in 0..ny {
         for ix in 0..nx {
             let k = ix + nx * iy;
-            scratch.wx[k] = c.xi - c.phi * grid.y(iy);
-            scratch.wy[k] = c.eta + c.phi * grid.x(ix);
+            scratch.wx[k] = c.xi - c.phi * (grid.y(iy) - dl);
+            scratch.wy[k] = c.eta + c.phi * (grid.x(ix) - dx);
         }
     }
     let ExactScratch {
@@ -165,6 +168,20 @@ pub(crate) fn solve_exact(
         0.0
     };
     Ok(())
+}
+
+/// The planar rigid slip's creepages and origin ([`solve_exact`]): those of the patch reference
+/// point, taken with its own normal and tangent, and its offset `(dx, dl)` along the track and
+/// along the frame tangent from the rigid pair, the origin of the grids.
+fn planar_creepages(input: &PatchInput<'_>) -> (Creepages, f64, f64) {
+    let fr = &input.frame;
+    let (rp, angle) = crate::patch::reference_point(input.pairs, &input.zone);
+    let (sa, ca) = angle.sin_cos();
+    let creep = input
+        .kin
+        .creepages([rp.x, rp.a[0], rp.a[1]], [ca, sa], [-sa, ca]);
+    let dl = (rp.b[0] - fr.rail_point[0]) * fr.t[0] + (rp.b[1] - fr.rail_point[1]) * fr.t[1];
+    (creep, rp.x - fr.wheel_point[0], dl)
 }
 
 /// Mean of `sqrt(1 - t^2)` (zero outside [-1, 1]) over `[t1, t2]`, times `t2 - t1`: the exact
@@ -749,8 +766,12 @@ pub fn solve(
         // arc-length coordinates), loaded by the strips' total normal load.
         f.fn_ = load;
         exact_on_strips(input, strips, l_min, l_max, exact_cells, exact, &mut f)?;
-        f.fn_ = load_n;
-        f.fs += load_t;
+        // the exact solution's lateral force lies along the reference point's tangent; the
+        // strips' normal loads along their own normals, as with the strip solvers
+        let (_, angle) = crate::patch::reference_point(input.pairs, &input.zone);
+        let (fn_t, fs_t) = from_plane_to_frame(0.0, f.fs, angle, fr.contact_angle);
+        f.fn_ = load_n + fn_t;
+        f.fs = load_t + fs_t;
         return Ok(f);
     }
     // Equivalent ellipse (area and aspect preserved) for the flexibilities.
