@@ -85,8 +85,8 @@ impl ArcCurve {
         let n = ((length / ds).ceil() as usize).max(1);
         let ds = length / n as f64;
         let mut nodes = Vec::with_capacity(n + 1);
-        for k in 0..=n {
-            let u = sp.param_at_arc_length(k as f64 * ds);
+        let params = sp.params_at_arc_lengths((0..=n).map(|k| k as f64 * ds));
+        for (k, &u) in params.iter().enumerate() {
             let (p, d1, d2) = sp.eval(u);
             let sp2 = d1[0] * d1[0] + d1[1] * d1[1];
             let v = sp2.sqrt();

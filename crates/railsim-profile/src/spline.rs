@@ -200,7 +200,11 @@ impl SmoothingSpline {
     /// Position, first and second derivative with respect to u at `u` \[m\]. Outside the
     /// parameter range the end cubics are extrapolated.
     pub fn eval(&self, u: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
-        let i = self.segment(u);
+        self.eval_in(self.segment(u), u)
+    }
+
+    /// As [`SmoothingSpline::eval`], on segment `i`'s cubic.
+    fn eval_in(&self, i: usize, u: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
         let t = u - self.u[i];
         let mut p = [0.0; 2];
         let mut d1 = [0.0; 2];
@@ -214,10 +218,13 @@ impl SmoothingSpline {
         (p, d1, d2)
     }
 
-    /// |d(position)/du| at `u`.
-    fn speed(&self, u: f64) -> f64 {
-        let (_, d1, _) = self.eval(u);
-        d1[0].hypot(d1[1])
+    /// |d(position)/du| of segment `i`'s cubic at `u`.
+    fn speed_in(&self, i: usize, u: f64) -> f64 {
+        let t = u - self.u[i];
+        let [[_, bx, cx, dx], [_, by, cy, dy]] = self.coef[i];
+        let vx = bx + t * (2.0 * cx + 3.0 * t * dx);
+        let vy = by + t * (2.0 * cy + 3.0 * t * dy);
+        vx.hypot(vy)
     }
 
     /// Arc length \[m\] of segment `i` from its start to `u` (5-point Gauss-Legendre).
@@ -227,7 +234,7 @@ impl SmoothingSpline {
         let mid = 0.5 * (a + b);
         GL_X.iter()
             .zip(GL_W)
-            .map(|(x, w)| w * self.speed(mid + half * x))
+            .map(|(x, w)| w * self.speed_in(i, mid + half * x))
             .sum::<f64>()
             * half
     }
@@ -250,7 +257,29 @@ impl SmoothingSpline {
         let total = self.arc_length();
         let s = s.clamp(0.0, total);
         let k = self.s_knot.partition_point(|&x| x <= s);
-        let i = k.clamp(1, self.s_knot.len() - 1) - 1;
+        self.param_in_segment(k.clamp(1, self.s_knot.len() - 1) - 1, s)
+    }
+
+    /// Parameters at the arc lengths `s` (ascending, each clamped), as
+    /// [`SmoothingSpline::param_at_arc_length`] gives them one by one, the segments found by a
+    /// walk instead of a search.
+    pub fn params_at_arc_lengths(&self, s: impl Iterator<Item = f64>) -> Vec<f64> {
+        let total = self.arc_length();
+        let last = self.s_knot.len() - 2;
+        let mut i = 0;
+        s.map(|s| {
+            let s = s.clamp(0.0, total);
+            // the segment of `param_at_arc_length`: the last knot at or before s
+            while i < last && self.s_knot[i + 1] <= s {
+                i += 1;
+            }
+            self.param_in_segment(i, s)
+        })
+        .collect()
+    }
+
+    /// Parameter u at arc length `s` (within `[0, arc_length]`) on segment `i`.
+    fn param_in_segment(&self, i: usize, s: f64) -> f64 {
         let (mut lo, mut hi) = (self.u[i], self.u[i + 1]);
         let target = s - self.s_knot[i];
         let seg = self.s_knot[i + 1] - self.s_knot[i];
@@ -262,7 +291,7 @@ impl SmoothingSpline {
             } else {
                 lo = u;
             }
-            let sp = self.speed(u);
+            let sp = self.speed_in(i, u);
             let mut next = if sp > 0.0 {
                 u - f / sp
             } else {

@@ -360,6 +360,40 @@ pub fn default_components(wavelength_min: f64, wavelength_max: f64, length: f64)
     ((band * 2.0 * length / (2.0 * PI)).ceil() as usize).max(256)
 }
 
+/// One cosine of a synthetic channel: `amp cos(w s + theta)`.
+#[derive(Clone, Copy)]
+struct Cosine {
+    w: f64,
+    theta: f64,
+    amp: f64,
+}
+
+/// Adds `N` cosines `amp cos(w·iΔ + θ)` to `out` and their derivatives `−amp w sin(w·iΔ + θ)` to
+/// `slope` at the samples i = 0, 1, … (spacing `step`), by complex rotation re-anchored every 64
+/// samples. The cosines are taken together sample by sample, each added in its own order, so that
+/// every sample sums them as one at a time would, to the bit, while the `N` rotations overlap.
+fn add_cosines<const N: usize>(cs: &[Cosine], step: f64, out: &mut [f64], slope: &mut [f64]) {
+    let c: [Cosine; N] = std::array::from_fn(|j| cs[j]);
+    let rot: [(f64, f64); N] = std::array::from_fn(|j| (c[j].w * step).sin_cos());
+    let n = out.len();
+    let mut i = 0;
+    while i < n {
+        let mut sc: [(f64, f64); N] =
+            std::array::from_fn(|j| (c[j].w * i as f64 * step + c[j].theta).sin_cos());
+        let end = (i + 64).min(n);
+        for (o, d) in out[i..end].iter_mut().zip(&mut slope[i..end]) {
+            for j in 0..N {
+                let (sn, cs) = sc[j];
+                let (rs, rc) = rot[j];
+                *o += c[j].amp * cs;
+                *d -= c[j].amp * c[j].w * sn;
+                sc[j] = (sn * rc + cs * rs, cs * rc - sn * rs);
+            }
+        }
+        i = end;
+    }
+}
+
 /// Generate the four channels of a synthetic irregularity (sum of cosines, see the module
 /// docs).
 pub fn synthesize(p: &SyntheticParams) -> IrregularitySeries {
@@ -372,28 +406,22 @@ pub fn synthesize(p: &SyntheticParams) -> IrregularitySeries {
     let mut slopes: [Vec<f64>; 4] = Default::default();
     let values = Channel::ALL.map(|channel| {
         let mut rng = SplitMix64::new(channel_seed(p.seed, channel));
+        let comps: Vec<Cosine> = (0..p.components)
+            .map(|k| {
+                let w = w_min + (k as f64 + rng.next_f64()) * dw;
+                let theta = 2.0 * PI * rng.next_f64();
+                let amp = (2.0 * p.spectrum.psd(channel, w) * dw).sqrt();
+                Cosine { w, theta, amp }
+            })
+            .collect();
         let mut out = vec![0.0; n];
         let mut slope = vec![0.0; n];
-        for k in 0..p.components {
-            let w = w_min + (k as f64 + rng.next_f64()) * dw;
-            let theta = 2.0 * PI * rng.next_f64();
-            let amp = (2.0 * p.spectrum.psd(channel, w) * dw).sqrt();
-            // cos(w·iΔ + θ) and its derivative −w sin(w·iΔ + θ) by complex rotation,
-            // re-anchored every 64 samples.
-            let (rs, rc) = (w * step).sin_cos();
-            let mut i = 0;
-            while i < n {
-                let (mut sn, mut cs) = (w * i as f64 * step + theta).sin_cos();
-                let end = (i + 64).min(n);
-                for (o, d) in out[i..end].iter_mut().zip(&mut slope[i..end]) {
-                    *o += amp * cs;
-                    *d -= amp * w * sn;
-                    let c2 = cs * rc - sn * rs;
-                    sn = sn * rc + cs * rs;
-                    cs = c2;
-                }
-                i = end;
-            }
+        let mut blocks = comps.chunks_exact(4);
+        for block in blocks.by_ref() {
+            add_cosines::<4>(block, step, &mut out, &mut slope);
+        }
+        for c in blocks.remainder() {
+            add_cosines::<1>(std::slice::from_ref(c), step, &mut out, &mut slope);
         }
         if p.taper > 0.0 {
             for ((o, d), &si) in out.iter_mut().zip(&mut slope).zip(&s) {
@@ -604,5 +632,77 @@ pub fn parse_csv(text: &str, file: &str) -> Result<IrregularitySeries, TrackErro
         Ok(IrregularitySeries::new(s, values))
     } else {
         Err(TrackErrors { errors })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cosines taken four at a time give every sample's value and slope as one at a time
+    /// does (the code before stop 34), to the bit, with a remainder block and with a fade.
+    #[test]
+    fn the_blocked_cosines_sum_as_one_at_a_time() {
+        for (components, taper) in [(258, 0.0), (261, 20.0)] {
+            let p = SyntheticParams {
+                spectrum: Spectrum::ErriB176High,
+                seed: 7,
+                wavelength_min: 3.0,
+                wavelength_max: 120.0,
+                step: 0.25,
+                components,
+                taper,
+                start: 10.0,
+                length: 300.0,
+            };
+            let got = synthesize(&p);
+            let n = got.s.len();
+            let step = p.length / (n - 1) as f64;
+            let w_min = 2.0 * PI / p.wavelength_max;
+            let dw = (2.0 * PI / p.wavelength_min - w_min) / p.components as f64;
+            for channel in Channel::ALL {
+                let mut rng = SplitMix64::new(channel_seed(p.seed, channel));
+                let (mut out, mut slope) = (vec![0.0; n], vec![0.0; n]);
+                for k in 0..p.components {
+                    let w = w_min + (k as f64 + rng.next_f64()) * dw;
+                    let theta = 2.0 * PI * rng.next_f64();
+                    let amp = (2.0 * p.spectrum.psd(channel, w) * dw).sqrt();
+                    let (rs, rc) = (w * step).sin_cos();
+                    let mut i = 0;
+                    while i < n {
+                        let (mut sn, mut cs) = (w * i as f64 * step + theta).sin_cos();
+                        let end = (i + 64).min(n);
+                        for (o, d) in out[i..end].iter_mut().zip(&mut slope[i..end]) {
+                            *o += amp * cs;
+                            *d -= amp * w * sn;
+                            let c2 = cs * rc - sn * rs;
+                            sn = sn * rc + cs * rs;
+                            cs = c2;
+                        }
+                        i = end;
+                    }
+                }
+                for ((o, d), &si) in out.iter_mut().zip(&mut slope).zip(&got.s) {
+                    if p.taper > 0.0 {
+                        let (g, dg) = fade(si - p.start, p.start + p.length - si, p.taper);
+                        *d = *d * g + *o * dg;
+                        *o *= g;
+                    }
+                }
+                let c = channel as usize;
+                for i in 0..n {
+                    assert_eq!(
+                        got.values[c][i].to_bits(),
+                        out[i].to_bits(),
+                        "{channel:?} {i}"
+                    );
+                    assert_eq!(
+                        got.slopes[c][i].to_bits(),
+                        slope[i].to_bits(),
+                        "{channel:?} {i}"
+                    );
+                }
+            }
+        }
     }
 }
