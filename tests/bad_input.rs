@@ -666,3 +666,66 @@ fn implausible_pair_options_are_rejected() {
         assert!(e.to_string().len() < 200, "{e}");
     }
 }
+
+/// Polach's extended parameters out of their ranges are refused when the contact is built, each
+/// by name (k_A in (0, 1], k_S in (0, k_A], A in [0, 1], B finite and ≥ 0), never at an
+/// evaluation.
+#[test]
+fn polachs_parameters_out_of_range_are_refused() {
+    use railsim_contact::{ContactOptions, PolachAdhesion, WheelRailContact};
+    let ok = PolachAdhesion::default();
+    for (p, key) in [
+        (PolachAdhesion { k_a: 0.0, ..ok }, "polach k_a"),
+        (PolachAdhesion { k_a: 1.5, ..ok }, "polach k_a"),
+        (
+            PolachAdhesion {
+                k_a: 0.3,
+                k_s: 0.4,
+                ..ok
+            },
+            "polach k_s",
+        ),
+        (
+            PolachAdhesion {
+                k_s: f64::NAN,
+                ..ok
+            },
+            "polach k_s",
+        ),
+        (
+            PolachAdhesion {
+                friction_ratio: -0.1,
+                ..ok
+            },
+            "polach friction ratio A",
+        ),
+        (
+            PolachAdhesion {
+                friction_decay: f64::INFINITY,
+                ..ok
+            },
+            "polach friction decay B",
+        ),
+    ] {
+        let opts = ContactOptions {
+            model: ContactModelKind::Polach,
+            polach: p,
+            ..Default::default()
+        };
+        match WheelRailContact::new(crate::common::mbench_pair(), opts) {
+            Err(ContactError::BadOption { key: k, .. }) => assert_eq!(k, key, "{p:?}"),
+            other => panic!("{p:?}: {:?}", other.map(|_| ())),
+        }
+    }
+    let opts = ContactOptions {
+        model: ContactModelKind::Polach,
+        polach: PolachAdhesion {
+            k_a: 0.3,
+            k_s: 0.1,
+            friction_ratio: 0.4,
+            friction_decay: 0.2,
+        },
+        ..Default::default()
+    };
+    assert!(WheelRailContact::new(crate::common::mbench_pair(), opts).is_ok());
+}

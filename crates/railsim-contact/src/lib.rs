@@ -36,7 +36,7 @@ pub use friction::Friction;
 pub use geometry::{IsoPair, TravelOptions, TravelStats};
 pub use model::{
     ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, LOAD_RESIDUAL_NOTICE,
-    PatchForces, PatchResult, WheelRailContact, WheelSummary,
+    PatchForces, PatchResult, PolachAdhesion, WheelRailContact, WheelSummary,
 };
 pub use pair::{PairSpec, WheelRailPair};
 pub use pose::{Side, WheelsetPose, WheelsetVelocity};

@@ -141,6 +141,77 @@ pub struct ContactOptions {
     pub linear_creep: Option<f64>,
     /// How the Hertz models (`linear`, `polach`, `fastsim`) find their contact points.
     pub hertz_search: HertzSearch,
+    /// `polach` model only: Polach's reduction factors and friction falling with the slip
+    /// velocity; the default is his 1999 model with Coulomb friction.
+    pub polach: PolachAdhesion,
+}
+
+/// Polach's extended creep-force model (Polach, Wear 258, 2005, eqs. 2 and 3; the kernel
+/// `railsim_elastic::polach`): the reduction factors `k_A` of the initial slope in the adhesion
+/// area and `k_S` in the slip area, and the friction falling with the slip velocity `w`,
+/// `mu = mu0 ((1 - A) exp(-B w) + A)`, where `mu0` is the pair's friction at the patch (its
+/// contact angle, its rail section). Polach's 1999 model with Coulomb friction is
+/// `k_A = k_S = 1`, `A = 1`, `B = 0` (the default).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PolachAdhesion {
+    /// \[-\] reduction factor `k_A` of the initial slope, in (0, 1]
+    pub k_a: f64,
+    /// \[-\] reduction factor `k_S` in the slip area, in (0, `k_a`]
+    pub k_s: f64,
+    /// \[-\] `A`: the friction at infinite slip velocity over `mu0`, in [0, 1]
+    pub friction_ratio: f64,
+    /// \[s/m\] `B`: the rate at which the friction falls with the slip velocity, ≥ 0
+    pub friction_decay: f64,
+}
+
+impl Default for PolachAdhesion {
+    fn default() -> Self {
+        PolachAdhesion {
+            k_a: 1.0,
+            k_s: 1.0,
+            friction_ratio: 1.0,
+            friction_decay: 0.0,
+        }
+    }
+}
+
+impl PolachAdhesion {
+    /// The first parameter out of its range, as (key, value found, what is expected): `k_a` in
+    /// (0, 1], `k_s` in (0, `k_a`] (Polach's k_S ≤ k_A ≤ 1), `friction_ratio` in [0, 1],
+    /// `friction_decay` finite and ≥ 0.
+    pub fn problem(&self) -> Option<(&'static str, String, &'static str)> {
+        let in_unit = |x: f64| x > 0.0 && x <= 1.0;
+        if !in_unit(self.k_a) {
+            Some(("polach k_a", self.k_a.to_string(), "a factor in (0, 1]"))
+        } else if !(self.k_s > 0.0 && self.k_s <= self.k_a) {
+            Some(("polach k_s", self.k_s.to_string(), "a factor in (0, k_a]"))
+        } else if !(0.0..=1.0).contains(&self.friction_ratio) {
+            Some((
+                "polach friction ratio A",
+                self.friction_ratio.to_string(),
+                "a ratio in [0, 1]",
+            ))
+        } else if !(self.friction_decay.is_finite() && self.friction_decay >= 0.0) {
+            Some((
+                "polach friction decay B",
+                self.friction_decay.to_string(),
+                "a finite rate >= 0 s/m",
+            ))
+        } else {
+            None
+        }
+    }
+
+    /// The kernel's parameters at the patch friction `mu0`.
+    fn at(&self, mu0: f64) -> PolachParams {
+        PolachParams {
+            k_a: self.k_a,
+            k_s: self.k_s,
+            mu0,
+            a_ratio: self.friction_ratio,
+            b_decay: self.friction_decay,
+        }
+    }
 }
 
 /// How the Hertz models find the contact point of each zone.
@@ -195,6 +266,7 @@ impl Default for ContactOptions {
             max_penetration: 5e-3,
             linear_creep: None,
             hertz_search: HertzSearch::Point,
+            polach: PolachAdhesion::default(),
         }
     }
 }
@@ -409,6 +481,13 @@ impl WheelRailContact {
                     expected: "between 2 and 1024 cells each way".into(),
                 });
             }
+        }
+        if let Some((key, value, expected)) = opts.polach.problem() {
+            return Err(ContactError::BadOption {
+                key,
+                value,
+                expected: expected.into(),
+            });
         }
         Ok(WheelRailContact { pair, opts })
     }
@@ -917,7 +996,7 @@ impl WheelRailContact {
                 hz.n,
                 &input.creep,
                 input.kin.v_ref,
-                &PolachParams::coulomb(mu),
+                &self.opts.polach.at(mu),
                 mat,
             )?
         } else {

@@ -3,7 +3,9 @@
 use std::ops::Range;
 use std::path::{Component, Path, PathBuf};
 
-use railsim_contact::{ContactModelKind, ContactOptions, Friction, HertzSearch, Tangential};
+use railsim_contact::{
+    ContactModelKind, ContactOptions, Friction, HertzSearch, PolachAdhesion, Tangential,
+};
 use railsim_ode::Method;
 use railsim_spec::short_number;
 use railsim_track::{SegmentKind, TrackError, TrackModel, TrackSpec};
@@ -16,8 +18,8 @@ use crate::assess::{
 };
 use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::spec::{
-    AssessmentSpec, ContactSpec, FrictionSpec, InitialSpec, IntegratorSpec, LogSpec, SceneSpec,
-    SpeedProfileSpec,
+    AssessmentSpec, ContactSpec, FrictionSpec, InitialSpec, IntegratorSpec, LogSpec, PolachSpec,
+    SceneSpec, SpeedProfileSpec,
 };
 
 /// \[-\] a rigid wheelbase `a` needs curves of radius R ≥ this × a (see
@@ -714,13 +716,69 @@ impl Compiler<'_> {
             Some(x)
         } else {
             let lb = if open_lo { "(" } else { "[" };
+            let unit = if unit.is_empty() {
+                String::new()
+            } else {
+                format!(" {unit}")
+            };
             self.err(
                 &v.span(),
                 key,
-                format!("{key} must lie in {lb}{lo:e}, {hi:e}] {unit}, found {x}"),
+                format!("{key} must lie in {lb}{lo:e}, {hi:e}]{unit}, found {x}"),
             );
             None
         }
+    }
+
+    /// `[contact] polach`: each key in its range, then `k_s` ≤ `k_a` (Polach's k_S ≤ k_A ≤ 1).
+    fn polach(&mut self, p: &PolachSpec) -> Option<PolachAdhesion> {
+        let mut out = PolachAdhesion::default();
+        let mut ok = true;
+        let mut take = |v: &Option<Spanned<f64>>,
+                        key: &str,
+                        unit: &str,
+                        range: (f64, f64),
+                        open_lo: bool,
+                        field: &mut f64| {
+            if let Some(v) = v {
+                match self.range(v, key, unit, range, open_lo) {
+                    Some(x) => *field = x,
+                    None => ok = false,
+                }
+            }
+        };
+        take(&p.k_a, "polach.k_a", "", (0.0, 1.0), true, &mut out.k_a);
+        take(&p.k_s, "polach.k_s", "", (0.0, 1.0), true, &mut out.k_s);
+        take(
+            &p.friction_ratio_at_infinite_slip,
+            "polach.friction_ratio_at_infinite_slip",
+            "",
+            (0.0, 1.0),
+            false,
+            &mut out.friction_ratio,
+        );
+        take(
+            &p.friction_decay_s_per_m,
+            "polach.friction_decay_s_per_m",
+            "s/m",
+            (0.0, 100.0),
+            false,
+            &mut out.friction_decay,
+        );
+        if ok && out.k_s > out.k_a {
+            let span = p.k_s.as_ref().or(p.k_a.as_ref()).map(|v| v.span());
+            self.sink.at(
+                span.as_ref(),
+                "polach.k_s",
+                format!(
+                    "polach.k_s must not exceed polach.k_a (Polach's k_S <= k_A <= 1), found \
+                     k_s = {} and k_a = {}",
+                    out.k_s, out.k_a
+                ),
+            );
+            return None;
+        }
+        ok.then_some(out)
     }
 
     /// `[contact] friction` (checked by [`FrictionSpec::problem`]).
@@ -1370,6 +1428,24 @@ impl Compiler<'_> {
                     false,
                 ) {
                     Some(x) => opts.linear_creep = Some(x),
+                    None => ok = false,
+                }
+            }
+        }
+        if let Some(p) = &c.polach {
+            if opts.model != ContactModelKind::Polach {
+                self.err(
+                    &p.span(),
+                    "contact.polach",
+                    format!(
+                        "[contact] polach applies only to model = \"polach\", found model = \"{}\"",
+                        opts.model.name()
+                    ),
+                );
+                ok = false;
+            } else {
+                match self.polach(p.get_ref()) {
+                    Some(x) => opts.polach = x,
                     None => ok = false,
                 }
             }

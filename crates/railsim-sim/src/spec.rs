@@ -122,6 +122,29 @@ pub struct ContactSpec {
     /// Tangential solution of `stripes` and `halfspace`: `"fastrip"` (default) or `"fastsim"`.
     #[serde(default)]
     pub tangential: Option<Spanned<String>>,
+    /// `polach` model only: Polach's reduction factors and friction falling with the slip
+    /// velocity (docs/formats/scene.md).
+    #[serde(default)]
+    pub polach: Option<Spanned<PolachSpec>>,
+}
+
+/// `[contact] polach`: Polach's extended creep-force model (Polach 2005); every key optional,
+/// with the 1999 model's values (1, 1, 1, 0).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PolachSpec {
+    /// \[-\] reduction factor k_A of the initial slope, in (0, 1].
+    #[serde(default)]
+    pub k_a: Option<Spanned<f64>>,
+    /// \[-\] reduction factor k_S in the slip area, in (0, k_a].
+    #[serde(default)]
+    pub k_s: Option<Spanned<f64>>,
+    /// \[-\] A: the friction at infinite slip velocity over the pair's friction, in [0, 1].
+    #[serde(default)]
+    pub friction_ratio_at_infinite_slip: Option<Spanned<f64>>,
+    /// \[s/m\] B: the decay rate of the friction with the slip velocity, in [0, 100].
+    #[serde(default)]
+    pub friction_decay_s_per_m: Option<Spanned<f64>>,
 }
 
 /// `[integrator]`.
@@ -263,6 +286,14 @@ pub const CONTACT_KEYS: &[&str] = &[
     "warm_start",
     "hertz_search",
     "tangential",
+    "polach",
+];
+/// Keys of `[contact] polach`.
+pub const POLACH_KEYS: &[&str] = &[
+    "k_a",
+    "k_s",
+    "friction_ratio_at_infinite_slip",
+    "friction_decay_s_per_m",
 ];
 /// Keys of `[integrator]`.
 pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_step_s"];

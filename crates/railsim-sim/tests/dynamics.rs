@@ -404,6 +404,85 @@ fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
     assert!((fx / (2000.0 / r) - 1.0).abs() < 0.01);
 }
 
+/// Polach's extended model (`[contact] polach`, Polach 2005): the reduction factors and the
+/// friction falling with the slip velocity lower the adhesion a driven wheelset can use. The
+/// free wheelset with 2 kN·m of traction at 72 km/h needs 0.244 of its load as creep force
+/// (friction 0.3). Polach's 1999 model (Coulomb) carries it at a creepage of 0.091 % (of the
+/// nominal rolling circle); with k_A = 1, k_S = 0.4, A = 0.4 and B = 0.6 s/m the creep curve
+/// rises more slowly and the wheelset runs steadily at 0.48 % (criterion: over three times the
+/// Coulomb creepage, both steady, ΣFx·r = T within 1 %); with B = 3 s/m the friction falls
+/// below what the torque needs, and the wheelset slips: the creep force falls to the friction
+/// at infinite slip, A·μ0·ΣQ = 0.12 ΣQ (criterion 5 %; found 0.1198 at 16 % creepage), and
+/// the spin rate grows as the torque's excess over the creep force's moment says, 4.53 rad/s
+/// in 0.5 s against (T − r ΣFx)·0.5 s / I_yy = 4.55 (criterion 3 %). Runs of 1 s, compared at
+/// 0.5 and 1 s. If the scene's parameters did not reach the creep-force law, all three would
+/// run as the first.
+#[test]
+fn polachs_falling_friction_lets_a_driven_wheelset_slip() {
+    use railsim_ode::OdeSystem;
+    use railsim_sim::dynamics::Dynamics;
+    let dir = std::env::temp_dir().join(format!("railsim-adhesion-{}", std::process::id()));
+    let run_with = |polach: &str| {
+        let s = common::driven_wheelset(
+            &dir,
+            &format!("[contact]\nmodel = \"polach\"\n{polach}\n[log]\nrate_hz = 100\n"),
+        );
+        let (sim, samples, _) = run(&s);
+        let m = sim.model();
+        let spin = common::state_index(&sim, "d/dt ws.spin");
+        let at = |t: f64| {
+            samples
+                .iter()
+                .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
+                .unwrap()
+        };
+        let (s1, s2) = (at(0.5), at(1.0));
+        let mut d = Dynamics::new(m);
+        let mut dx = vec![0.0; m.dim()];
+        d.rhs(s2.t, &s2.x, &mut dx).unwrap();
+        let fx: f64 = d.ws.wheel_force.iter().map(|f| f[0]).sum();
+        let fz: f64 = d.ws.wheel_force.iter().map(|f| f[2]).sum();
+        let r = m.members[0].rolling_radius;
+        let v = 20.0;
+        // the longitudinal creepage of the axle's nominal rolling circle
+        let creep = (s2.x[spin].abs() * r - v) / v;
+        (fx, fz, r, creep, s2.x[spin].abs() - s1.x[spin].abs())
+    };
+    let coulomb = run_with("");
+    let dry = run_with(
+        "polach = { k_a = 1.0, k_s = 0.4, friction_ratio_at_infinite_slip = 0.4, \
+         friction_decay_s_per_m = 0.6 }",
+    );
+    let falling = run_with(
+        "polach = { k_a = 1.0, k_s = 0.4, friction_ratio_at_infinite_slip = 0.4, \
+         friction_decay_s_per_m = 3.0 }",
+    );
+    std::fs::remove_dir_all(&dir).ok();
+    for (name, (fx, fz, r, creep, dw)) in [("Coulomb", coulomb), ("k_S 0.4", dry), ("B 3", falling)]
+    {
+        eprintln!(
+            "{name}: sum Fx {fx:.1} N = {:.4} of the load, Fx r {:.1} N m, creepage {creep:.5}, spin rate +{dw:.4} rad/s from 0.5 to 1 s",
+            fx / fz,
+            fx * r
+        );
+    }
+    for (fx, _, r, _, dw) in [coulomb, dry] {
+        assert!((fx * r / 2000.0 - 1.0).abs() < 0.01, "{}", fx * r);
+        assert!(dw.abs() < 1e-2, "{dw}");
+    }
+    assert!(dry.3 > 3.0 * coulomb.3, "{} against {}", dry.3, coulomb.3);
+    let (fx, fz, _, creep, dw) = falling;
+    assert!(dw > 1.0, "the wheelset does not slip: {dw} rad/s");
+    assert!(creep > 0.1, "{creep}");
+    assert!((fx / fz / (0.4 * 0.3) - 1.0).abs() < 0.05, "{}", fx / fz);
+    // I_yy = 112 kg m² (vehicles/wheelset_free.toml)
+    let predicted = (2000.0 - fx * falling.2) * 0.5 / 112.0;
+    assert!(
+        (dw / predicted - 1.0).abs() < 0.03,
+        "{dw} against {predicted}"
+    );
+}
+
 /// The reaction of a traction torque closes the vehicle's pitch balance. The Manchester vehicle
 /// (carbody x frozen: the frame holds it at the scene's speed) with 5 kN·m of traction on every
 /// axle, on straight track at 72 km/h, against the same vehicle without torque, each in its

@@ -401,6 +401,67 @@ fn the_tangential_solution_is_read_and_checked() {
     }
 }
 
+/// `[contact] polach`: Polach's extended model, read into the contact options, with the 1999
+/// model's values for the keys left out; each key's range, k_S <= k_A, an unknown key and a
+/// model other than `polach` reported at the key's line.
+#[test]
+fn polachs_extended_model_is_read_and_checked() {
+    let s = compile(&format!(
+        "{GOOD}[contact]\nmodel = \"polach\"\npolach = {{ k_a = 0.8, k_s = 0.4, \
+         friction_ratio_at_infinite_slip = 0.4, friction_decay_s_per_m = 0.6 }}\n"
+    ))
+    .unwrap();
+    let p = s.contact.polach;
+    assert_eq!(
+        (p.k_a, p.k_s, p.friction_ratio, p.friction_decay),
+        (0.8, 0.4, 0.4, 0.6)
+    );
+    let s = compile(&format!(
+        "{GOOD}[contact]\nmodel = \"polach\"\npolach = {{ k_s = 0.5 }}\n"
+    ))
+    .unwrap();
+    let p = s.contact.polach;
+    assert_eq!(
+        (p.k_a, p.k_s, p.friction_ratio, p.friction_decay),
+        (1.0, 0.5, 1.0, 0.0)
+    );
+    let s = compile(&format!("{GOOD}[contact]\nmodel = \"polach\"\n")).unwrap();
+    assert_eq!(s.contact.polach, railsim_contact::PolachAdhesion::default());
+    for (text, want) in [
+        (
+            "model = \"polach\"\npolach = { k_a = 1.2 }",
+            vec!["polach.k_a must lie in (0e0, 1e0], found 1.2"],
+        ),
+        (
+            "model = \"polach\"\npolach = { k_a = 0.5, k_s = 0.8 }",
+            vec![
+                "polach.k_s must not exceed polach.k_a",
+                "k_s = 0.8 and k_a = 0.5",
+            ],
+        ),
+        (
+            "model = \"polach\"\npolach = { friction_ratio_at_infinite_slip = 1.5 }",
+            vec!["friction_ratio_at_infinite_slip must lie in [0e0, 1e0], found 1.5"],
+        ),
+        (
+            "model = \"polach\"\npolach = { friction_decay_s_per_m = -0.6 }",
+            vec!["friction_decay_s_per_m must lie in [0e0, 1e2] s/m, found -0.6"],
+        ),
+        (
+            "model = \"polach\"\npolach = { k_b = 0.5 }",
+            vec!["unknown field `k_b`", "k_a"],
+        ),
+        (
+            "model = \"fastsim\"\npolach = { k_a = 0.5 }",
+            vec!["applies only to model = \"polach\"", "fastsim"],
+        ),
+    ] {
+        let p = problems(&format!("{GOOD}[contact]\n{text}\n"));
+        let line = 6 + text.lines().count() - 1;
+        expect(&p, line, &want);
+    }
+}
+
 #[test]
 fn bad_integrator_and_tolerances_are_rejected() {
     let p = problems(&format!("{GOOD}[integrator]\nmethod = \"dopri45\"\n"));
