@@ -46,6 +46,23 @@ fn main_patch(rows: &[ContactRow]) -> &ContactRow {
         .expect("at least one patch")
 }
 
+/// \[mm\] position on the rail of region row `g` of the regions table (its patch's reference
+/// point plus the region's pressure centre along the patch).
+fn region_position(regions: &Table, g: usize) -> f64 {
+    regions.f(g, "ycp_r_patch_mm") + regions.f(g, "s_pn_mm")
+}
+
+/// Our patch nearest on the rail to position `y_r` \[mm\].
+fn nearest_patch(rows: &[ContactRow], y_r: f64) -> &ContactRow {
+    rows.iter()
+        .min_by(|a, b| {
+            (a.ycp_r_mm - y_r)
+                .abs()
+                .total_cmp(&(b.ycp_r_mm - y_r).abs())
+        })
+        .expect("at least one patch")
+}
+
 /// Index of the reference row for a side and y in the regions table.
 fn regions_of(reg: &Table, side: &str, y: f64) -> Vec<usize> {
     (0..reg.rows.len())
@@ -135,16 +152,9 @@ fn check_against_contact(contact: &WheelRailContact, known: &[Known]) {
             // CONTACT merged several regions into one patch: compare region by region, each
             // region with our patch nearest to it on the rail.
             for &g in &regs {
-                let y_reg = regions.f(g, "ycp_r_patch_mm") + regions.f(g, "s_pn_mm");
+                let y_reg = region_position(&regions, g);
                 let fn_reg = regions.f(g, "fn_N");
-                let p = rows
-                    .iter()
-                    .min_by(|a, b| {
-                        (a.ycp_r_mm - y_reg)
-                            .abs()
-                            .total_cmp(&(b.ycp_r_mm - y_reg).abs())
-                    })
-                    .unwrap();
+                let p = nearest_patch(rows, y_reg);
                 eprintln!(
                     "      region {}: y_r {:.2} (ours {:.2}), Fn {:.0} (ours {:.0})",
                     regions.s(g, "region"),
@@ -354,15 +364,7 @@ fn halfspace_with_exact_tangential_matches_contacts_creep_forces() {
         let mut checks = Vec::new();
         if regs.len() > 1 {
             for &g in &regs {
-                let y_reg = regions.f(g, "ycp_r_patch_mm") + regions.f(g, "s_pn_mm");
-                let p = rows
-                    .iter()
-                    .min_by(|a, b| {
-                        (a.ycp_r_mm - y_reg)
-                            .abs()
-                            .total_cmp(&(b.ycp_r_mm - y_reg).abs())
-                    })
-                    .expect("at least one patch");
+                let p = nearest_patch(rows, region_position(&regions, g));
                 let bound = tol["region_force_abs_of_fn"] * fn_ref;
                 checks.push(("region fx", p.fx_n, regions.f(g, "fx_N"), bound));
                 checks.push(("region fs", p.fs_n, regions.f(g, "fs_N"), bound));
