@@ -11,8 +11,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use railsim_contact::contact_format::{ContactRow, parse_cases_csv, solve_case};
 use railsim_contact::{
     ContactModelKind, ContactOptions, ContactWorkspace, Friction, HertzSearch,
-    LOAD_RESIDUAL_NOTICE, PairSpec, PatchResult, Side, Tangential, WheelRailContact, WheelRailPair,
-    WheelsetPose, WheelsetVelocity,
+    LOAD_RESIDUAL_NOTICE, PairSpec, PatchResult, PolachAdhesion, Side, Tangential,
+    WheelRailContact, WheelRailPair, WheelsetPose, WheelsetVelocity,
 };
 use railsim_contact::{geometry, pair, pose};
 use railsim_elastic::Material;
@@ -217,6 +217,21 @@ struct ContactArgs {
     /// seed's travelling.
     #[arg(long, value_enum, default_value = "point")]
     hertz_search: HertzSearchName,
+    /// `polach` only: Polach's reduction factor k_A of the initial slope, in (0, 1] (Polach
+    /// 2005; default 1).
+    #[arg(long)]
+    polach_k_a: Option<f64>,
+    /// `polach` only: Polach's reduction factor k_S in the slip area, in (0, k_A] (default 1).
+    #[arg(long)]
+    polach_k_s: Option<f64>,
+    /// `polach` only: the friction at infinite slip velocity over `--mu`, A in [0, 1] (default
+    /// 1: no fall): mu = mu0 ((1 - A) exp(-B w) + A) at slip velocity w.
+    #[arg(long)]
+    polach_friction_ratio: Option<f64>,
+    /// `polach` only: the rate B (s/m) at which the friction falls with the slip velocity
+    /// (default 0).
+    #[arg(long)]
+    polach_friction_decay_s_per_m: Option<f64>,
     /// Which wheel.
     #[arg(long, value_enum, default_value = "left")]
     side: SideName,
@@ -558,11 +573,30 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
             "--tangential applies only to --model stripes or halfspace (the Hertz models have their own tangential solution)"
         );
     }
+    let polach_flags = [
+        a.polach_k_a,
+        a.polach_k_s,
+        a.polach_friction_ratio,
+        a.polach_friction_decay_s_per_m,
+    ];
+    if polach_flags.iter().any(Option::is_some) && !matches!(a.model, ModelName::Polach) {
+        bail!(
+            "--polach-* options apply only to --model polach (Polach's extended creep-force model)"
+        );
+    }
+    let d = PolachAdhesion::default();
+    let polach = PolachAdhesion {
+        k_a: a.polach_k_a.unwrap_or(d.k_a),
+        k_s: a.polach_k_s.unwrap_or(d.k_s),
+        friction_ratio: a.polach_friction_ratio.unwrap_or(d.friction_ratio),
+        friction_decay: a.polach_friction_decay_s_per_m.unwrap_or(d.friction_decay),
+    };
     let pair = build_pair(&a.pair)?;
     let mut opts = ContactOptions {
         model: a.model.into(),
         tangential: a.tangential.unwrap_or(TangentialName::Fastrip).into(),
         hertz_search: a.hertz_search.into(),
+        polach,
         ..Default::default()
     };
     opts.travel.step = in_range_mm("--step-mm", a.step_mm, geometry::STEP_RANGE)? * 1e-3;

@@ -770,6 +770,62 @@ fn friction_by_angle_lubricates_the_flange() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// `railsim contact --model polach --polach-*`: Polach's extended model on one wheel. A wheel
+/// spinning at twice its rolling speed (100 % creepage, slip velocity 20 m/s) transmits the
+/// sliding friction: μ·Fz with Coulomb friction, A·μ·Fz once the friction has fallen
+/// (A = 0.4, B = 5 s/m: e^(−100) of the fall left), each within 1 % of the load's share (the
+/// patches' normals lean a little from the vertical). The options are refused with another
+/// model and out of range.
+#[test]
+fn polachs_falling_friction_on_one_wheel() {
+    let fx = |extra: &[&str]| -> f64 {
+        let mut args = vec!["contact", "--model", "polach", "--spin-rad-s", "86.96"];
+        args.extend_from_slice(extra);
+        let (code, out, err) = railsim(&args);
+        assert_eq!(code, 0, "{err}");
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("total force on the wheel"))
+            .unwrap_or_else(|| panic!("{out}"));
+        // "... Fx = 3001.1 N, ..."
+        line.split("Fx = ")
+            .nth(1)
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let coulomb = fx(&[]);
+    let fallen = fx(&[
+        "--polach-friction-ratio",
+        "0.4",
+        "--polach-friction-decay-s-per-m",
+        "5",
+    ]);
+    eprintln!("Fx at 100 % creepage: Coulomb {coulomb} N, fallen friction {fallen} N");
+    assert!((coulomb.abs() - 3000.0).abs() < 30.0, "{coulomb}");
+    assert!((fallen.abs() - 1200.0).abs() < 12.0, "{fallen}");
+    let (code, _, err) = railsim(&["contact", "--polach-k-s", "0.5"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("apply only to --model polach"), "{err}");
+    let (code, _, err) = railsim(&[
+        "contact",
+        "--model",
+        "polach",
+        "--polach-k-a",
+        "0.3",
+        "--polach-k-s",
+        "0.4",
+    ]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("polach k_s = 0.4: expected a factor in (0, k_a]"),
+        "{err}"
+    );
+}
+
 /// An output path that names one of the command's inputs is refused before anything is
 /// written: the case table and the profile stay as they were.
 #[test]
