@@ -389,8 +389,9 @@ impl RailFrame {
 /// elastic displacement of the rail's support: lateral alignment and vertical level move both
 /// rails, half the gauge deviation moves each rail outward, cross level rolls the rail pair
 /// about the centre line, and `support` = (y, z, vy, vz) \[m, m/s\] (zero on rigid rails) moves
-/// this rail. Returns the rail frame (identity on a rigid track without irregularities, which
-/// are then not evaluated).
+/// this rail (an out-of-round wheel's radius deviation is given here too,
+/// `SimModel::wheel_support`). Returns the rail frame (identity on a rigid track without
+/// irregularities and a zero `support`, which are then not evaluated).
 #[allow(clippy::too_many_arguments)]
 pub fn rail_frame(
     m: &SimModel,
@@ -416,13 +417,11 @@ pub fn rail_frame(
                 v * ir.dcross_level_ds / m.cant_base,
             )
         }
-        None if m.rail_support.is_none() => return RailFrame::default(),
+        None if support == [0.0; 4] => return RailFrame::default(),
         None => ([0.0; 2], [0.0; 2], 0.0, 0.0),
     };
-    if m.rail_support.is_some() {
-        o = [o[0] + support[0], o[1] + support[1]];
-        od = [od[0] + support[2], od[1] + support[3]];
-    }
+    o = [o[0] + support[0], o[1] + support[1]];
+    od = [od[0] + support[2], od[1] + support[3]];
     // Axle centre relative to the rail frame's origin, rotated by −δ.
     let c = [pose.y - o[0], pose.z + radius - o[1]];
     let (sd, cd) = delta.sin_cos();
@@ -885,7 +884,7 @@ impl Dynamics<'_> {
                 s_wheel,
                 v,
                 radius,
-                m.rail_state(wi, x),
+                m.wheel_support(wi, m.rail_state(wi, x), s_wheel, v + k.qd[0], radius),
                 &mut pose,
                 &mut vel,
             );

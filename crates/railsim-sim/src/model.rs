@@ -12,7 +12,9 @@ use railsim_contact::{
 use railsim_elastic::Material;
 use railsim_profile::{Profile, ProfileError, ProfileKind, analytic, read_simpack, read_table_mm};
 use railsim_track::{RailProfile, RailSection, RailSupport, TrackModel};
-use railsim_vehicle::model::{Endpoint, ForceLaw, Member, WheelProfile, Wheelset};
+use railsim_vehicle::model::{
+    Endpoint, ForceLaw, Member, WheelDefect, WheelProfile, Wheelset, radius_deviation,
+};
 use railsim_vehicle::{DofKind, VehicleModel};
 
 use crate::assess::ComfortPoint;
@@ -129,6 +131,9 @@ pub struct WheelModel {
     /// Index of the first of the four states of the rail under this wheel on an elastic rail
     /// support (lateral and vertical displacement, then their rates); `None` on rigid rails.
     pub rail: Option<usize>,
+    /// The wheel's out-of-roundness (empty: a round wheel), met as a vertical displacement of
+    /// its rail (`dynamics::wheel_support`).
+    pub out_of_roundness: Vec<WheelDefect>,
 }
 
 /// The immutable simulation model.
@@ -268,6 +273,7 @@ impl SimModel {
                     side,
                     contacts,
                     rail: None,
+                    out_of_roundness: w.out_of_roundness[k].clone(),
                 });
             }
             members.push(MemberModel {
@@ -477,6 +483,34 @@ impl SimModel {
             Some(i) => [x[i], x[i + 1], x[i + 2], x[i + 3]],
             None => [0.0; 4],
         }
+    }
+
+    /// What wheel `wi` meets of its rail's displacement (y, z, vy, vz) \[m, m/s\]: the rail's
+    /// own, `rail` (an elastic support's, [`SimModel::rail_state`]), and, for a wheel that is out
+    /// of round, its radius
+    /// deviation δr at the bottom as a vertical displacement of the rail, δr(θ) up and
+    /// dδr/dθ·θ̇ its rate (a larger radius lifts the axle as a raised rail does). θ is the rolled
+    /// angle, the wheelset's track position `s_wheel` over its nominal radius `r0`, and
+    /// θ̇ = `speed`/r0: the wheel meets the same tread point every 2π r0 of track (its creep,
+    /// some thousandths, is left out of the angle). Source: the out-of-round wheel as a moving
+    /// irregularity of the wheel/rail gap, as in wheel-flat impact models (e.g. Wu & Thompson,
+    /// J. Sound Vib. 251, 2002); docs/models/dynamics.md, "Out-of-round wheels".
+    pub fn wheel_support(
+        &self,
+        wi: usize,
+        rail: [f64; 4],
+        s_wheel: f64,
+        speed: f64,
+        r0: f64,
+    ) -> [f64; 4] {
+        let mut out = rail;
+        let defects = &self.wheels[wi].out_of_roundness;
+        if !defects.is_empty() {
+            let (dr, ddr) = radius_deviation(defects, s_wheel / r0, r0);
+            out[1] += dr;
+            out[3] += ddr * speed / r0;
+        }
+        out
     }
 
     /// \[s\] the times in `(t0, t_end)` at which the right-hand side is not smooth in time,

@@ -836,9 +836,8 @@ fn settle(
             // Relative to this wheel's rail (moved by irregularities and `support`): find the rail-frame
             // height that carries the load, then the track-frame height that gives it.
             let (mut pr, mut vr) = (p, vel);
-            let rail = rail_frame(
-                model, wheel.side, s, vel.vx, radius, support[k], &mut pr, &mut vr,
-            );
+            let sup = model.wheel_support(first_wheel + k, support[k], s, vel.vx, radius);
+            let rail = rail_frame(model, wheel.side, s, vel.vx, radius, sup, &mut pr, &mut vr);
             let sol = wheel.contacts[model.track.rail_section_at(s)]
                 .evaluate_with_load(wheel.side, &pr, &vr, 0.5 * load, 1e-10, &mut ws.contact)
                 .map_err(|e| e.to_string())?;

@@ -26,9 +26,12 @@ pub mod suspension;
 pub use error::{Problem, SourceMap, VehicleError};
 pub use model::{
     Axis, Body, BodyId, Dof, DofKind, Endpoint, ForceElement, ForceElementId, ForceLaw, ForceTable,
-    InternalState, InternalStateKind, Member, VehicleModel, WheelProfile, Wheelset, WheelsetId,
-    series_force, series_state_rate,
+    InternalState, InternalStateKind, Member, VehicleModel, WheelDefect, WheelProfile, Wheelset,
+    WheelsetId, radius_deviation, series_force, series_state_rate,
 };
-pub use spec::{BodySpec, ForceSpec, NumberOrTriple, VehicleSpec, WheelProfileSpec, WheelsetSpec};
+pub use spec::{
+    BodySpec, ForceSpec, NumberOrTriple, OutOfRoundnessSpec, VehicleSpec, WheelProfileSpec,
+    WheelsetSpec,
+};
 pub use statics::StaticEquilibrium;
 pub use suspension::{DamperTable, damper_series_law, friction_law};

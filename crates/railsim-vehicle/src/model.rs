@@ -9,7 +9,9 @@ use toml::Spanned;
 
 use crate::error::{Sink, VehicleError, did_you_mean};
 use crate::linalg::{Mat3, cholesky, rotation_rpy, sym3_eigenvalues};
-use crate::spec::{BodySpec, ForceSpec, NumberOrTriple, VehicleSpec, WheelsetSpec};
+use crate::spec::{
+    BodySpec, ForceSpec, NumberOrTriple, OutOfRoundnessSpec, VehicleSpec, WheelsetSpec,
+};
 use crate::suspension::DamperTable;
 
 /// \[m/s²\] gravitational acceleration used when the file gives none.
@@ -224,6 +226,71 @@ pub struct Wheelset {
     pub torque_reaction: Option<BodyId>,
     /// Frozen degrees of freedom, indexed by [`DofKind::index`] (`Pitch` is the spin).
     pub frozen: [bool; 6],
+    /// The wheels' out-of-roundness `[left, right]` (empty: round wheels).
+    pub out_of_roundness: [Vec<WheelDefect>; 2],
+}
+
+/// An out-of-roundness of a wheel: a deviation of its radius with the rolled angle θ (the
+/// distance the wheelset has run over its nominal radius, so that the wheel meets the same
+/// point of its tread every 2π r0 of track).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum WheelDefect {
+    /// A polygonal wheel: `δr = amplitude cos(order θ + phase)`.
+    Harmonic {
+        /// waves round the wheel
+        order: u32,
+        /// \[m\]
+        amplitude: f64,
+        /// \[rad\]
+        phase: f64,
+    },
+    /// A rounded wheel flat: `δr = −(depth/2) (1 + cos(2π d/length))` where the arc distance
+    /// `d = r0 (θ − position)` (wrapped to ±π r0) is within ±length/2 of the flat's centre,
+    /// zero elsewhere (the rounded, or haversine, flat of the wheel-flat impact literature,
+    /// e.g. Wu & Thompson, J. Sound Vib. 251, 2002).
+    Flat {
+        /// \[m\] along the circumference
+        length: f64,
+        /// \[m\]
+        depth: f64,
+        /// \[rad\] rolled angle at which its centre is at the bottom
+        position: f64,
+    },
+}
+
+/// The radius deviation `δr` \[m\] (positive: a larger radius) of a wheel with nominal radius
+/// `r0` and defects `defects` at rolled angle `theta` \[rad\], and its rate `dδr/dθ` \[m/rad\].
+pub fn radius_deviation(defects: &[WheelDefect], theta: f64, r0: f64) -> (f64, f64) {
+    let (mut dr, mut ddr) = (0.0, 0.0);
+    for d in defects {
+        match *d {
+            WheelDefect::Harmonic {
+                order,
+                amplitude,
+                phase,
+            } => {
+                let n = f64::from(order);
+                let (s, c) = (n * theta + phase).sin_cos();
+                dr += amplitude * c;
+                ddr -= amplitude * n * s;
+            }
+            WheelDefect::Flat {
+                length,
+                depth,
+                position,
+            } => {
+                let tau = std::f64::consts::TAU;
+                let a = (theta - position).rem_euclid(tau);
+                let arc = r0 * if a > 0.5 * tau { a - tau } else { a };
+                if arc.abs() < 0.5 * length {
+                    let (s, c) = (tau * arc / length).sin_cos();
+                    dr -= 0.5 * depth * (1.0 + c);
+                    ddr += 0.5 * depth * s * tau * r0 / length;
+                }
+            }
+        }
+    }
+    (dr, ddr)
 }
 
 impl Wheelset {
@@ -1338,6 +1405,7 @@ impl Compiler<'_> {
                 }
             }
         };
+        let out_of_roundness = self.out_of_roundness(&w.out_of_roundness, &label);
         let profiles = self
             .req(
                 &w.wheel_profile,
@@ -1364,7 +1432,186 @@ impl Compiler<'_> {
             torque: torque?,
             torque_reaction: torque_reaction?,
             frozen,
+            out_of_roundness: out_of_roundness?,
         })
+    }
+
+    /// `[[wheelset.out_of_roundness]]`: each entry's type, side and its type's keys in range.
+    fn out_of_roundness(
+        &mut self,
+        v: &Option<Spanned<Vec<Spanned<OutOfRoundnessSpec>>>>,
+        label: &str,
+    ) -> Option<[Vec<WheelDefect>; 2]> {
+        let mut out: [Vec<WheelDefect>; 2] = Default::default();
+        let Some(list) = v else {
+            return Some(out);
+        };
+        let mut ok = true;
+        for (i, e) in list.get_ref().iter().enumerate() {
+            let at = e.span();
+            let e = e.get_ref();
+            let lab = format!("{label}: out_of_roundness {}", i + 1);
+            let Some(kind) = self.req(&e.kind, &at, &lab, "type", "\"harmonic\" or \"flat\"")
+            else {
+                ok = false;
+                continue;
+            };
+            let sides: Option<&[usize]> = match self.req(
+                &e.side,
+                &at,
+                &lab,
+                "side",
+                "\"left\", \"right\" or \"both\"",
+            ) {
+                None => None,
+                Some(s) => match s.get_ref().trim() {
+                    "left" => Some(&[0]),
+                    "right" => Some(&[1]),
+                    "both" => Some(&[0, 1]),
+                    other => {
+                        self.err(
+                            &s.span(),
+                            "side",
+                            format!("{lab}: side = \"{other}\"; expected \"left\", \"right\" or \"both\""),
+                        );
+                        None
+                    }
+                },
+            };
+            // a required number in (lo, hi]
+            let num = |me: &mut Self,
+                       v: &Option<Spanned<f64>>,
+                       key: &str,
+                       (lo, hi): (f64, f64),
+                       unit: &str|
+             -> Option<f64> {
+                let v = me.req(
+                    v,
+                    &at,
+                    &lab,
+                    key,
+                    &format!("a number in ({lo}, {hi}] {unit}"),
+                )?;
+                let x = *v.get_ref();
+                if x.is_finite() && x > lo && x <= hi {
+                    Some(x)
+                } else {
+                    me.err(
+                        &v.span(),
+                        key,
+                        format!("{lab}: {key} = {x}; expected a number in ({lo}, {hi}] {unit}"),
+                    );
+                    None
+                }
+            };
+            let angle = |me: &mut Self, v: &Option<Spanned<f64>>, key: &str| -> Option<f64> {
+                match v {
+                    None => Some(0.0),
+                    Some(v) if v.get_ref().is_finite() && v.get_ref().abs() <= 360.0 => {
+                        Some(v.get_ref().to_radians())
+                    }
+                    Some(v) => {
+                        me.err(
+                            &v.span(),
+                            key,
+                            format!(
+                                "{lab}: {key} = {}; expected an angle within ±360 deg",
+                                v.get_ref()
+                            ),
+                        );
+                        None
+                    }
+                }
+            };
+            let foreign = |me: &mut Self, keys: [(&str, bool); 3], kind: &str| {
+                let mut clean = true;
+                for (key, given) in keys {
+                    if given {
+                        me.err(
+                            &at,
+                            key,
+                            format!("{lab}: {key} does not apply to type = \"{kind}\""),
+                        );
+                        clean = false;
+                    }
+                }
+                clean
+            };
+            let defect = match kind.get_ref().trim() {
+                "harmonic" => {
+                    let clean = foreign(
+                        self,
+                        [
+                            ("length_mm", e.length_mm.is_some()),
+                            ("depth_mm", e.depth_mm.is_some()),
+                            ("position_deg", e.position_deg.is_some()),
+                        ],
+                        "harmonic",
+                    );
+                    let order = num(self, &e.order, "order", (0.0, 100.0), "waves").and_then(|n| {
+                        if n.fract() == 0.0 {
+                            Some(n as u32)
+                        } else {
+                            self.err(
+                                &at,
+                                "order",
+                                format!("{lab}: order = {n}; expected a whole number of waves"),
+                            );
+                            None
+                        }
+                    });
+                    let amplitude = num(self, &e.amplitude_mm, "amplitude_mm", (0.0, 5.0), "mm");
+                    let phase = angle(self, &e.phase_deg, "phase_deg");
+                    match (clean, order, amplitude, phase) {
+                        (true, Some(order), Some(a), Some(phase)) => Some(WheelDefect::Harmonic {
+                            order,
+                            amplitude: a * 1e-3,
+                            phase,
+                        }),
+                        _ => None,
+                    }
+                }
+                "flat" => {
+                    let clean = foreign(
+                        self,
+                        [
+                            ("order", e.order.is_some()),
+                            ("amplitude_mm", e.amplitude_mm.is_some()),
+                            ("phase_deg", e.phase_deg.is_some()),
+                        ],
+                        "flat",
+                    );
+                    let length = num(self, &e.length_mm, "length_mm", (0.0, 300.0), "mm");
+                    let depth = num(self, &e.depth_mm, "depth_mm", (0.0, 5.0), "mm");
+                    let position = angle(self, &e.position_deg, "position_deg");
+                    match (clean, length, depth, position) {
+                        (true, Some(l), Some(d), Some(position)) => Some(WheelDefect::Flat {
+                            length: l * 1e-3,
+                            depth: d * 1e-3,
+                            position,
+                        }),
+                        _ => None,
+                    }
+                }
+                other => {
+                    self.err(
+                        &kind.span(),
+                        "type",
+                        format!("{lab}: type = \"{other}\"; expected \"harmonic\" or \"flat\""),
+                    );
+                    None
+                }
+            };
+            match (defect, sides) {
+                (Some(d), Some(sides)) => {
+                    for &k in sides {
+                        out[k].push(d);
+                    }
+                }
+                _ => ok = false,
+            }
+        }
+        ok.then_some(out)
     }
 
     fn profile(

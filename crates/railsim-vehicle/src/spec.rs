@@ -127,6 +127,40 @@ pub struct WheelsetSpec {
     /// Degrees of freedom held at their nominal value: any of `x y z roll yaw spin`.
     #[serde(default)]
     pub frozen: Option<Spanned<Vec<Spanned<String>>>>,
+    /// The wheels' out-of-roundness (`[[wheelset.out_of_roundness]]`): harmonics of the radius
+    /// (polygonal wheels) and rounded flats; default none.
+    #[serde(default)]
+    pub out_of_roundness: Option<Spanned<Vec<Spanned<OutOfRoundnessSpec>>>>,
+}
+
+/// One out-of-roundness of a wheel (`[[wheelset.out_of_roundness]]`).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutOfRoundnessSpec {
+    /// `"harmonic"` (a polygonal wheel) or `"flat"` (a rounded wheel flat) (required).
+    #[serde(default, rename = "type")]
+    pub kind: Option<Spanned<String>>,
+    /// `"left"`, `"right"` or `"both"` (required).
+    #[serde(default)]
+    pub side: Option<Spanned<String>>,
+    /// Harmonic: its order, the number of waves round the wheel, 1 to 100 (required).
+    #[serde(default)]
+    pub order: Option<Spanned<f64>>,
+    /// \[mm\] harmonic: amplitude of the radius deviation, in (0, 5] (required).
+    #[serde(default)]
+    pub amplitude_mm: Option<Spanned<f64>>,
+    /// \[deg\] harmonic: phase; default 0.
+    #[serde(default)]
+    pub phase_deg: Option<Spanned<f64>>,
+    /// \[mm\] flat: length along the circumference, in (0, 300] (required).
+    #[serde(default)]
+    pub length_mm: Option<Spanned<f64>>,
+    /// \[mm\] flat: depth, in (0, 5] (required).
+    #[serde(default)]
+    pub depth_mm: Option<Spanned<f64>>,
+    /// \[deg\] flat: rolled angle at which its centre is at the bottom; default 0.
+    #[serde(default)]
+    pub position_deg: Option<Spanned<f64>>,
 }
 
 /// Wheel profile per side: the built-in name `"s1002"` or a file path relative to the vehicle
@@ -365,6 +399,18 @@ pub const WHEELSET_KEYS: &[&str] = &[
     "torque_nm",
     "torque_reaction",
     "frozen",
+    "out_of_roundness",
+];
+/// Keys of a `[[wheelset.out_of_roundness]]`.
+pub const OUT_OF_ROUNDNESS_KEYS: &[&str] = &[
+    "type",
+    "side",
+    "order",
+    "amplitude_mm",
+    "phase_deg",
+    "length_mm",
+    "depth_mm",
+    "position_deg",
 ];
 /// Keys of a `[[force]]`.
 pub const FORCE_KEYS: &[&str] = &[

@@ -1458,3 +1458,125 @@ fn an_off_centre_bogie_frame_loads_its_wheelsets_by_the_lever_rule() {
         "{front} vs {rear}: {bending} N m at {a} m"
     );
 }
+
+/// `[[wheelset.out_of_roundness]]`: harmonics and flats per side read into the wheelset (in
+/// SI), and each kind of bad entry reported at its line with the entry's number.
+#[test]
+fn out_of_roundness_is_read_and_checked() {
+    use railsim_vehicle::WheelDefect;
+    let text = format!(
+        "{WS}\n[[wheelset.out_of_roundness]]\ntype = \"harmonic\"\nside = \"both\"\norder = 8\n\
+         amplitude_mm = 0.03\nphase_deg = 90\n\n[[wheelset.out_of_roundness]]\ntype = \"flat\"\n\
+         side = \"right\"\nlength_mm = 40\ndepth_mm = 0.1\n"
+    );
+    let v = compile(&text).unwrap_or_else(|e| panic!("{e}"));
+    let w = &v.wheelsets()[0];
+    let harmonic = WheelDefect::Harmonic {
+        order: 8,
+        amplitude: 0.03e-3,
+        phase: 90f64.to_radians(),
+    };
+    let flat = WheelDefect::Flat {
+        length: 0.04,
+        depth: 0.1e-3,
+        position: 0.0,
+    };
+    assert_eq!(w.out_of_roundness[0], vec![harmonic]);
+    assert_eq!(w.out_of_roundness[1], vec![harmonic, flat]);
+    // a round wheel has none
+    assert!(
+        compile(WS).unwrap().wheelsets()[0]
+            .out_of_roundness
+            .iter()
+            .all(Vec::is_empty)
+    );
+    // (the entry's keys start at line 12 of the text: WS's 10 lines, a blank, the header)
+    for (entry, line, want) in [
+        (
+            "type = \"polygon\"\nside = \"left\"",
+            12,
+            vec![
+                "out_of_roundness 1: type = \"polygon\"",
+                "\"harmonic\" or \"flat\"",
+            ],
+        ),
+        (
+            "type = \"flat\"\nside = \"up\"\nlength_mm = 40\ndepth_mm = 0.1",
+            13,
+            vec!["side = \"up\"", "\"both\""],
+        ),
+        (
+            "type = \"harmonic\"\nside = \"left\"\norder = 2.5\namplitude_mm = 0.1",
+            11,
+            vec!["order = 2.5", "whole number"],
+        ),
+        (
+            "type = \"harmonic\"\nside = \"left\"\norder = 4\namplitude_mm = 7",
+            15,
+            vec!["amplitude_mm = 7", "(0, 5] mm"],
+        ),
+        (
+            "type = \"flat\"\nside = \"left\"\nlength_mm = 40",
+            11,
+            vec!["missing key 'depth_mm'"],
+        ),
+        (
+            "type = \"flat\"\nside = \"left\"\nlength_mm = 40\ndepth_mm = 0.1\norder = 3",
+            11,
+            vec!["order does not apply to type = \"flat\""],
+        ),
+        (
+            "type = \"flat\"\nside = \"left\"\nlength_mm = 40\ndepth_mm = 0.1\nposition_deg = 400",
+            16,
+            vec!["position_deg = 400", "±360 deg"],
+        ),
+        ("side = \"left\"\norder = 3", 11, vec!["missing key 'type'"]),
+    ] {
+        let p = problems(&format!("{WS}\n[[wheelset.out_of_roundness]]\n{entry}\n"));
+        expect(&p, line, &want);
+    }
+}
+
+/// The radius deviation of the defects (`radius_deviation`): a harmonic's value and phase, a
+/// rounded flat's depth at its centre, zero beyond its ends and continuous at them, the flat
+/// found again one turn later, and the rate against a centred difference everywhere.
+#[test]
+fn the_radius_deviation_of_harmonics_and_flats() {
+    use railsim_vehicle::{WheelDefect, radius_deviation};
+    let r0 = 0.46;
+    let h = [WheelDefect::Harmonic {
+        order: 3,
+        amplitude: 1e-4,
+        phase: 0.5,
+    }];
+    let (dr, _) = radius_deviation(&h, 0.2, r0);
+    assert!((dr - 1e-4 * (3.0 * 0.2 + 0.5f64).cos()).abs() < 1e-18);
+    let f = [WheelDefect::Flat {
+        length: 0.05,
+        depth: 0.2e-3,
+        position: 1.0,
+    }];
+    let half = 0.5 * 0.05 / r0;
+    for turn in [0.0, std::f64::consts::TAU, -std::f64::consts::TAU] {
+        assert!((radius_deviation(&f, 1.0 + turn, r0).0 + 0.2e-3).abs() < 1e-15);
+        assert_eq!(
+            radius_deviation(&f, 1.0 + turn + 1.01 * half, r0),
+            (0.0, 0.0)
+        );
+        assert!(
+            radius_deviation(&f, 1.0 + turn + 0.999_999 * half, r0)
+                .0
+                .abs()
+                < 1e-14
+        );
+    }
+    let both: Vec<WheelDefect> = h.iter().chain(&f).copied().collect();
+    let e = 1e-7;
+    for k in 0..2000 {
+        let th = -7.0 + 14.0 * f64::from(k) / 2000.0;
+        let (_, rate) = radius_deviation(&both, th, r0);
+        let fd = (radius_deviation(&both, th + e, r0).0 - radius_deviation(&both, th - e, r0).0)
+            / (2.0 * e);
+        assert!((rate - fd).abs() < 1e-9, "theta {th}: {rate} against {fd}");
+    }
+}
