@@ -189,6 +189,8 @@ pub fn curving_scene(
         case_track(&scene.track_file, case, lead_in, run.transition, curve_len).map_err(bad)?;
     let mut base = scene.clone();
     base.track = track;
+    // (round wheels, as the track is without irregularities: a steady state)
+    base.vehicle.make_wheels_round();
     base.start = -x_min;
     let mut study = base.study(
         SpeedProfile::constant(case.speed),

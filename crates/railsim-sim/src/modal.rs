@@ -126,7 +126,7 @@ impl ModalAnalysis {
 
 /// The scene that [`modes_at`] linearises: `scene` at constant `speed` on its track file with
 /// the alignment replaced by a tangent long enough for the vehicle and its irregularities
-/// removed, undisturbed.
+/// removed, its wheels made round, undisturbed.
 pub fn modal_scene(scene: &Scene, speed: f64) -> Result<Scene, SimError> {
     if !(speed.is_finite() && speed > 0.0) {
         return Err(SimError::Study {
@@ -148,6 +148,8 @@ pub fn modal_scene(scene: &Scene, speed: f64) -> Result<Scene, SimError> {
     })?;
     let mut base = scene.clone();
     base.track = track;
+    // (round wheels, as the track is without irregularities: the linearisation of the vehicle)
+    base.vehicle.make_wheels_round();
     base.start = MARGIN - x_min;
     base.initial.yaw = 0.0;
     // a run of 0.5 m: the study checks it stays on the track

@@ -595,3 +595,59 @@ fn two_point_flange_contact_on_rigid_rails_linearises_unstable_where_its_time_in
         }
     }
 }
+
+/// The modal analysis linearises the vehicle with round wheels, as it removes the track's
+/// irregularities: the Wickens wheelset with a polygon and a flat on its wheels has the same
+/// eigenvalues, to the bit, as without them (a defect left in would shift the linearisation's
+/// point with the wheel's radius at the study's track position, and couple x to z through the
+/// defect's slope).
+#[test]
+fn the_modes_are_those_of_round_wheels() {
+    let dir = std::env::temp_dir().join(format!("railsim-modal-oor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text =
+        std::fs::read_to_string(common::root().join("vehicles/wheelset_springs.toml")).unwrap();
+    let vehicle = dir.join("wheelset.toml");
+    std::fs::write(
+        &vehicle,
+        format!(
+            "{text}\n[[wheelset.out_of_roundness]]\ntype = \"harmonic\"\nside = \"both\"\norder = 5\n\
+             amplitude_mm = 0.1\n\n[[wheelset.out_of_roundness]]\ntype = \"flat\"\nside = \"left\"\n\
+             length_mm = 40\ndepth_mm = 0.1\n"
+        ),
+    )
+    .unwrap();
+    let round = common::wickens_scene();
+    let scene_text = format!(
+        "vehicle = \"{}\"\ntrack = \"tracks/straight.toml\"\nspeed_kmh = 1000\nduration_s = 1.4\n\
+         [contact]\nmodel = \"linear\"\ncreep_coefficient_n = 1e8\n",
+        vehicle.display()
+    );
+    let out_of_round = common::scene(&scene_text);
+    assert!(
+        out_of_round.vehicle.wheelsets()[0]
+            .out_of_roundness
+            .iter()
+            .all(|d| !d.is_empty())
+    );
+    let study = railsim_sim::modal::modal_scene(&out_of_round, 50.0).unwrap();
+    assert!(
+        study.vehicle.wheelsets()[0]
+            .out_of_roundness
+            .iter()
+            .all(Vec::is_empty)
+    );
+    let opts = ModalOptions::default();
+    let (a, b) = (
+        modes_at(&round, 50.0, &opts).unwrap(),
+        modes_at(&out_of_round, 50.0, &opts).unwrap(),
+    );
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(a.modes.len(), b.modes.len());
+    for (p, q) in a.modes.iter().zip(&b.modes) {
+        assert_eq!(
+            (p.re.to_bits(), p.im.to_bits()),
+            (q.re.to_bits(), q.im.to_bits())
+        );
+    }
+}

@@ -673,6 +673,13 @@ impl VehicleModel {
     pub fn wheelsets(&self) -> &[Wheelset] {
         &self.wheelsets
     }
+    /// Removes every wheel's out-of-roundness (for the studies of steady states and of
+    /// linearisations, which remove the track's irregularities too).
+    pub fn make_wheels_round(&mut self) {
+        for w in &mut self.wheelsets {
+            w.out_of_roundness = Default::default();
+        }
+    }
     /// The force elements, indexed by [`ForceElementId`].
     pub fn forces(&self) -> &[ForceElement] {
         &self.forces
