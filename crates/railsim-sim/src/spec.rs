@@ -288,13 +288,6 @@ pub const CONTACT_KEYS: &[&str] = &[
     "tangential",
     "polach",
 ];
-/// Keys of `[contact] polach`.
-pub const POLACH_KEYS: &[&str] = &[
-    "k_a",
-    "k_s",
-    "friction_ratio_at_infinite_slip",
-    "friction_decay_s_per_m",
-];
 /// Keys of `[integrator]`.
 pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_step_s"];
 /// Keys of `[log]`.

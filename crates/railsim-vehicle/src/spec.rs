@@ -401,17 +401,6 @@ pub const WHEELSET_KEYS: &[&str] = &[
     "frozen",
     "out_of_roundness",
 ];
-/// Keys of a `[[wheelset.out_of_roundness]]`.
-pub const OUT_OF_ROUNDNESS_KEYS: &[&str] = &[
-    "type",
-    "side",
-    "order",
-    "amplitude_mm",
-    "phase_deg",
-    "length_mm",
-    "depth_mm",
-    "position_deg",
-];
 /// Keys of a `[[force]]`.
 pub const FORCE_KEYS: &[&str] = &[
     "name",
