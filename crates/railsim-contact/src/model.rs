@@ -293,6 +293,9 @@ pub struct PatchInput<'a> {
     pub kin: &'a WheelKinematics,
     /// Creepages at the reference point.
     pub creep: Creepages,
+    /// The patch reference point and its contact angle ([`reference_point`]): where the patch
+    /// is reported, the plane of the half-space patch and of the exact tangential solution.
+    pub reference: (IsoPair, f64),
     /// The pose's locus map (rotation, yaw), for the yawed locus' curvature.
     pub(crate) ctx: crate::geometry::PoseCtx,
 }
@@ -605,6 +608,7 @@ impl WheelRailContact {
                 frame,
                 kin: &kin,
                 creep,
+                reference: reference_point(&ws.pairs, &zone),
                 ctx,
             };
             let (forces, penetration) = match self.opts.model {
@@ -641,8 +645,8 @@ impl WheelRailContact {
                     // The half-space patch is planar: its plane is the reference point's
                     // (CONTACT's, D = 2), not the rigid pair's (until stop 34), which on a wide
                     // conformal patch leans by 0.01 rad (docs/models/contact.md §5).
-                    let angle = reference_point(&ws.pairs, &zone).1;
-                    (f.fn_, f.fs) = from_plane_to_frame(f.fn_, f.fs, angle, frame.contact_angle);
+                    (f.fn_, f.fs) =
+                        from_plane_to_frame(f.fn_, f.fs, input.reference.1, frame.contact_angle);
                     (f, frame.delta0)
                 }
             };
@@ -658,8 +662,8 @@ impl WheelRailContact {
                 &kin,
                 forces,
                 penetration,
-                &ws.pairs,
-                &zone,
+                &ws.pairs[zone.first..=zone.last],
+                input.reference,
             );
             for k in 0..3 {
                 total[k] += r.force_track[k];
@@ -1036,20 +1040,19 @@ impl WheelRailContact {
         kin: &WheelKinematics,
         f: PatchForces,
         penetration: f64,
-        pairs: &[IsoPair],
-        zone: &Zone,
+        zone_pairs: &[IsoPair],
+        (rp, angle): (IsoPair, f64),
     ) -> PatchResult {
         let sg = side.sign();
         // Force on the wheel in the side frame: x, then s and n in the (y, z) plane.
         let fy = f.fs * fr.t[0] + f.fn_ * fr.n[0];
         let fzv = f.fs * fr.t[1] + f.fn_ * fr.n[1];
         let mut err: f64 = 0.0;
-        for p in &pairs[zone.first..=zone.last] {
+        for p in zone_pairs {
             err = err.max(p.travel_error);
         }
         // Report in the frame of the patch reference point (see `reference_point`): the same
         // force vector, decomposed along the reference normal and tangent.
-        let (rp, angle) = reference_point(pairs, zone);
         let (sa, ca) = angle.sin_cos();
         let n_ref = [-sa, ca];
         let t_ref = [ca, sa];
@@ -1426,6 +1429,7 @@ mod spin_moment_at_reference_tests {
                         frame,
                         kin: &kin,
                         creep: kin.creepages(frame.wheel_point, frame.t, frame.n),
+                        reference: reference_point(&ws.pairs, &zone),
                         ctx,
                     };
                     let f = match model {

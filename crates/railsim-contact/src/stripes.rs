@@ -175,7 +175,7 @@ pub(crate) fn solve_exact(
 /// along the frame tangent from the rigid pair, the origin of the grids.
 fn planar_creepages(input: &PatchInput<'_>) -> (Creepages, f64, f64) {
     let fr = &input.frame;
-    let (rp, angle) = crate::patch::reference_point(input.pairs, &input.zone);
+    let (rp, angle) = input.reference;
     let (sa, ca) = angle.sin_cos();
     let creep = input
         .kin
@@ -768,8 +768,7 @@ pub fn solve(
         exact_on_strips(input, strips, l_min, l_max, exact_cells, exact, &mut f)?;
         // the exact solution's lateral force lies along the reference point's tangent; the
         // strips' normal loads along their own normals, as with the strip solvers
-        let (_, angle) = crate::patch::reference_point(input.pairs, &input.zone);
-        let (fn_t, fs_t) = from_plane_to_frame(0.0, f.fs, angle, fr.contact_angle);
+        let (fn_t, fs_t) = from_plane_to_frame(0.0, f.fs, input.reference.1, fr.contact_angle);
         f.fn_ = load_n + fn_t;
         f.fs = load_t + fs_t;
         return Ok(f);

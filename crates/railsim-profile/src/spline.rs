@@ -200,11 +200,7 @@ impl SmoothingSpline {
     /// Position, first and second derivative with respect to u at `u` \[m\]. Outside the
     /// parameter range the end cubics are extrapolated.
     pub fn eval(&self, u: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
-        self.eval_in(self.segment(u), u)
-    }
-
-    /// As [`SmoothingSpline::eval`], on segment `i`'s cubic.
-    fn eval_in(&self, i: usize, u: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        let i = self.segment(u);
         let t = u - self.u[i];
         let mut p = [0.0; 2];
         let mut d1 = [0.0; 2];

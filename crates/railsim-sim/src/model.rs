@@ -132,7 +132,7 @@ pub struct WheelModel {
     /// support (lateral and vertical displacement, then their rates); `None` on rigid rails.
     pub rail: Option<usize>,
     /// The wheel's out-of-roundness (empty: a round wheel), met as a vertical displacement of
-    /// its rail (`dynamics::wheel_support`).
+    /// its rail (`SimModel::wheel_support`).
     pub out_of_roundness: Vec<WheelDefect>,
 }
 
@@ -487,12 +487,11 @@ impl SimModel {
 
     /// What wheel `wi` meets of its rail's displacement (y, z, vy, vz) \[m, m/s\]: the rail's
     /// own, `rail` (an elastic support's, [`SimModel::rail_state`]), and, for a wheel that is out
-    /// of round, its radius
-    /// deviation δr at the bottom as a vertical displacement of the rail, δr(θ) up and
-    /// dδr/dθ·θ̇ its rate (a larger radius lifts the axle as a raised rail does). θ is the rolled
-    /// angle, the wheelset's track position `s_wheel` over its nominal radius `r0`, and
-    /// θ̇ = `speed`/r0: the wheel meets the same tread point every 2π r0 of track (its creep,
-    /// some thousandths, is left out of the angle). Source: the out-of-round wheel as a moving
+    /// of round, its radius deviation δr at the bottom as a vertical displacement of the rail,
+    /// δr(θ) up and dδr/dθ·θ̇ its rate (a larger radius lifts the axle as a raised rail does).
+    /// θ is the rolled angle, the wheelset's track position `s_wheel` over its nominal radius
+    /// `r0`, and θ̇ = `speed`/r0: the wheel meets the same tread point every 2π r0 of track (its
+    /// creep, some thousandths, is left out of the angle). Source: the out-of-round wheel as a moving
     /// irregularity of the wheel/rail gap, as in wheel-flat impact models (e.g. Wu & Thompson,
     /// J. Sound Vib. 251, 2002); docs/models/dynamics.md, "Out-of-round wheels".
     pub fn wheel_support(
