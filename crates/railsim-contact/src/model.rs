@@ -136,8 +136,9 @@ pub struct ContactOptions {
     pub exact_cells: (usize, usize),
     /// \[m\] interpenetration beyond which a pose is rejected as absurd
     pub max_penetration: f64,
-    /// \[N\] `linear` model only: a constant creep coefficient f11 = f22 = f with
-    /// f23 = f33 = 0 (no spin), instead of Kalker's coefficients of the Hertz ellipse.
+    /// \[N\] `linear` model only: a constant creep coefficient f11 = f22 = f of the wheel with
+    /// f23 = f33 = 0 (no spin), instead of Kalker's coefficients of the Hertz ellipse; a wheel
+    /// with several patches shares it in proportion to their normal forces.
     pub linear_creep: Option<f64>,
     /// How the Hertz models (`linear`, `polach`, `fastsim`) find their contact points.
     pub hertz_search: HertzSearch,
@@ -272,9 +273,14 @@ impl Default for ContactOptions {
 }
 
 /// The tangential solution on a Hertz ellipse.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 enum HertzTangential {
-    Linear,
+    /// Kalker's linear theory, or the constant creep coefficient of
+    /// [`ContactOptions::linear_creep`] shared by the wheel's patches: `wheel_fn` \[N\] is the
+    /// sum of their normal forces (0 for a single patch).
+    Linear {
+        wheel_fn: f64,
+    },
     Polach,
     Fastsim,
 }
@@ -588,6 +594,21 @@ impl WheelRailContact {
             }
         };
         let kin = WheelKinematics::new(&ctx, sp.roll, &sv);
+        // A constant creep coefficient is the wheel's (Wickens' model): its patches share it
+        // in proportion to their normal forces, which needs their sum first.
+        let wheel_fn = match self.opts.linear_creep {
+            Some(_) if ws.zones.len() > 1 => {
+                let mut sum = 0.0;
+                for zone in &ws.zones {
+                    let frame = patch_frame(&self.pair, &ctx, &ws.pairs, zone, !searched);
+                    let mat = &self.pair.material;
+                    sum += zone.share
+                        * hertz_from_approach(frame.a_curv, frame.b_curv, frame.delta0, mat)?.n;
+                }
+                sum
+            }
+            _ => 0.0,
+        };
         ws.patches.clear();
         let mut total = [0.0; 3];
         for zi in 0..ws.zones.len() {
@@ -628,7 +649,7 @@ impl WheelRailContact {
                     frame.delta0,
                 ),
                 ContactModelKind::Linear => (
-                    self.solve_hertz(&input, HertzTangential::Linear)?,
+                    self.solve_hertz(&input, HertzTangential::Linear { wheel_fn })?,
                     frame.delta0,
                 ),
                 ContactModelKind::Fastsim => (
@@ -982,15 +1003,20 @@ impl WheelRailContact {
         let mat = &self.pair.material;
         let mu = self.pair.friction.at(fr.contact_angle);
         let hz = hertz_from_approach(fr.a_curv, fr.b_curv, fr.delta0, mat)?;
-        let tang = if kind == HertzTangential::Linear {
+        let tang = if let HertzTangential::Linear { wheel_fn } = kind {
             match self.opts.linear_creep {
-                // Wickens' linear model: Fx = -f xi, Fy = -f eta, no spin.
-                Some(f) => TangentialForces {
-                    fx: -f * input.creep.xi,
-                    fy: -f * input.creep.eta,
-                    mz: 0.0,
-                    adhesion_fraction: 1.0,
-                },
+                // Wickens' linear model: Fx = -f xi, Fy = -f eta, no spin, with f the wheel's,
+                // shared by its patches in proportion to their normal forces (the share of a
+                // well is applied by the caller, as to its normal force).
+                Some(f) => {
+                    let w = if wheel_fn > 0.0 { hz.n / wheel_fn } else { 1.0 };
+                    TangentialForces {
+                        fx: -f * w * input.creep.xi,
+                        fy: -f * w * input.creep.eta,
+                        mz: 0.0,
+                        adhesion_fraction: 1.0,
+                    }
+                }
                 None => linear_kalker(hz.a, hz.b, &input.creep, mat)?,
             }
         } else if kind == HertzTangential::Polach {
@@ -1512,5 +1538,56 @@ mod spin_moment_at_reference_tests {
                 assert!(flange > 0, "{}: no flange patch", model.name());
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod linear_creep_tests {
+    use super::*;
+    use crate::contact_format::manchester_benchmark_pair;
+
+    /// A constant creep coefficient is the wheel's, shared by its patches in proportion to their
+    /// normal forces. S1002 on UIC60, centred, at 8.9 kN has two patches (the tread and a small
+    /// one 11 mm toward the field side, about 600 N). Between two spins Ω1 and Ω2 each patch's
+    /// longitudinal creepage changes by −ρ_i (Ω2 − Ω1)/V, so the wheel's longitudinal force
+    /// changes by f (Ω2 − Ω1)/V Σ w_i ρ_i with shares w_i: divided by f (Ω2 − Ω1)/V that is a
+    /// mean rolling radius, between the patches' radii, when the shares sum to one (twice it when
+    /// each patch took the whole f, as before).
+    #[test]
+    fn a_constant_creep_coefficient_is_shared_by_the_patches() {
+        let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+        let f = 1e7;
+        let opts = ContactOptions {
+            model: ContactModelKind::Linear,
+            linear_creep: Some(f),
+            ..Default::default()
+        };
+        let c = WheelRailContact::new(manchester_benchmark_pair(&root).unwrap(), opts).unwrap();
+        let mut ws = ContactWorkspace::new();
+        let pose = WheelsetPose::default();
+        let v = 20.0;
+        let spins = [v / 0.46, v / 0.46 * (1.0 + 1e-4)];
+        let mut fx = [0.0; 2];
+        let mut radii = Vec::new();
+        for (k, spin) in spins.into_iter().enumerate() {
+            let vel = WheelsetVelocity {
+                vx: v,
+                spin,
+                ..Default::default()
+            };
+            let s = c
+                .evaluate_with_load(Side::Left, &pose, &vel, 8.9e3, 1e-9, &mut ws)
+                .unwrap();
+            assert_eq!(s.n_patches, 2);
+            fx[k] = ws.patches.iter().map(|p| p.forces.fx).sum();
+            radii = ws.patches.iter().map(|p| p.rolling_radius).collect();
+        }
+        let mean_radius = (fx[1] - fx[0]) / (f * (spins[1] - spins[0]) / v);
+        let (lo, hi) = (radii[0].min(radii[1]), radii[0].max(radii[1]));
+        eprintln!("patch radii {radii:?} m, the force's mean radius {mean_radius:.5} m");
+        assert!(
+            mean_radius >= lo - 1e-6 && mean_radius <= hi + 1e-6,
+            "{mean_radius} outside [{lo}, {hi}]"
+        );
     }
 }
