@@ -444,6 +444,18 @@ pub fn rail_frame(
     }
 }
 
+/// The radius deviation δr \[m\] of an out-of-round wheel at its bottom
+/// ([`SimModel::wheel_radius_deviation`]) in the wheel's creepages: the wheel's surface point
+/// at the contact lies δr further from the axle than the round profile's, so it moves by
+/// −Ω δr more along the track (Ω the spin, forward rolling positive). The contact crate takes
+/// the wheel point's velocity as that of the axle plus ω × r, so the term is added to the
+/// axle's `vx`, which also divides the creepages: their relative change of δr/r0 (1e-4 for
+/// 0.05 mm) is left in the reference speed. Rigid-body kinematics of the wheel surface point
+/// (contact-theory.md §3.1's creepage); docs/models/dynamics.md, "Out-of-round wheels".
+pub fn apply_radius_deviation(vel: &mut WheelsetVelocity, dr: f64) {
+    vel.vx -= vel.spin * dr;
+}
+
 /// The model with its workspace: an [`OdeSystem`].
 pub struct Dynamics<'m> {
     /// The model.
@@ -878,16 +890,18 @@ impl Dynamics<'_> {
                 spin: omega_l[1] + k.qd[4],
             };
             let s_wheel = s + mm.p0[0] + k.q[0];
+            let deviation = m.wheel_radius_deviation(wi, s_wheel, radius);
             let rail = rail_frame(
                 m,
                 wheel.side,
                 s_wheel,
                 v,
                 radius,
-                m.wheel_support(wi, m.rail_state(wi, x), s_wheel, v + k.qd[0], radius),
+                m.wheel_support(m.rail_state(wi, x), deviation, v + k.qd[0], radius),
                 &mut pose,
                 &mut vel,
             );
+            apply_radius_deviation(&mut vel, deviation.0);
             // Other rails under the wheel: the warm start describes the other pair. In a
             // transition the section before's rails are evaluated too (`WheelContact::partner`).
             let blend = m.track.rail_blend_at(s_wheel);

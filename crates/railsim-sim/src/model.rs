@@ -485,29 +485,38 @@ impl SimModel {
         }
     }
 
-    /// What wheel `wi` meets of its rail's displacement (y, z, vy, vz) \[m, m/s\]: the rail's
-    /// own, `rail` (an elastic support's, [`SimModel::rail_state`]), and, for a wheel that is out
-    /// of round, its radius deviation δr at the bottom as a vertical displacement of the rail,
-    /// δr(θ) up and dδr/dθ·θ̇ its rate (a larger radius lifts the axle as a raised rail does).
-    /// θ is the rolled angle, the wheelset's track position `s_wheel` over its nominal radius
-    /// `r0`, and θ̇ = `speed`/r0: the wheel meets the same tread point every 2π r0 of track (its
-    /// creep, some thousandths, is left out of the angle). Source: the out-of-round wheel as a moving
-    /// irregularity of the wheel/rail gap, as in wheel-flat impact models (e.g. Wu & Thompson,
-    /// J. Sound Vib. 251, 2002); docs/models/dynamics.md, "Out-of-round wheels".
+    /// The radius deviation δr \[m\] of wheel `wi` at its bottom and its rate dδr/dθ \[m/rad\]
+    /// at the wheelset's track position `s_wheel`: (0, 0) for a round wheel. θ is the rolled
+    /// angle, `s_wheel` over the nominal radius `r0`: the wheel meets the same tread point every
+    /// 2π r0 of track (its creep, some thousandths, is left out of the angle).
+    pub fn wheel_radius_deviation(&self, wi: usize, s_wheel: f64, r0: f64) -> (f64, f64) {
+        let defects = &self.wheels[wi].out_of_roundness;
+        if defects.is_empty() {
+            return (0.0, 0.0);
+        }
+        radius_deviation(defects, s_wheel / r0, r0)
+    }
+
+    /// What a wheel meets of its rail's displacement (y, z, vy, vz) \[m, m/s\]: the rail's own,
+    /// `rail` (an elastic support's, [`SimModel::rail_state`]), and, for a wheel that is out of
+    /// round, its radius deviation at the bottom `deviation` = (δr, dδr/dθ)
+    /// ([`SimModel::wheel_radius_deviation`]) as a vertical displacement of the rail, δr up and
+    /// dδr/dθ·θ̇ its rate with θ̇ = `speed`/`r0` (a larger radius lifts the axle as a raised rail
+    /// does). The same δr changes the wheel's rolling radius in the creepages
+    /// ([`crate::dynamics::apply_radius_deviation`]). Source: the out-of-round wheel as a
+    /// moving irregularity of the wheel/rail gap, as in wheel-flat impact models (e.g. Wu &
+    /// Thompson, J. Sound Vib. 251, 2002); docs/models/dynamics.md, "Out-of-round wheels".
     pub fn wheel_support(
         &self,
-        wi: usize,
         rail: [f64; 4],
-        s_wheel: f64,
+        deviation: (f64, f64),
         speed: f64,
         r0: f64,
     ) -> [f64; 4] {
         let mut out = rail;
-        let defects = &self.wheels[wi].out_of_roundness;
-        if !defects.is_empty() {
-            let (dr, ddr) = radius_deviation(defects, s_wheel / r0, r0);
-            out[1] += dr;
-            out[3] += ddr * speed / r0;
+        if deviation != (0.0, 0.0) {
+            out[1] += deviation.0;
+            out[3] += deviation.1 * speed / r0;
         }
         out
     }
