@@ -667,65 +667,112 @@ fn implausible_pair_options_are_rejected() {
     }
 }
 
-/// Polach's extended parameters out of their ranges are refused when the contact is built, each
-/// by name (k_A in (0, 1], k_S in (0, k_A], A in [0, 1], B finite and ≥ 0), never at an
-/// evaluation.
+/// Polach's reduction factors and the falling friction out of their ranges are refused when
+/// the contact is built, each by name (k_A in (0, 1], k_S in (0, k_A], A in [0, 1], B finite
+/// and ≥ 0), never at an evaluation; so is a falling friction with the models that take
+/// Coulomb friction or none (`linear`, `halfspace`, the exact tangential solution).
 #[test]
 fn polachs_parameters_out_of_range_are_refused() {
-    use railsim_contact::{ContactOptions, PolachAdhesion, WheelRailContact};
+    use railsim_contact::{
+        ContactOptions, FallingFriction, PolachAdhesion, Tangential, WheelRailContact,
+    };
     let ok = PolachAdhesion::default();
-    for (p, key) in [
-        (PolachAdhesion { k_a: 0.0, ..ok }, "polach k_a"),
-        (PolachAdhesion { k_a: 1.5, ..ok }, "polach k_a"),
-        (
-            PolachAdhesion {
-                k_a: 0.3,
-                k_s: 0.4,
-                ..ok
-            },
-            "polach k_s",
-        ),
-        (
-            PolachAdhesion {
-                k_s: f64::NAN,
-                ..ok
-            },
-            "polach k_s",
-        ),
-        (
-            PolachAdhesion {
-                friction_ratio: -0.1,
-                ..ok
-            },
-            "polach friction ratio A",
-        ),
-        (
-            PolachAdhesion {
-                friction_decay: f64::INFINITY,
-                ..ok
-            },
-            "polach friction decay B",
-        ),
-    ] {
-        let opts = ContactOptions {
-            model: ContactModelKind::Polach,
-            polach: p,
-            ..Default::default()
-        };
-        match WheelRailContact::new(crate::common::mbench_pair(), opts) {
-            Err(ContactError::BadOption { key: k, .. }) => assert_eq!(k, key, "{p:?}"),
-            other => panic!("{p:?}: {:?}", other.map(|_| ())),
-        }
-    }
-    let opts = ContactOptions {
+    let coulomb = FallingFriction::default();
+    let falling = FallingFriction {
+        ratio: 0.4,
+        decay: 0.2,
+    };
+    let polach = |polach, falling_friction| ContactOptions {
         model: ContactModelKind::Polach,
-        polach: PolachAdhesion {
-            k_a: 0.3,
-            k_s: 0.1,
-            friction_ratio: 0.4,
-            friction_decay: 0.2,
-        },
+        polach,
+        falling_friction,
         ..Default::default()
     };
-    assert!(WheelRailContact::new(crate::common::mbench_pair(), opts).is_ok());
+    for (opts, key) in [
+        (
+            polach(PolachAdhesion { k_a: 0.0, ..ok }, coulomb),
+            "polach k_a",
+        ),
+        (
+            polach(PolachAdhesion { k_a: 1.5, ..ok }, coulomb),
+            "polach k_a",
+        ),
+        (
+            polach(PolachAdhesion { k_a: 0.3, k_s: 0.4 }, coulomb),
+            "polach k_s",
+        ),
+        (
+            polach(
+                PolachAdhesion {
+                    k_s: f64::NAN,
+                    ..ok
+                },
+                coulomb,
+            ),
+            "polach k_s",
+        ),
+        (
+            polach(
+                ok,
+                FallingFriction {
+                    ratio: -0.1,
+                    ..falling
+                },
+            ),
+            "friction ratio at infinite slip A",
+        ),
+        (
+            polach(
+                ok,
+                FallingFriction {
+                    decay: f64::INFINITY,
+                    ..falling
+                },
+            ),
+            "friction decay B",
+        ),
+        (
+            ContactOptions {
+                model: ContactModelKind::Linear,
+                falling_friction: falling,
+                ..Default::default()
+            },
+            "falling friction",
+        ),
+        (
+            ContactOptions {
+                model: ContactModelKind::Halfspace,
+                falling_friction: falling,
+                ..Default::default()
+            },
+            "falling friction",
+        ),
+        (
+            ContactOptions {
+                tangential: Tangential::Exact,
+                falling_friction: falling,
+                ..Default::default()
+            },
+            "falling friction",
+        ),
+    ] {
+        let what = format!(
+            "{:?} {:?} {:?}",
+            opts.model, opts.polach, opts.falling_friction
+        );
+        match WheelRailContact::new(crate::common::mbench_pair(), opts) {
+            Err(ContactError::BadOption { key: k, .. }) => assert_eq!(k, key, "{what}"),
+            other => panic!("{what}: {:?}", other.map(|_| ())),
+        }
+    }
+    let good = polach(PolachAdhesion { k_a: 0.3, k_s: 0.1 }, falling);
+    assert!(WheelRailContact::new(crate::common::mbench_pair(), good).is_ok());
+    for model in [ContactModelKind::Fastsim, ContactModelKind::Stripes] {
+        let opts = ContactOptions {
+            model,
+            falling_friction: falling,
+            ..Default::default()
+        };
+        assert!(WheelRailContact::new(crate::common::mbench_pair(), opts).is_ok());
+    }
 }

@@ -10,7 +10,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use railsim_contact::contact_format::{ContactRow, parse_cases_csv, solve_case};
 use railsim_contact::{
-    ContactModelKind, ContactOptions, ContactWorkspace, Friction, HertzSearch,
+    ContactModelKind, ContactOptions, ContactWorkspace, FallingFriction, Friction, HertzSearch,
     LOAD_RESIDUAL_NOTICE, PairSpec, PatchResult, PolachAdhesion, Side, Tangential,
     WheelRailContact, WheelRailPair, WheelsetPose, WheelsetVelocity,
 };
@@ -224,14 +224,15 @@ struct ContactArgs {
     /// `polach` only: Polach's reduction factor k_S in the slip area, in (0, k_A] (default 1).
     #[arg(long)]
     polach_k_s: Option<f64>,
-    /// `polach` only: the friction at infinite slip velocity over `--mu`, A in [0, 1] (default
-    /// 1: no fall): mu = mu0 ((1 - A) exp(-B w) + A) at slip velocity w.
+    /// `polach`, `fastsim`, `stripes` (FaStrip, FASTSIM): the friction at infinite slip
+    /// velocity over `--mu`, A in [0, 1] (default 1: no fall): mu = mu0 ((1 - A) exp(-B w) + A)
+    /// at slip velocity w (Polach 2005; per strip with `stripes`).
     #[arg(long)]
-    polach_friction_ratio: Option<f64>,
-    /// `polach` only: the rate B (s/m) at which the friction falls with the slip velocity
-    /// (default 0).
+    friction_ratio_at_infinite_slip: Option<f64>,
+    /// `polach`, `fastsim`, `stripes` (FaStrip, FASTSIM): the rate B (s/m) at which the friction
+    /// falls with the slip velocity, in [0, 100] (default 0).
     #[arg(long)]
-    polach_friction_decay_s_per_m: Option<f64>,
+    friction_decay_s_per_m: Option<f64>,
     /// Which wheel.
     #[arg(long, value_enum, default_value = "left")]
     side: SideName,
@@ -573,23 +574,34 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
             "--tangential applies only to --model stripes or halfspace (the Hertz models have their own tangential solution)"
         );
     }
-    let polach_flags = [
-        a.polach_k_a,
-        a.polach_k_s,
-        a.polach_friction_ratio,
-        a.polach_friction_decay_s_per_m,
-    ];
+    let polach_flags = [a.polach_k_a, a.polach_k_s];
     if polach_flags.iter().any(Option::is_some) && !matches!(a.model, ModelName::Polach) {
         bail!(
             "--polach-* options apply only to --model polach (Polach's extended creep-force model)"
+        );
+    }
+    let falling_flags = [a.friction_ratio_at_infinite_slip, a.friction_decay_s_per_m];
+    if falling_flags.iter().any(Option::is_some)
+        && matches!(a.model, ModelName::Linear | ModelName::Halfspace)
+    {
+        bail!(
+            "--friction-ratio-at-infinite-slip and --friction-decay-s-per-m apply to --model polach, fastsim or stripes (linear has no friction; halfspace, a reference level, takes Coulomb friction)"
         );
     }
     let d = PolachAdhesion::default();
     let polach = PolachAdhesion {
         k_a: a.polach_k_a.unwrap_or(d.k_a),
         k_s: a.polach_k_s.unwrap_or(d.k_s),
-        friction_ratio: a.polach_friction_ratio.unwrap_or(d.friction_ratio),
-        friction_decay: a.polach_friction_decay_s_per_m.unwrap_or(d.friction_decay),
+    };
+    let f = FallingFriction::default();
+    let falling_friction = FallingFriction {
+        ratio: a.friction_ratio_at_infinite_slip.unwrap_or(f.ratio),
+        decay: in_range(
+            "--friction-decay-s-per-m",
+            a.friction_decay_s_per_m.unwrap_or(f.decay),
+            0.0,
+            100.0,
+        )?,
     };
     let pair = build_pair(&a.pair)?;
     let mut opts = ContactOptions {
@@ -597,6 +609,7 @@ fn run_contact(a: &ContactArgs) -> Result<ExitCode> {
         tangential: a.tangential.unwrap_or(TangentialName::Fastrip).into(),
         hertz_search: a.hertz_search.into(),
         polach,
+        falling_friction,
         ..Default::default()
     };
     opts.travel.step = in_range_mm("--step-mm", a.step_mm, geometry::STEP_RANGE)? * 1e-3;

@@ -770,16 +770,18 @@ fn friction_by_angle_lubricates_the_flange() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// `railsim contact --model polach --polach-*`: Polach's extended model on one wheel. A wheel
-/// spinning at twice its rolling speed (100 % creepage, slip velocity 20 m/s) transmits the
-/// sliding friction: μ·Fz with Coulomb friction, A·μ·Fz once the friction has fallen
-/// (A = 0.4, B = 5 s/m: e^(−100) of the fall left), each within 1 % of the load's share (the
-/// patches' normals lean a little from the vertical). The options are refused with another
-/// model and out of range.
+/// `railsim contact --friction-ratio-at-infinite-slip --friction-decay-s-per-m`: friction
+/// falling with the slip velocity, with `polach`, `fastsim` and `stripes` (FaStrip and FASTSIM
+/// per strip). A wheel spinning at twice its rolling speed (100 % creepage, slip velocity
+/// 20 m/s) transmits the sliding friction: μ·Fz with Coulomb friction, A·μ·Fz once the
+/// friction has fallen (A = 0.4, B = 5 s/m: e^(−100) of the fall left), each within 1 % of the
+/// load's share (the patches' normals lean a little from the vertical). The options are
+/// refused with `linear` (no friction), `halfspace` and the exact tangential solution (the
+/// reference levels); `--polach-*` with another model than `polach`, and out of range.
 #[test]
-fn polachs_falling_friction_on_one_wheel() {
+fn falling_friction_on_one_wheel() {
     let fx = |extra: &[&str]| -> f64 {
-        let mut args = vec!["contact", "--model", "polach", "--spin-rad-s", "86.96"];
+        let mut args = vec!["contact", "--spin-rad-s", "86.96"];
         args.extend_from_slice(extra);
         let (code, out, err) = railsim(&args);
         assert_eq!(code, 0, "{err}");
@@ -797,16 +799,45 @@ fn polachs_falling_friction_on_one_wheel() {
             .parse()
             .unwrap()
     };
-    let coulomb = fx(&[]);
-    let fallen = fx(&[
-        "--polach-friction-ratio",
+    let falling = [
+        "--friction-ratio-at-infinite-slip",
         "0.4",
-        "--polach-friction-decay-s-per-m",
+        "--friction-decay-s-per-m",
         "5",
-    ]);
-    eprintln!("Fx at 100 % creepage: Coulomb {coulomb} N, fallen friction {fallen} N");
-    assert!((coulomb.abs() - 3000.0).abs() < 30.0, "{coulomb}");
-    assert!((fallen.abs() - 1200.0).abs() < 12.0, "{fallen}");
+    ];
+    for model in [
+        &["--model", "polach"][..],
+        &["--model", "fastsim"],
+        &["--model", "stripes"],
+        &["--model", "stripes", "--tangential", "fastsim"],
+    ] {
+        let coulomb = fx(model);
+        let fallen = fx(&[model, &falling[..]].concat());
+        eprintln!(
+            "{model:?}: Fx at 100 % creepage: Coulomb {coulomb} N, fallen friction {fallen} N"
+        );
+        assert!((coulomb.abs() - 3000.0).abs() < 30.0, "{coulomb}");
+        assert!((fallen.abs() - 1200.0).abs() < 12.0, "{fallen}");
+    }
+    for (args, want) in [
+        (&["--model", "linear"][..], "linear has no friction"),
+        (&["--model", "halfspace"], "halfspace, a reference level"),
+        (
+            &["--model", "stripes", "--tangential", "exact"],
+            "the exact tangential solution, a reference level",
+        ),
+    ] {
+        let all = [&["contact"][..], args, &falling[..]].concat();
+        let (code, _, err) = railsim(&all);
+        assert_ne!(code, 0, "{all:?}");
+        assert!(err.contains(want), "{all:?}: {err}");
+    }
+    let (code, _, err) = railsim(&["contact", "--friction-ratio-at-infinite-slip", "1.5"]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("friction ratio at infinite slip A = 1.5: expected a ratio in [0, 1]"),
+        "{err}"
+    );
     let (code, _, err) = railsim(&["contact", "--polach-k-s", "0.5"]);
     assert_ne!(code, 0);
     assert!(err.contains("apply only to --model polach"), "{err}");

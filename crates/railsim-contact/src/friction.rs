@@ -22,6 +22,74 @@
 
 use crate::ContactError;
 
+/// Friction that falls with the slip velocity `w` \[m/s\]: the coefficient is
+/// `mu0 ((1 - A) exp(-B w) + A)`, `mu0` the pair's [`Friction`] where it is taken (Polach,
+/// Wear 258, 2005, eq. 3; the exponential decrease of CONTACT's velocity-dependent friction
+/// laws). The default, `A = 1`, `B = 0`, is Coulomb friction.
+///
+/// Which slip velocity each model takes (docs/models/contact.md §6):
+/// - `polach`: its own, `V s_C`, the spin-corrected creepage of Polach's model;
+/// - `fastsim` (Hertz): the same `V s_C` for the whole ellipse;
+/// - `stripes` with FaStrip or FASTSIM: each strip's rigid slip velocity at its centre,
+///   `V |(ξ_i, η_i)|`, with the strip's own creepages.
+///
+/// The local slip of a slip area is smaller than the rigid slip, most where the adhesion area
+/// is large, so the friction falls a little early there; at full slip the two agree. The
+/// linear model has no friction, and the half-space level and the exact tangential solution
+/// (the reference levels) take Coulomb friction: they refuse any other.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FallingFriction {
+    /// \[-\] `A`: the friction at infinite slip velocity over `mu0`, in [0, 1]
+    pub ratio: f64,
+    /// \[s/m\] `B`: the rate at which the friction falls with the slip velocity, ≥ 0
+    pub decay: f64,
+}
+
+impl Default for FallingFriction {
+    fn default() -> Self {
+        FallingFriction {
+            ratio: 1.0,
+            decay: 0.0,
+        }
+    }
+}
+
+impl FallingFriction {
+    /// Whether this is Coulomb friction (`A = 1` or `B = 0`).
+    pub fn is_coulomb(&self) -> bool {
+        self.ratio == 1.0 || self.decay == 0.0
+    }
+
+    /// The factor `(1 - A) exp(-B w) + A` on `mu0` at slip velocity `w` \[m/s\] (exactly 1
+    /// for Coulomb friction).
+    #[inline]
+    pub fn factor(&self, w: f64) -> f64 {
+        if self.is_coulomb() {
+            return 1.0;
+        }
+        (1.0 - self.ratio) * (-self.decay * w).exp() + self.ratio
+    }
+
+    /// The first parameter out of its range, as (key, value found, what is expected).
+    pub fn problem(&self) -> Option<(&'static str, String, &'static str)> {
+        if !(0.0..=1.0).contains(&self.ratio) {
+            Some((
+                "friction ratio at infinite slip A",
+                self.ratio.to_string(),
+                "a ratio in [0, 1]",
+            ))
+        } else if !(self.decay.is_finite() && self.decay >= 0.0) {
+            Some((
+                "friction decay B",
+                self.decay.to_string(),
+                "a finite rate >= 0 s/m",
+            ))
+        } else {
+            None
+        }
+    }
+}
+
 /// The Coulomb friction coefficient of a wheel/rail pair.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Friction {

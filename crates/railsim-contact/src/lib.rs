@@ -32,7 +32,7 @@ pub mod warm;
 pub mod wells;
 
 pub use error::ContactError;
-pub use friction::Friction;
+pub use friction::{FallingFriction, Friction};
 pub use geometry::{IsoPair, TravelOptions, TravelStats};
 pub use model::{
     ContactModelKind, ContactOptions, ContactWorkspace, HertzSearch, LOAD_RESIDUAL_NOTICE,

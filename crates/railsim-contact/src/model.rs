@@ -15,11 +15,12 @@
 use railsim_elastic::{
     Creepages, Grid, HalfspaceSolver, PolachParams, TangentialForces, TractionBound,
     blended_flexibilities, fastsim_ellipse, fastsim_strip, hertz_from_approach, linear_kalker,
-    polach,
+    polach, spin_corrected_creepage,
 };
 
 use crate::broad::{BroadMemory, BroadScratch};
 use crate::error::ContactError;
+use crate::friction::FallingFriction;
 use crate::geometry::{
     IsoPair, PoseCtx, TravelOptions, TravelStats, Zone, find_zones, locus, refine_narrow_zones,
     travel,
@@ -142,75 +143,54 @@ pub struct ContactOptions {
     pub linear_creep: Option<f64>,
     /// How the Hertz models (`linear`, `polach`, `fastsim`) find their contact points.
     pub hertz_search: HertzSearch,
-    /// `polach` model only: Polach's reduction factors and friction falling with the slip
-    /// velocity; the default is his 1999 model with Coulomb friction.
+    /// `polach` model only: Polach's reduction factors; the default is his 1999 model.
     pub polach: PolachAdhesion,
+    /// Friction falling with the slip velocity (`polach`, `fastsim`, and `stripes` with a
+    /// FASTSIM-type tangential solution); the default is Coulomb friction.
+    pub falling_friction: FallingFriction,
 }
 
 /// Polach's extended creep-force model (Polach, Wear 258, 2005, eqs. 2 and 3; the kernel
 /// `railsim_elastic::polach`): the reduction factors `k_A` of the initial slope in the adhesion
-/// area and `k_S` in the slip area, and the friction falling with the slip velocity `w`,
-/// `mu = mu0 ((1 - A) exp(-B w) + A)`, where `mu0` is the pair's friction at the patch (its
-/// contact angle, its rail section). Polach's 1999 model with Coulomb friction is
-/// `k_A = k_S = 1`, `A = 1`, `B = 0` (the default).
+/// area and `k_S` in the slip area. With them goes the friction falling with the slip
+/// velocity of his model, [`ContactOptions::falling_friction`]. Polach's 1999 model is
+/// `k_A = k_S = 1` (the default).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PolachAdhesion {
     /// \[-\] reduction factor `k_A` of the initial slope, in (0, 1]
     pub k_a: f64,
     /// \[-\] reduction factor `k_S` in the slip area, in (0, `k_a`]
     pub k_s: f64,
-    /// \[-\] `A`: the friction at infinite slip velocity over `mu0`, in [0, 1]
-    pub friction_ratio: f64,
-    /// \[s/m\] `B`: the rate at which the friction falls with the slip velocity, ≥ 0
-    pub friction_decay: f64,
 }
 
 impl Default for PolachAdhesion {
     fn default() -> Self {
-        PolachAdhesion {
-            k_a: 1.0,
-            k_s: 1.0,
-            friction_ratio: 1.0,
-            friction_decay: 0.0,
-        }
+        PolachAdhesion { k_a: 1.0, k_s: 1.0 }
     }
 }
 
 impl PolachAdhesion {
     /// The first parameter out of its range, as (key, value found, what is expected): `k_a` in
-    /// (0, 1], `k_s` in (0, `k_a`] (Polach's k_S ≤ k_A ≤ 1), `friction_ratio` in [0, 1],
-    /// `friction_decay` finite and ≥ 0.
+    /// (0, 1], `k_s` in (0, `k_a`] (Polach's k_S ≤ k_A ≤ 1).
     pub fn problem(&self) -> Option<(&'static str, String, &'static str)> {
         let in_unit = |x: f64| x > 0.0 && x <= 1.0;
         if !in_unit(self.k_a) {
             Some(("polach k_a", self.k_a.to_string(), "a factor in (0, 1]"))
         } else if !(self.k_s > 0.0 && self.k_s <= self.k_a) {
             Some(("polach k_s", self.k_s.to_string(), "a factor in (0, k_a]"))
-        } else if !(0.0..=1.0).contains(&self.friction_ratio) {
-            Some((
-                "polach friction ratio A",
-                self.friction_ratio.to_string(),
-                "a ratio in [0, 1]",
-            ))
-        } else if !(self.friction_decay.is_finite() && self.friction_decay >= 0.0) {
-            Some((
-                "polach friction decay B",
-                self.friction_decay.to_string(),
-                "a finite rate >= 0 s/m",
-            ))
         } else {
             None
         }
     }
 
-    /// The kernel's parameters at the patch friction `mu0`.
-    fn at(&self, mu0: f64) -> PolachParams {
+    /// The kernel's parameters at the patch friction `mu0` with the falling friction `falling`.
+    fn at(&self, mu0: f64, falling: &FallingFriction) -> PolachParams {
         PolachParams {
             k_a: self.k_a,
             k_s: self.k_s,
             mu0,
-            a_ratio: self.friction_ratio,
-            b_decay: self.friction_decay,
+            a_ratio: falling.ratio,
+            b_decay: falling.decay,
         }
     }
 }
@@ -268,6 +248,7 @@ impl Default for ContactOptions {
             linear_creep: None,
             hertz_search: HertzSearch::Point,
             polach: PolachAdhesion::default(),
+            falling_friction: FallingFriction::default(),
         }
     }
 }
@@ -491,12 +472,39 @@ impl WheelRailContact {
                 });
             }
         }
-        if let Some((key, value, expected)) = opts.polach.problem() {
+        if let Some((key, value, expected)) = opts
+            .polach
+            .problem()
+            .or_else(|| opts.falling_friction.problem())
+        {
             return Err(ContactError::BadOption {
                 key,
                 value,
                 expected: expected.into(),
             });
+        }
+        // The reference levels and the linear model take Coulomb friction (or none).
+        if !opts.falling_friction.is_coulomb() {
+            let refused = match opts.model {
+                ContactModelKind::Linear => Some("the linear model, which has no friction"),
+                ContactModelKind::Halfspace => Some("the half-space model, a reference level"),
+                ContactModelKind::Stripes if opts.tangential == Tangential::Exact => {
+                    Some("the exact tangential solution, a reference level")
+                }
+                _ => None,
+            };
+            if let Some(what) = refused {
+                return Err(ContactError::BadOption {
+                    key: "falling friction",
+                    value: format!(
+                        "A = {}, B = {} s/m with {what}",
+                        opts.falling_friction.ratio, opts.falling_friction.decay
+                    ),
+                    expected: "Coulomb friction (A = 1 or B = 0), or the model polach, fastsim \
+                               or stripes with a FASTSIM-type tangential solution"
+                        .into(),
+                });
+            }
         }
         Ok(WheelRailContact { pair, opts })
     }
@@ -638,6 +646,7 @@ impl WheelRailContact {
                         &input,
                         self.opts.stripes_variant,
                         self.opts.tangential,
+                        &self.opts.falling_friction,
                         self.opts.fastsim_nx,
                         self.opts.bound,
                         self.opts.exact_cells,
@@ -1026,10 +1035,18 @@ impl WheelRailContact {
                 hz.n,
                 &input.creep,
                 input.kin.v_ref,
-                &self.opts.polach.at(mu),
+                &self.opts.polach.at(mu, &self.opts.falling_friction),
                 mat,
             )?
         } else {
+            // friction falling with Polach's slip velocity of the ellipse (`FallingFriction`)
+            let falling = &self.opts.falling_friction;
+            let mu = if falling.is_coulomb() {
+                mu
+            } else {
+                let w = spin_corrected_creepage(&input.creep, hz.a).0 * input.kin.v_ref;
+                mu * falling.factor(w)
+            };
             let flex = blended_flexibilities(hz.a, hz.b, hz.n, mu, &input.creep, mat)?;
             fastsim_ellipse(
                 hz.a,
@@ -1466,6 +1483,7 @@ mod spin_moment_at_reference_tests {
                             &input,
                             opts.stripes_variant,
                             opts.tangential,
+                            &opts.falling_friction,
                             opts.fastsim_nx,
                             opts.bound,
                             opts.exact_cells,

@@ -33,6 +33,7 @@ use railsim_elastic::{
 };
 
 use crate::error::ContactError;
+use crate::friction::FallingFriction;
 use crate::geometry::{IsoPair, Zone};
 use crate::model::{PatchForces, PatchInput};
 use crate::patch::{B_MIN, from_plane_to_frame, longitudinal_curvature, mid};
@@ -514,11 +515,15 @@ pub struct Strip {
     pub chi: f64,
 }
 
-/// Normal and tangential solution of one patch with STRIPES + FASTSIM per strip.
+/// Normal and tangential solution of one patch with STRIPES + FASTSIM per strip; `falling`
+/// lowers each strip's friction with its rigid slip velocity (FaStrip and FASTSIM only; the
+/// caller refuses it with the exact solution).
+#[allow(clippy::too_many_arguments)]
 pub fn solve(
     input: &PatchInput<'_>,
     variant: StripesVariant,
     tangential: Tangential,
+    falling: &FallingFriction,
     nx: usize,
     bound: TractionBound,
     exact_cells: (usize, usize),
@@ -814,7 +819,10 @@ pub fn solve(
         // the strip's own lateral axis (toward the field side, like the frame's)
         let t = [p.n[1], -p.n[0]];
         let creep: Creepages = input.kin.creepages([p.x, p.a[0], p.a[1]], t, p.n);
-        let mu = input.pair.friction.at_normal(p.n);
+        // the friction at the strip's normal, falling with the strip's rigid slip velocity at
+        // its centre (`FallingFriction`)
+        let mu = input.pair.friction.at_normal(p.n)
+            * falling.factor(creep.xi.hypot(creep.eta) * input.kin.v_ref);
         let flex = blend.at(&creep);
         // The strip at lateral coordinate l: its longitudinal creepage ξ_i = ξ − φ l is split
         // back into the frame point's ξ and the spin's −φ l, which FASTSIM takes with L3 and

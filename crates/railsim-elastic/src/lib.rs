@@ -45,5 +45,5 @@ pub use hertz::{
 };
 pub use kalker::{Creepages, KalkerCoeffs, TangentialForces, kalker_coeffs, linear_kalker};
 pub use material::Material;
-pub use polach::{PolachParams, polach};
+pub use polach::{PolachParams, polach, spin_corrected_creepage};
 pub use steady::{SteadyRollingSolver, SteadySolution, cerruti_influence};

@@ -53,6 +53,20 @@ impl PolachParams {
     }
 }
 
+/// Polach's total creepage `s_C = sqrt(s_x^2 + s_yC^2)` of an ellipse of semi-axis `a` \[m\]
+/// along the rolling direction, with the spin-corrected lateral creepage `s_yC = s_y` if
+/// `|s_y + phi a| <= |s_y|`, else `s_y + phi a` (Polach 1999; contact-theory note §3.4);
+/// returns `(s_C, s_yC)`. `V s_C` is the slip velocity of his friction law.
+pub fn spin_corrected_creepage(creep: &Creepages, a: f64) -> (f64, f64) {
+    let (sx, sy, phi) = (creep.xi, creep.eta, creep.phi);
+    let syc = if (sy + phi * a).abs() <= sy.abs() {
+        sy
+    } else {
+        sy + phi * a
+    };
+    (sx.hypot(syc), syc)
+}
+
 /// Largest gradient used; beyond it the formulas have reached their limits to machine precision.
 const EPS_MAX: f64 = 1e150;
 
@@ -94,12 +108,7 @@ pub fn polach(
     params.check()?;
     let c = kalker_coeffs(a, b, mat.nu)?;
     let (sx, sy, phi) = (creep.xi, creep.eta, creep.phi);
-    let syc = if (sy + phi * a).abs() <= sy.abs() {
-        sy
-    } else {
-        sy + phi * a
-    };
-    let sc = sx.hypot(syc);
+    let (sc, syc) = spin_corrected_creepage(creep, a);
     if sc == 0.0 {
         return Ok(TangentialForces {
             adhesion_fraction: 1.0,

@@ -4,7 +4,8 @@ use std::ops::Range;
 use std::path::{Component, Path, PathBuf};
 
 use railsim_contact::{
-    ContactModelKind, ContactOptions, Friction, HertzSearch, PolachAdhesion, Tangential,
+    ContactModelKind, ContactOptions, FallingFriction, Friction, HertzSearch, PolachAdhesion,
+    Tangential,
 };
 use railsim_ode::Method;
 use railsim_spec::short_number;
@@ -18,8 +19,8 @@ use crate::assess::{
 };
 use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::spec::{
-    AssessmentSpec, ContactSpec, FrictionSpec, InitialSpec, IntegratorSpec, LogSpec, PolachSpec,
-    SceneSpec, SpeedProfileSpec,
+    AssessmentSpec, ContactSpec, FallingFrictionSpec, FrictionSpec, InitialSpec, IntegratorSpec,
+    LogSpec, PolachSpec, SceneSpec, SpeedProfileSpec,
 };
 
 /// \[-\] a rigid wheelbase `a` needs curves of radius R ≥ this × a (see
@@ -749,22 +750,6 @@ impl Compiler<'_> {
         };
         take(&p.k_a, "polach.k_a", "", (0.0, 1.0), true, &mut out.k_a);
         take(&p.k_s, "polach.k_s", "", (0.0, 1.0), true, &mut out.k_s);
-        take(
-            &p.friction_ratio_at_infinite_slip,
-            "polach.friction_ratio_at_infinite_slip",
-            "",
-            (0.0, 1.0),
-            false,
-            &mut out.friction_ratio,
-        );
-        take(
-            &p.friction_decay_s_per_m,
-            "polach.friction_decay_s_per_m",
-            "s/m",
-            (0.0, 100.0),
-            false,
-            &mut out.friction_decay,
-        );
         if ok && out.k_s > out.k_a {
             let span = p.k_s.as_ref().or(p.k_a.as_ref()).map(|v| v.span());
             self.sink.at(
@@ -777,6 +762,37 @@ impl Compiler<'_> {
                 ),
             );
             return None;
+        }
+        ok.then_some(out)
+    }
+
+    /// `[contact] falling_friction`: each key in its range.
+    fn falling_friction(&mut self, f: &FallingFrictionSpec) -> Option<FallingFriction> {
+        let mut out = FallingFriction::default();
+        let mut ok = true;
+        if let Some(v) = &f.ratio_at_infinite_slip {
+            match self.range(
+                v,
+                "falling_friction.ratio_at_infinite_slip",
+                "",
+                (0.0, 1.0),
+                false,
+            ) {
+                Some(x) => out.ratio = x,
+                None => ok = false,
+            }
+        }
+        if let Some(v) = &f.decay_s_per_m {
+            match self.range(
+                v,
+                "falling_friction.decay_s_per_m",
+                "s/m",
+                (0.0, 100.0),
+                false,
+            ) {
+                Some(x) => out.decay = x,
+                None => ok = false,
+            }
         }
         ok.then_some(out)
     }
@@ -1446,6 +1462,32 @@ impl Compiler<'_> {
             } else {
                 match self.polach(p.get_ref()) {
                     Some(x) => opts.polach = x,
+                    None => ok = false,
+                }
+            }
+        }
+        if let Some(f) = &c.falling_friction {
+            if matches!(
+                opts.model,
+                ContactModelKind::Linear | ContactModelKind::Halfspace
+            ) {
+                self.err(
+                    &f.span(),
+                    "contact.falling_friction",
+                    format!(
+                        "[contact] falling_friction applies to model = \"polach\", \"fastsim\" or \"stripes\", found model = \"{}\" ({})",
+                        opts.model.name(),
+                        if opts.model == ContactModelKind::Linear {
+                            "which has no friction"
+                        } else {
+                            "a reference level, with Coulomb friction"
+                        }
+                    ),
+                );
+                ok = false;
+            } else {
+                match self.falling_friction(f.get_ref()) {
+                    Some(x) => opts.falling_friction = x,
                     None => ok = false,
                 }
             }

@@ -122,14 +122,17 @@ pub struct ContactSpec {
     /// Tangential solution of `stripes` and `halfspace`: `"fastrip"` (default) or `"fastsim"`.
     #[serde(default)]
     pub tangential: Option<Spanned<String>>,
-    /// `polach` model only: Polach's reduction factors and friction falling with the slip
-    /// velocity (docs/formats/scene.md).
+    /// `polach` model only: Polach's reduction factors (docs/formats/scene.md).
     #[serde(default)]
     pub polach: Option<Spanned<PolachSpec>>,
+    /// Friction falling with the slip velocity: `polach`, `fastsim` and `stripes`
+    /// (docs/formats/scene.md).
+    #[serde(default)]
+    pub falling_friction: Option<Spanned<FallingFrictionSpec>>,
 }
 
-/// `[contact] polach`: Polach's extended creep-force model (Polach 2005); every key optional,
-/// with the 1999 model's values (1, 1, 1, 0).
+/// `[contact] polach`: Polach's extended creep-force model (Polach 2005), its reduction
+/// factors; every key optional, with the 1999 model's values (1, 1).
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PolachSpec {
@@ -139,12 +142,19 @@ pub struct PolachSpec {
     /// \[-\] reduction factor k_S in the slip area, in (0, k_a].
     #[serde(default)]
     pub k_s: Option<Spanned<f64>>,
+}
+
+/// `[contact] falling_friction`: the friction μ0 ((1 − A) e^(−B w) + A) at slip velocity w
+/// (Polach 2005); every key optional, with Coulomb friction's values (1, 0).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FallingFrictionSpec {
     /// \[-\] A: the friction at infinite slip velocity over the pair's friction, in [0, 1].
     #[serde(default)]
-    pub friction_ratio_at_infinite_slip: Option<Spanned<f64>>,
+    pub ratio_at_infinite_slip: Option<Spanned<f64>>,
     /// \[s/m\] B: the decay rate of the friction with the slip velocity, in [0, 100].
     #[serde(default)]
-    pub friction_decay_s_per_m: Option<Spanned<f64>>,
+    pub decay_s_per_m: Option<Spanned<f64>>,
 }
 
 /// `[integrator]`.
@@ -287,6 +297,7 @@ pub const CONTACT_KEYS: &[&str] = &[
     "hertz_search",
     "tangential",
     "polach",
+    "falling_friction",
 ];
 /// Keys of `[integrator]`.
 pub const INTEGRATOR_KEYS: &[&str] = &["method", "rtol", "atol", "step_s", "max_step_s"];

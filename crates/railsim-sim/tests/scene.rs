@@ -401,32 +401,49 @@ fn the_tangential_solution_is_read_and_checked() {
     }
 }
 
-/// `[contact] polach`: Polach's extended model, read into the contact options, with the 1999
-/// model's values for the keys left out; each key's range, k_S <= k_A, an unknown key and a
-/// model other than `polach` reported at the key's line.
+/// `[contact] polach`: Polach's reduction factors, and `[contact] falling_friction`, read into
+/// the contact options, with the 1999 model's and Coulomb friction's values for the keys left
+/// out; `falling_friction` with `polach`, `fastsim` and `stripes`; each key's range, k_S <= k_A,
+/// an unknown key, `polach` with another model and `falling_friction` with `linear` or
+/// `halfspace` reported at the key's line.
 #[test]
 fn polachs_extended_model_is_read_and_checked() {
+    use railsim_contact::{FallingFriction, PolachAdhesion};
     let s = compile(&format!(
-        "{GOOD}[contact]\nmodel = \"polach\"\npolach = {{ k_a = 0.8, k_s = 0.4, \
-         friction_ratio_at_infinite_slip = 0.4, friction_decay_s_per_m = 0.6 }}\n"
+        "{GOOD}[contact]\nmodel = \"polach\"\npolach = {{ k_a = 0.8, k_s = 0.4 }}\n\
+         falling_friction = {{ ratio_at_infinite_slip = 0.4, decay_s_per_m = 0.6 }}\n"
     ))
     .unwrap();
-    let p = s.contact.polach;
+    assert_eq!(s.contact.polach, PolachAdhesion { k_a: 0.8, k_s: 0.4 });
     assert_eq!(
-        (p.k_a, p.k_s, p.friction_ratio, p.friction_decay),
-        (0.8, 0.4, 0.4, 0.6)
+        s.contact.falling_friction,
+        FallingFriction {
+            ratio: 0.4,
+            decay: 0.6
+        }
     );
     let s = compile(&format!(
         "{GOOD}[contact]\nmodel = \"polach\"\npolach = {{ k_s = 0.5 }}\n"
     ))
     .unwrap();
-    let p = s.contact.polach;
-    assert_eq!(
-        (p.k_a, p.k_s, p.friction_ratio, p.friction_decay),
-        (1.0, 0.5, 1.0, 0.0)
-    );
+    assert_eq!(s.contact.polach, PolachAdhesion { k_a: 1.0, k_s: 0.5 });
+    assert_eq!(s.contact.falling_friction, FallingFriction::default());
     let s = compile(&format!("{GOOD}[contact]\nmodel = \"polach\"\n")).unwrap();
-    assert_eq!(s.contact.polach, railsim_contact::PolachAdhesion::default());
+    assert_eq!(s.contact.polach, PolachAdhesion::default());
+    for model in ["fastsim", "stripes"] {
+        let s = compile(&format!(
+            "{GOOD}[contact]\nmodel = \"{model}\"\nfalling_friction = {{ decay_s_per_m = 2 }}\n"
+        ))
+        .unwrap();
+        assert_eq!(
+            s.contact.falling_friction,
+            FallingFriction {
+                ratio: 1.0,
+                decay: 2.0
+            },
+            "{model}"
+        );
+    }
     for (text, want) in [
         (
             "model = \"polach\"\npolach = { k_a = 1.2 }",
@@ -440,12 +457,16 @@ fn polachs_extended_model_is_read_and_checked() {
             ],
         ),
         (
-            "model = \"polach\"\npolach = { friction_ratio_at_infinite_slip = 1.5 }",
-            vec!["friction_ratio_at_infinite_slip must lie in [0e0, 1e0], found 1.5"],
+            "model = \"polach\"\nfalling_friction = { ratio_at_infinite_slip = 1.5 }",
+            vec!["falling_friction.ratio_at_infinite_slip must lie in [0e0, 1e0], found 1.5"],
         ),
         (
-            "model = \"polach\"\npolach = { friction_decay_s_per_m = -0.6 }",
-            vec!["friction_decay_s_per_m must lie in [0e0, 1e2] s/m, found -0.6"],
+            "model = \"stripes\"\nfalling_friction = { decay_s_per_m = -0.6 }",
+            vec!["falling_friction.decay_s_per_m must lie in [0e0, 1e2] s/m, found -0.6"],
+        ),
+        (
+            "model = \"polach\"\npolach = { friction_ratio_at_infinite_slip = 0.4 }",
+            vec!["unknown field `friction_ratio_at_infinite_slip`", "k_a"],
         ),
         (
             "model = \"polach\"\npolach = { k_b = 0.5 }",
@@ -454,6 +475,22 @@ fn polachs_extended_model_is_read_and_checked() {
         (
             "model = \"fastsim\"\npolach = { k_a = 0.5 }",
             vec!["applies only to model = \"polach\"", "fastsim"],
+        ),
+        (
+            "model = \"linear\"\nfalling_friction = { decay_s_per_m = 1 }",
+            vec![
+                "falling_friction applies to model",
+                "\"linear\"",
+                "no friction",
+            ],
+        ),
+        (
+            "model = \"halfspace\"\nfalling_friction = { decay_s_per_m = 1 }",
+            vec![
+                "falling_friction applies to model",
+                "\"halfspace\"",
+                "reference level",
+            ],
         ),
     ] {
         let p = problems(&format!("{GOOD}[contact]\n{text}\n"));

@@ -20,6 +20,12 @@ pub fn scene(text: &str) -> Scene {
 /// traction, held longitudinally (`ws.x` frozen) at 72 km/h on ideal straight track, with
 /// `extra` TOML appended to the scene; the vehicle file is written to `dir`.
 pub fn driven_wheelset(dir: &Path, extra: &str) -> Scene {
+    driven_wheelset_on(dir, "tracks/straight.toml", 1.0, extra)
+}
+
+/// [`driven_wheelset`] on the track file `track` for `duration_s`.
+#[allow(dead_code)]
+pub fn driven_wheelset_on(dir: &Path, track: &str, duration_s: f64, extra: &str) -> Scene {
     std::fs::create_dir_all(dir).unwrap();
     let text = std::fs::read_to_string(root().join("vehicles/wheelset_free.toml")).unwrap();
     let vehicle = dir.join("driven.toml");
@@ -29,7 +35,7 @@ pub fn driven_wheelset(dir: &Path, extra: &str) -> Scene {
     )
     .unwrap();
     scene(&format!(
-        "vehicle = \"{}\"\ntrack = \"tracks/straight.toml\"\nspeed_kmh = 72\nduration_s = 1\n\
+        "vehicle = \"{}\"\ntrack = \"{track}\"\nspeed_kmh = 72\nduration_s = {duration_s}\n\
          freeze = [\"ws.x\"]\n{extra}",
         vehicle.display()
     ))
