@@ -821,8 +821,12 @@ pub fn solve(
         let creep: Creepages = input.kin.creepages([p.x, p.a[0], p.a[1]], t, p.n);
         // the friction at the strip's normal, falling with the strip's rigid slip velocity at
         // its centre (`FallingFriction`)
-        let mu = input.pair.friction.at_normal(p.n)
-            * falling.factor(creep.xi.hypot(creep.eta) * input.kin.v_ref);
+        let mu0 = input.pair.friction.at_normal(p.n);
+        let mu = if falling.is_coulomb() {
+            mu0
+        } else {
+            mu0 * falling.factor(creep.xi.hypot(creep.eta) * input.kin.v_ref)
+        };
         let flex = blend.at(&creep);
         // The strip at lateral coordinate l: its longitudinal creepage ξ_i = ξ − φ l is split
         // back into the frame point's ξ and the spin's −φ l, which FASTSIM takes with L3 and
