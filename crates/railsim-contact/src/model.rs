@@ -609,6 +609,10 @@ impl WheelRailContact {
                 let mut sum = 0.0;
                 for zone in &ws.zones {
                     let frame = patch_frame(&self.pair, &ctx, &ws.pairs, zone, !searched);
+                    if frame.delta0 > self.opts.max_penetration {
+                        // (reported by the loop below, as for every model)
+                        continue;
+                    }
                     let mat = &self.pair.material;
                     sum += zone.share
                         * hertz_from_approach(frame.a_curv, frame.b_curv, frame.delta0, mat)?.n;
