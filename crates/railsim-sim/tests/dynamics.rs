@@ -404,6 +404,48 @@ fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
     assert!((fx / (2000.0 / r) - 1.0).abs() < 0.01);
 }
 
+/// A driven wheelset's run (`common::driven_wheelset_on`, 20 m/s) read at `t1` and `t2` \[s\]:
+/// at `t2` the wheels' summed Fx and Fz \[N\] (a right-hand side evaluated at its state), the
+/// rolling radius \[m\] and the creepage of the nominal rolling circle, the change of the spin
+/// rate from `t1` \[rad/s\], and the largest creepage of the run.
+struct DrivenRun {
+    fx: f64,
+    fz: f64,
+    r: f64,
+    creep: f64,
+    dw: f64,
+    peak: f64,
+}
+
+fn driven_run(s: &railsim_sim::Scene, t1: f64, t2: f64) -> DrivenRun {
+    use railsim_ode::OdeSystem;
+    use railsim_sim::dynamics::Dynamics;
+    let (sim, samples, _) = run(s);
+    let m = sim.model();
+    let spin = common::state_index(&sim, "d/dt ws.spin");
+    let at = |t: f64| {
+        samples
+            .iter()
+            .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
+            .unwrap()
+    };
+    let (s1, s2) = (at(t1), at(t2));
+    let mut d = Dynamics::new(m);
+    let mut dx = vec![0.0; m.dim()];
+    d.rhs(s2.t, &s2.x, &mut dx).unwrap();
+    let r = m.members[0].rolling_radius;
+    let v = 20.0;
+    let creep = |x: &Sample| (x.x[spin].abs() * r - v) / v;
+    DrivenRun {
+        fx: d.ws.wheel_force.iter().map(|f| f[0]).sum(),
+        fz: d.ws.wheel_force.iter().map(|f| f[2]).sum(),
+        r,
+        creep: creep(s2),
+        dw: s2.x[spin].abs() - s1.x[spin].abs(),
+        peak: samples.iter().map(creep).fold(0.0f64, f64::max),
+    }
+}
+
 /// Polach's extended model (`[contact] polach` and `falling_friction`, Polach 2005): the
 /// reduction factors and the friction falling with the slip velocity lower the adhesion a
 /// driven wheelset can use. The free wheelset with 2 kN·m of traction at 72 km/h needs 0.244
@@ -419,72 +461,60 @@ fn a_traction_torque_is_carried_by_the_longitudinal_creep_forces() {
 /// reach the creep-force law, every run would go as the first.
 #[test]
 fn polachs_falling_friction_lets_a_driven_wheelset_slip() {
-    use railsim_ode::OdeSystem;
-    use railsim_sim::dynamics::Dynamics;
     let dir = std::env::temp_dir().join(format!("railsim-adhesion-{}", std::process::id()));
-    let run_with = |model: &str, extra: &str| {
+    let run_with = |extra: &str| {
         let s = common::driven_wheelset(
             &dir,
-            &format!("[contact]\nmodel = \"{model}\"\n{extra}\n[log]\nrate_hz = 100\n"),
+            &format!("[contact]\nmodel = \"polach\"\n{extra}\n[log]\nrate_hz = 100\n"),
         );
-        let (sim, samples, _) = run(&s);
-        let m = sim.model();
-        let spin = common::state_index(&sim, "d/dt ws.spin");
-        let at = |t: f64| {
-            samples
-                .iter()
-                .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
-                .unwrap()
-        };
-        let (s1, s2) = (at(0.5), at(1.0));
-        let mut d = Dynamics::new(m);
-        let mut dx = vec![0.0; m.dim()];
-        d.rhs(s2.t, &s2.x, &mut dx).unwrap();
-        let fx: f64 = d.ws.wheel_force.iter().map(|f| f[0]).sum();
-        let fz: f64 = d.ws.wheel_force.iter().map(|f| f[2]).sum();
-        let r = m.members[0].rolling_radius;
-        let v = 20.0;
-        // the longitudinal creepage of the axle's nominal rolling circle
-        let creep = (s2.x[spin].abs() * r - v) / v;
-        (fx, fz, r, creep, s2.x[spin].abs() - s1.x[spin].abs())
+        driven_run(&s, 0.5, 1.0)
     };
     let reduced = "polach = { k_a = 1.0, k_s = 0.4 }\n";
-    let coulomb = run_with("polach", "");
-    let dry = run_with(
-        "polach",
-        &format!(
-            "{reduced}falling_friction = {{ ratio_at_infinite_slip = 0.4, decay_s_per_m = 0.6 }}"
-        ),
-    );
-    let falling = run_with(
-        "polach",
-        &format!(
-            "{reduced}falling_friction = {{ ratio_at_infinite_slip = 0.4, decay_s_per_m = 3.0 }}"
-        ),
-    );
+    let coulomb = run_with("");
+    let dry = run_with(&format!(
+        "{reduced}falling_friction = {{ ratio_at_infinite_slip = 0.4, decay_s_per_m = 0.6 }}"
+    ));
+    let falling = run_with(&format!(
+        "{reduced}falling_friction = {{ ratio_at_infinite_slip = 0.4, decay_s_per_m = 3.0 }}"
+    ));
     std::fs::remove_dir_all(&dir).ok();
-    for (name, (fx, fz, r, creep, dw)) in [("Coulomb", coulomb), ("k_S 0.4", dry), ("B 3", falling)]
-    {
+    for (name, x) in [("Coulomb", &coulomb), ("k_S 0.4", &dry), ("B 3", &falling)] {
         eprintln!(
-            "{name}: sum Fx {fx:.1} N = {:.4} of the load, Fx r {:.1} N m, creepage {creep:.5}, spin rate +{dw:.4} rad/s from 0.5 to 1 s",
-            fx / fz,
-            fx * r
+            "{name}: sum Fx {:.1} N = {:.4} of the load, Fx r {:.1} N m, creepage {:.5}, spin rate +{:.4} rad/s from 0.5 to 1 s",
+            x.fx,
+            x.fx / x.fz,
+            x.fx * x.r,
+            x.creep,
+            x.dw
         );
     }
-    for (fx, _, r, _, dw) in [coulomb, dry] {
-        assert!((fx * r / 2000.0 - 1.0).abs() < 0.01, "{}", fx * r);
-        assert!(dw.abs() < 1e-2, "{dw}");
+    for x in [&coulomb, &dry] {
+        assert!((x.fx * x.r / 2000.0 - 1.0).abs() < 0.01, "{}", x.fx * x.r);
+        assert!(x.dw.abs() < 1e-2, "{}", x.dw);
     }
-    assert!(dry.3 > 3.0 * coulomb.3, "{} against {}", dry.3, coulomb.3);
-    let (fx, fz, r, creep, dw) = falling;
-    assert!(dw > 1.0, "the wheelset does not slip: {dw} rad/s");
-    assert!(creep > 0.1, "{creep}");
-    assert!((fx / fz / (0.4 * 0.3) - 1.0).abs() < 0.05, "{}", fx / fz);
-    // I_yy = 112 kg m² (vehicles/wheelset_free.toml)
-    let predicted = (2000.0 - fx * r) * 0.5 / 112.0;
     assert!(
-        (dw / predicted - 1.0).abs() < 0.03,
-        "{dw} against {predicted}"
+        dry.creep > 3.0 * coulomb.creep,
+        "{} against {}",
+        dry.creep,
+        coulomb.creep
+    );
+    assert!(
+        falling.dw > 1.0,
+        "the wheelset does not slip: {} rad/s",
+        falling.dw
+    );
+    assert!(falling.creep > 0.1, "{}", falling.creep);
+    assert!(
+        (falling.fx / falling.fz / (0.4 * 0.3) - 1.0).abs() < 0.05,
+        "{}",
+        falling.fx / falling.fz
+    );
+    // I_yy = 112 kg m² (vehicles/wheelset_free.toml)
+    let predicted = (2000.0 - falling.fx * falling.r) * 0.5 / 112.0;
+    assert!(
+        (falling.dw / predicted - 1.0).abs() < 0.03,
+        "{} against {predicted}",
+        falling.dw
     );
 }
 
@@ -501,8 +531,6 @@ fn polachs_falling_friction_lets_a_driven_wheelset_slip() {
 /// once the slip velocity has grown (e^(−B w) of the fall left).
 #[test]
 fn falling_friction_keeps_a_wheel_slipping_after_a_low_adhesion_stretch() {
-    use railsim_ode::OdeSystem;
-    use railsim_sim::dynamics::Dynamics;
     let dir = std::env::temp_dir().join(format!("railsim-slip-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let track = dir.join("wet_stretch.toml");
@@ -523,56 +551,45 @@ fn falling_friction_keeps_a_wheel_slipping_after_a_low_adhesion_stretch() {
             1.5,
             &format!("[contact]\nmodel = \"{model}\"\n{extra}\n[log]\nrate_hz = 100\n"),
         );
-        let (sim, samples, _) = run(&s);
-        let m = sim.model();
-        let spin = common::state_index(&sim, "d/dt ws.spin");
-        let at = |t: f64| {
-            samples
-                .iter()
-                .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
-                .unwrap()
-        };
-        let (s1, s2) = (at(1.0), at(1.5));
-        let mut d = Dynamics::new(m);
-        let mut dx = vec![0.0; m.dim()];
-        d.rhs(s2.t, &s2.x, &mut dx).unwrap();
-        let fx: f64 = d.ws.wheel_force.iter().map(|f| f[0]).sum();
-        let fz: f64 = d.ws.wheel_force.iter().map(|f| f[2]).sum();
-        let r = m.members[0].rolling_radius;
-        let creep = (s2.x[spin].abs() * r - 20.0) / 20.0;
-        let peak = samples
-            .iter()
-            .map(|x| (x.x[spin].abs() * r - 20.0) / 20.0)
-            .fold(0.0f64, f64::max);
-        (fx, fz, r, creep, s2.x[spin].abs() - s1.x[spin].abs(), peak)
+        driven_run(&s, 1.0, 1.5)
     };
     let falling = "falling_friction = { ratio_at_infinite_slip = 0.4, decay_s_per_m = 3.0 }";
     for model in ["stripes", "fastsim"] {
         let coulomb = run_with(model, "");
         let fallen = run_with(model, falling);
-        for (name, (fx, fz, _, creep, dw, peak)) in [("Coulomb", coulomb), ("falling", fallen)] {
+        for (name, x) in [("Coulomb", &coulomb), ("falling", &fallen)] {
             eprintln!(
-                "{model}, {name}: largest creepage {peak:.4}; at 1.5 s sum Fx = {:.4} of the load, creepage {creep:.5}, spin rate +{dw:.4} rad/s from 1.0 s",
-                fx / fz
+                "{model}, {name}: largest creepage {:.4}; at 1.5 s sum Fx = {:.4} of the load, creepage {:.5}, spin rate +{:.4} rad/s from 1.0 s",
+                x.peak,
+                x.fx / x.fz,
+                x.creep,
+                x.dw
             );
         }
-        let (_, _, _, creep, dw, peak) = coulomb;
-        assert!(peak > 0.02, "{model}: no slip on the wet stretch ({peak})");
+        let c = &coulomb;
         assert!(
-            dw.abs() < 0.01 && creep < 0.003,
-            "{model}: {dw} rad/s, {creep}"
+            c.peak > 0.02,
+            "{model}: no slip on the wet stretch ({})",
+            c.peak
         );
-        let (fx, fz, r, _, dw, _) = fallen;
         assert!(
-            (fx / fz / (0.4 * 0.3) - 1.0).abs() < 0.05,
+            c.dw.abs() < 0.01 && c.creep < 0.003,
+            "{model}: {} rad/s, {}",
+            c.dw,
+            c.creep
+        );
+        let f = &fallen;
+        assert!(
+            (f.fx / f.fz / (0.4 * 0.3) - 1.0).abs() < 0.05,
             "{model}: {}",
-            fx / fz
+            f.fx / f.fz
         );
         // I_yy = 112 kg m² (vehicles/wheelset_free.toml)
-        let predicted = (2000.0 - fx * r) * 0.5 / 112.0;
+        let predicted = (2000.0 - f.fx * f.r) * 0.5 / 112.0;
         assert!(
-            (dw / predicted - 1.0).abs() < 0.03,
-            "{model}: {dw} against {predicted}"
+            (f.dw / predicted - 1.0).abs() < 0.03,
+            "{model}: {} against {predicted}",
+            f.dw
         );
     }
     std::fs::remove_dir_all(&dir).ok();
