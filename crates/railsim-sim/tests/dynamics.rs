@@ -417,6 +417,25 @@ struct DrivenRun {
     peak: f64,
 }
 
+impl DrivenRun {
+    /// Asserts a slipping wheelset: its creep force at `friction` times its load (5 %) and its
+    /// spin accelerating over the 0.5 s as the torque's excess over the creep force's moment
+    /// says (3 %; I_yy = 112 kg·m², vehicles/wheelset_free.toml).
+    fn assert_slipping_at(&self, friction: f64, what: &str) {
+        assert!(
+            (self.fx / self.fz / friction - 1.0).abs() < 0.05,
+            "{what}: {}",
+            self.fx / self.fz
+        );
+        let predicted = (2000.0 - self.fx * self.r) * 0.5 / 112.0;
+        assert!(
+            (self.dw / predicted - 1.0).abs() < 0.03,
+            "{what}: {} against {predicted}",
+            self.dw
+        );
+    }
+}
+
 fn driven_run(s: &railsim_sim::Scene, t1: f64, t2: f64) -> DrivenRun {
     use railsim_ode::OdeSystem;
     use railsim_sim::dynamics::Dynamics;
@@ -504,18 +523,7 @@ fn polachs_falling_friction_lets_a_driven_wheelset_slip() {
         falling.dw
     );
     assert!(falling.creep > 0.1, "{}", falling.creep);
-    assert!(
-        (falling.fx / falling.fz / (0.4 * 0.3) - 1.0).abs() < 0.05,
-        "{}",
-        falling.fx / falling.fz
-    );
-    // I_yy = 112 kg m² (vehicles/wheelset_free.toml)
-    let predicted = (2000.0 - falling.fx * falling.r) * 0.5 / 112.0;
-    assert!(
-        (falling.dw / predicted - 1.0).abs() < 0.03,
-        "{} against {predicted}",
-        falling.dw
-    );
+    falling.assert_slipping_at(0.4 * 0.3, "B 3");
 }
 
 /// Friction falling with the slip velocity (`[contact] falling_friction`) with `stripes`
@@ -578,19 +586,7 @@ fn falling_friction_keeps_a_wheel_slipping_after_a_low_adhesion_stretch() {
             c.dw,
             c.creep
         );
-        let f = &fallen;
-        assert!(
-            (f.fx / f.fz / (0.4 * 0.3) - 1.0).abs() < 0.05,
-            "{model}: {}",
-            f.fx / f.fz
-        );
-        // I_yy = 112 kg m² (vehicles/wheelset_free.toml)
-        let predicted = (2000.0 - f.fx * f.r) * 0.5 / 112.0;
-        assert!(
-            (f.dw / predicted - 1.0).abs() < 0.03,
-            "{model}: {} against {predicted}",
-            f.dw
-        );
+        fallen.assert_slipping_at(0.4 * 0.3, model);
     }
     std::fs::remove_dir_all(&dir).ok();
 }
