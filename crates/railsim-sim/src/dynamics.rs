@@ -890,14 +890,15 @@ impl Dynamics<'_> {
                 spin: omega_l[1] + k.qd[4],
             };
             let s_wheel = s + mm.p0[0] + k.q[0];
-            let deviation = m.wheel_radius_deviation(wi, s_wheel, radius);
+            let lag = mm.rolled_angle.map_or(0.0, |i| x[i]);
+            let deviation = m.wheel_radius_deviation(wi, s_wheel, radius, lag);
             let rail = rail_frame(
                 m,
                 wheel.side,
                 s_wheel,
                 v,
                 radius,
-                m.wheel_support(m.rail_state(wi, x), deviation, v + k.qd[0], radius),
+                m.wheel_support(m.rail_state(wi, x), deviation, vel.spin),
                 &mut pose,
                 &mut vel,
             );
@@ -1028,6 +1029,23 @@ impl Dynamics<'_> {
         Ok(())
     }
 
+    /// Stage 6a (wheelsets with an out-of-round wheel only): the rate of each rolled angle's
+    /// lag behind its track position, Ω − (V + ẋ)/r0, with Ω the wheelset's absolute spin about
+    /// its axle (as the contact takes it) and r0 its nominal radius
+    /// (`MemberModel::rolled_angle`).
+    fn rolled_angles(&mut self, dx: &mut [f64]) {
+        let m = self.model;
+        let v = self.ws.speed;
+        for (mi, mm) in m.members.iter().enumerate() {
+            let (Some(i), MemberKind::Wheelset { radius, .. }) = (mm.rolled_angle, mm.kind) else {
+                continue;
+            };
+            let k = &self.ws.kin[mi];
+            let spin = mul_t(&k.frame, k.omega_frame)[1] + k.qd[4];
+            dx[i] = spin - (v + k.qd[0]) / radius;
+        }
+    }
+
     /// Stage 6 (elastic rail support only): each rail mass under the reaction of its wheel's
     /// contact force and its support's spring and damper, in the wheelset's track frame
     /// (`docs/models/track.md`, "Elastic rail support").
@@ -1136,6 +1154,7 @@ impl OdeSystem for Dynamics<'_> {
         }
         self.contact(t, x)?;
         self.rails(x, dx);
+        self.rolled_angles(dx);
         self.equations(dx);
         if let Some(t0) = t0 {
             self.ws.cost.rhs += t0.elapsed().as_secs_f64();

@@ -75,6 +75,9 @@ pub struct MemberModel {
     /// \[m\] a wheelset's rolling radius in its initial position on the rails (the mean of its
     /// two wheels, from the contact); the nominal radius until the initial state is found.
     pub rolling_radius: f64,
+    /// A wheelset with an out-of-round wheel: the state index of its rolled angle's lag behind
+    /// its track position, φ = θ − s/r0 \[rad\] (`SimModel::wheel_radius_deviation`).
+    pub rolled_angle: Option<usize>,
 }
 
 impl MemberModel {
@@ -168,8 +171,12 @@ pub struct SimModel {
     pub n_internal: usize,
     /// The track's elastic rail support, `None` for rigid rails.
     pub rail_support: Option<RailSupport>,
-    /// Number of rail states (last): four per wheel on an elastic rail support.
+    /// Number of rail states (after the internal states): four per wheel on an elastic rail
+    /// support.
     pub n_rail: usize,
+    /// Number of rolled-angle states (last): one per wheelset with an out-of-round wheel
+    /// (`MemberModel::rolled_angle`).
+    pub n_angle: usize,
     /// Names of the state variables, for messages.
     pub state_names: Vec<String>,
     /// The carbody (member index: the heaviest rigid body) and its measuring points
@@ -217,6 +224,7 @@ impl SimModel {
                 torque: 0.0,
                 torque_reaction: None,
                 rolling_radius: 0.0,
+                rolled_angle: None,
             });
         }
         let nb = members.len();
@@ -294,6 +302,7 @@ impl SimModel {
                 // bodies come first among the members, in the vehicle's order
                 torque_reaction: w.torque_reaction.map(|b| MemberIx(b.index())),
                 rolling_radius: w.nominal_radius,
+                rolled_angle: None,
             });
         }
         // State layout: positions, rates, internal states.
@@ -372,6 +381,18 @@ impl SimModel {
                 }
             }
         }
+        // Rolled-angle states: only for wheelsets with an out-of-round wheel.
+        let mut n_angle = 0;
+        for (mi, mm) in members.iter_mut().enumerate() {
+            let defect = wheels
+                .iter()
+                .any(|w| w.member.0 == mi && !w.out_of_roundness.is_empty());
+            if defect {
+                mm.rolled_angle = Some(n_pos + n_rate + n_internal + n_rail + n_angle);
+                n_angle += 1;
+                state_names.push(format!("{} rolled angle lag", mm.name));
+            }
+        }
         Ok(SimModel {
             members,
             element_order,
@@ -388,6 +409,7 @@ impl SimModel {
             n_internal,
             rail_support,
             n_rail,
+            n_angle,
             state_names,
             comfort: None,
             bogies: Vec::new(),
@@ -473,7 +495,7 @@ impl SimModel {
 
     /// Length of the state vector.
     pub fn dim(&self) -> usize {
-        self.n_pos + self.n_rate + self.n_internal + self.n_rail
+        self.n_pos + self.n_rate + self.n_internal + self.n_rail + self.n_angle
     }
 
     /// The displacement (y, z) of the rail under wheel `wi` and its rate (vy, vz) in state `x`,
@@ -486,37 +508,32 @@ impl SimModel {
     }
 
     /// The radius deviation δr \[m\] of wheel `wi` at its bottom and its rate dδr/dθ \[m/rad\]
-    /// at the wheelset's track position `s_wheel`: (0, 0) for a round wheel. θ is the rolled
-    /// angle, `s_wheel` over the nominal radius `r0`: the wheel meets the same tread point every
-    /// 2π r0 of track (its creep, some thousandths, is left out of the angle).
-    pub fn wheel_radius_deviation(&self, wi: usize, s_wheel: f64, r0: f64) -> (f64, f64) {
+    /// at the rolled angle θ = `s_wheel`/`r0` + `lag`: (0, 0) for a round wheel. `s_wheel` is
+    /// the wheelset's track position, `r0` its nominal radius and `lag` its rolled angle's lag
+    /// (`MemberModel::rolled_angle`, the integral of Ω − (V + ẋ)/r0 from the start: the wheel's
+    /// creep and its rolling radius's difference from r0 turn it against its track position).
+    pub fn wheel_radius_deviation(&self, wi: usize, s_wheel: f64, r0: f64, lag: f64) -> (f64, f64) {
         let defects = &self.wheels[wi].out_of_roundness;
         if defects.is_empty() {
             return (0.0, 0.0);
         }
-        radius_deviation(defects, s_wheel / r0, r0)
+        radius_deviation(defects, s_wheel / r0 + lag, r0)
     }
 
     /// What a wheel meets of its rail's displacement (y, z, vy, vz) \[m, m/s\]: the rail's own,
     /// `rail` (an elastic support's, [`SimModel::rail_state`]), and, for a wheel that is out of
     /// round, its radius deviation at the bottom `deviation` = (δr, dδr/dθ)
     /// ([`SimModel::wheel_radius_deviation`]) as a vertical displacement of the rail, δr up and
-    /// dδr/dθ·θ̇ its rate with θ̇ = `speed`/`r0` (a larger radius lifts the axle as a raised rail
-    /// does). The same δr changes the wheel's rolling radius in the creepages
+    /// dδr/dθ·θ̇ its rate with θ̇ = `spin`, the wheelset's spin \[rad/s\] (a larger radius lifts
+    /// the axle as a raised rail does). The same δr changes the wheel's rolling radius in the creepages
     /// ([`crate::dynamics::apply_radius_deviation`]). Source: the out-of-round wheel as a
     /// moving irregularity of the wheel/rail gap, as in wheel-flat impact models (e.g. Wu &
     /// Thompson, J. Sound Vib. 251, 2002); docs/models/dynamics.md, "Out-of-round wheels".
-    pub fn wheel_support(
-        &self,
-        rail: [f64; 4],
-        deviation: (f64, f64),
-        speed: f64,
-        r0: f64,
-    ) -> [f64; 4] {
+    pub fn wheel_support(&self, rail: [f64; 4], deviation: (f64, f64), spin: f64) -> [f64; 4] {
         let mut out = rail;
         if deviation != (0.0, 0.0) {
             out[1] += deviation.0;
-            out[3] += deviation.1 * speed / r0;
+            out[3] += deviation.1 * spin;
         }
         out
     }
@@ -594,8 +611,8 @@ impl SimModel {
     /// taken in both directions (a superset of the true dependences, which is safe):
     /// - a force element couples its end members and its internal states; a friction element
     ///   also the ends and states of its normal-load element;
-    /// - a wheel couples its wheelset and the states of the rail mass under it (its contact
-    ///   force depends on both and acts on both);
+    /// - a wheel couples its wheelset (with its rolled angle, where it has one) and the states
+    ///   of the rail mass under it (its contact force depends on both and acts on both);
     /// - a wheelset's traction torque couples it to the body that takes the reaction (the
     ///   axle's direction follows the wheelset's position along the track).
     ///
@@ -613,6 +630,7 @@ impl SimModel {
                 mm.pos
                     .iter()
                     .chain(mm.rate.iter())
+                    .chain(std::iter::once(&mm.rolled_angle))
                     .flatten()
                     .copied()
                     .collect()

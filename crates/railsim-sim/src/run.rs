@@ -838,8 +838,8 @@ fn settle(
             // Relative to this wheel's rail (moved by irregularities and `support`): find the rail-frame
             // height that carries the load, then the track-frame height that gives it.
             let (mut pr, mut vr) = (p, vel);
-            let deviation = model.wheel_radius_deviation(first_wheel + k, s, radius);
-            let sup = model.wheel_support(support[k], deviation, vel.vx, radius);
+            let deviation = model.wheel_radius_deviation(first_wheel + k, s, radius, 0.0);
+            let sup = model.wheel_support(support[k], deviation, vel.spin);
             let rail = rail_frame(model, wheel.side, s, vel.vx, radius, sup, &mut pr, &mut vr);
             apply_radius_deviation(&mut vr, deviation.0);
             let sol = wheel.contacts[model.track.rail_section_at(s)]

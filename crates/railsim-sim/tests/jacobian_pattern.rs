@@ -180,6 +180,60 @@ fn the_pattern_holds_for_torque_reactions_and_friction_loaded_by_another_element
     );
 }
 
+/// Out-of-round wheels (a fifth-order polygon on both wheels of ws1, a flat on ws3's left
+/// wheel): each such wheelset's rolled-angle lag is a state of its own, whose rate follows the
+/// wheelset's spin and position rates and on which its wheels' contact forces depend through
+/// the radius deviation; the pattern takes it into the wheelset's block. Evaluated 1 s into
+/// the run's track (the polygon's slope is not zero there).
+#[test]
+fn the_pattern_holds_for_the_rolled_angles_of_out_of_round_wheels() {
+    let dir = std::env::temp_dir().join(format!("railsim-pattern-oor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut text =
+        std::fs::read_to_string(root().join("vehicles/manchester_vehicle1.toml")).unwrap();
+    for (ws, defect) in [
+        (
+            "ws1",
+            "type = \"harmonic\"\nside = \"both\"\norder = 5\namplitude_mm = 0.1",
+        ),
+        (
+            "ws3",
+            "type = \"flat\"\nside = \"left\"\nlength_mm = 40\ndepth_mm = 0.1\nposition_deg = 10",
+        ),
+    ] {
+        // the defect's table right after its wheelset's name
+        let at = text.find(&format!("name = \"{ws}\"\n")).unwrap();
+        let end = text[at..].find("\n[").map_or(text.len(), |e| at + e + 1);
+        text.insert_str(end, &format!("[[wheelset.out_of_roundness]]\n{defect}\n\n"));
+    }
+    let vehicle = dir.join("out_of_round.toml");
+    std::fs::write(&vehicle, &text).unwrap();
+    let s = scene(&format!(
+        "vehicle = \"{}\"\ntrack = \"tracks/straight.toml\"\nspeed_kmh = 72\n\
+         duration_s = 0.1\nfreeze = [\"carbody.x\"]\n[contact]\nmodel = \"polach\"\n\
+         warm_start = false\n",
+        vehicle.display()
+    ));
+    std::fs::remove_dir_all(&dir).ok();
+    let sim = Simulation::new(&s).unwrap();
+    let lag = common::state_index(&sim, "ws1 rolled angle lag");
+    common::state_index(&sim, "ws3 rolled angle lag");
+    let mut x = sim.initial_state().to_vec();
+    x[lag] = 0.3;
+    check(&sim, 1.0, &x, "rolled angles of out-of-round wheels");
+    // the coupling is there: the lag moves ws1's vertical acceleration (the polygon's radius)
+    let mut d = Dynamics::new(sim.model());
+    let z_rate = common::state_index(&sim, "d/dt ws1.z");
+    let mut acc = [0.0; 2];
+    for (k, l) in [0.3, 0.31].into_iter().enumerate() {
+        x[lag] = l;
+        let mut dx = vec![0.0; x.len()];
+        d.rhs(1.0, &x, &mut dx).unwrap();
+        acc[k] = dx[z_rate];
+    }
+    assert!((acc[1] - acc[0]).abs() > 1.0, "{acc:?}");
+}
+
 /// A grouped Jacobian re-evaluates only the wheels whose inputs a group moves: the other
 /// wheels' evaluations at the base state are kept and reused (`dynamics::ContactSlot`). On the
 /// Manchester vehicle (`stripes`, warm-started) the central difference then takes four
