@@ -526,6 +526,26 @@ fn polachs_falling_friction_lets_a_driven_wheelset_slip() {
     falling.assert_slipping_at(0.4 * 0.3, "B 3");
 }
 
+/// Writes to `dir` a straight track with 4 m of rail of friction 0.1 (a wet, leaf-covered
+/// stretch: rail sections from 5 to 9 m) between rails of 0.3, with `extra` TOML appended;
+/// returns its path.
+fn wet_stretch_track(dir: &std::path::Path, extra: &str) -> String {
+    std::fs::create_dir_all(dir).unwrap();
+    let track = dir.join("wet_stretch.toml");
+    std::fs::write(
+        &track,
+        format!(
+            "name = \"straight, a wet stretch\"\ngauge_mm = 1435\nrail_inclination = \"1:40\"\n\
+             rail_profile = {{ left = \"uic60\", right = \"uic60\" }}\n\
+             [[segment]]\ntype = \"tangent\"\nlength_m = 500\n\
+             [[rail_section]]\nstart_m = 5\nfriction = 0.1\n\
+             [[rail_section]]\nstart_m = 9\nfriction = 0.3\n{extra}"
+        ),
+    )
+    .unwrap();
+    track.display().to_string()
+}
+
 /// Friction falling with the slip velocity (`[contact] falling_friction`) with `stripes`
 /// (each strip's friction at its own rigid slip velocity) and `fastsim` (the ellipse's, at
 /// Polach's slip velocity): a wheel slip that outlives a low-adhesion stretch. The driven free
@@ -540,18 +560,7 @@ fn polachs_falling_friction_lets_a_driven_wheelset_slip() {
 #[test]
 fn falling_friction_keeps_a_wheel_slipping_after_a_low_adhesion_stretch() {
     let dir = std::env::temp_dir().join(format!("railsim-slip-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let track = dir.join("wet_stretch.toml");
-    std::fs::write(
-        &track,
-        "name = \"straight, a wet stretch\"\ngauge_mm = 1435\nrail_inclination = \"1:40\"\n\
-         rail_profile = { left = \"uic60\", right = \"uic60\" }\n\
-         [[segment]]\ntype = \"tangent\"\nlength_m = 500\n\
-         [[rail_section]]\nstart_m = 5\nfriction = 0.1\n\
-         [[rail_section]]\nstart_m = 9\nfriction = 0.3\n",
-    )
-    .unwrap();
-    let track = track.display().to_string();
+    let track = wet_stretch_track(&dir, "");
     let run_with = |model: &str, extra: &str| {
         let s = common::driven_wheelset_on(
             &dir,
@@ -860,20 +869,12 @@ fn a_polygonal_wheel_loads_an_elastic_rail_support_as_two_dynamic_stiffnesses_in
 #[test]
 fn an_out_of_round_wheel_turns_with_its_spin_when_it_slips() {
     let dir = std::env::temp_dir().join(format!("railsim-slip-flat-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let track = dir.join("wet_stretch.toml");
-    std::fs::write(
-        &track,
-        "name = \"straight, a wet stretch\"\ngauge_mm = 1435\nrail_inclination = \"1:40\"\n\
-         rail_profile = { left = \"uic60\", right = \"uic60\" }\n\
-         [[segment]]\ntype = \"tangent\"\nlength_m = 500\n\
-         [[rail_section]]\nstart_m = 5\nfriction = 0.1\n\
-         [[rail_section]]\nstart_m = 9\nfriction = 0.3\n\
-         [rail_support]\nmass_kg = 150\nlateral_stiffness_mn_m = 40\n\
+    let track = wet_stretch_track(
+        &dir,
+        "[rail_support]\nmass_kg = 150\nlateral_stiffness_mn_m = 40\n\
          lateral_damping_kns_m = 200\nvertical_stiffness_mn_m = 100\n\
          vertical_damping_kns_m = 100\n",
-    )
-    .unwrap();
+    );
     let text = std::fs::read_to_string(common::root().join("vehicles/wheelset_free.toml")).unwrap();
     let vehicle = dir.join("driven_flat.toml");
     std::fs::write(
@@ -891,7 +892,7 @@ fn an_out_of_round_wheel_turns_with_its_spin_when_it_slips() {
          falling_friction = {{ ratio_at_infinite_slip = 0.4, decay_s_per_m = 3.0 }}\n\
          [log]\nrate_hz = 2000\n",
         vehicle.display(),
-        track.display()
+        track
     ));
     let (sim, samples, _) = run(&s);
     std::fs::remove_dir_all(&dir).ok();
