@@ -676,8 +676,11 @@ fn steady_start(
         Ok(solved) => return Ok(solved),
         Err(e) => e,
     };
-    // Newton on the scene itself from a state `x1` found in `before` iterations
-    let from = |(x1, before): (Vec<f64>, usize)| {
+    // Newton on the scene itself from a state `x1` found in `before` iterations. A curving
+    // case's study has round wheels (`curving_scene`), so its state lacks the rolled-angle lags
+    // of the scene's out-of-round wheelsets, which come last in the layout: they start at 0.
+    let from = |(mut x1, before): (Vec<f64>, usize)| {
+        x1.resize(sim.model().dim(), 0.0);
         newton_steady(sim, 0.0, Some(&x1), &qs)
             .ok()
             .map(|(x, it, r)| (x, before + it, r))
@@ -860,8 +863,9 @@ fn newton_held(
         }
     }
     // a held position's row: its distance from where it is held, to the rate tolerance's
-    // number in metres or radians
-    for &(_, row) in held {
+    // number in metres or radians (a rolled-angle lag's too: held below)
+    let angle_rows = model.members.iter().filter_map(|mm| mm.rolled_angle);
+    for row in held.iter().map(|h| h.1).chain(angle_rows) {
         scale[row] = 1.0 / qs.rate_tol;
     }
     // the convergence test: the largest scaled residual and its row
@@ -879,9 +883,17 @@ fn newton_held(
     let merit = |f: &[f64]| -> f64 { f.iter().zip(&scale).map(|(v, s)| (v * s).powi(2)).sum() };
     let steps = difference_steps(model, sim.initial_state(), &ModalOptions::default());
     let mut x = start.unwrap_or(sim.initial_state()).to_vec();
+    // The rolled-angle lags of out-of-round wheelsets grow while the wheels roll on radii other
+    // than r0 (`MemberModel::rolled_angle`): no steady state has them still, so they are held
+    // where they start, as the defects' positions of the state sought.
+    let angles = model.members.iter().filter_map(|mm| mm.rolled_angle);
     let mut sys = Held {
         sys: Dynamics::new(model),
-        held: held.iter().map(|&(p, row)| (p, row, x[p])).collect(),
+        held: held
+            .iter()
+            .map(|&(p, row)| (p, row, x[p]))
+            .chain(angles.map(|i| (i, i, x[i])))
+            .collect(),
     };
     let mut f = vec![0.0; n];
     sys.rhs(t, &x, &mut f).map_err(|e| e.0)?;

@@ -211,6 +211,59 @@ fn the_in_curve_scene_starts_with_stripes_at_the_default_step() {
     }
 }
 
+/// The in-curve scene with out-of-round wheels (a fifth-order polygon on ws1, a flat on ws3):
+/// its quasi-static start goes through the curving case's study, which has round wheels and so
+/// no rolled-angle lags (`MemberModel::rolled_angle`); the scene's own Newton then takes that
+/// state with the lags at zero and holds them there (a lag grows while a wheel rolls on a
+/// radius other than r0: no steady state keeps it). It starts (until stop 35's rolled angles
+/// were given to the study's state, the lags' index was out of its bounds: a panic), with every
+/// lag at zero and the same wheelset positions as the round-wheeled scene's start to 0.05 mm.
+#[test]
+fn an_out_of_round_vehicle_starts_in_the_curve_from_its_quasi_static_state() {
+    let dir = std::env::temp_dir().join(format!("railsim-qs-oor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut text =
+        std::fs::read_to_string(common::root().join("vehicles/manchester_vehicle1.toml")).unwrap();
+    for (ws, defect) in [
+        (
+            "ws1",
+            "type = \"harmonic\"\nside = \"both\"\norder = 5\namplitude_mm = 0.1",
+        ),
+        (
+            "ws3",
+            "type = \"flat\"\nside = \"left\"\nlength_mm = 40\ndepth_mm = 0.1",
+        ),
+    ] {
+        let at = text.find(&format!("name = \"{ws}\"\n")).unwrap();
+        let end = text[at..].find("\n[").map_or(text.len(), |e| at + e + 1);
+        text.insert_str(end, &format!("[[wheelset.out_of_roundness]]\n{defect}\n\n"));
+    }
+    let vehicle = dir.join("out_of_round.toml");
+    std::fs::write(&vehicle, &text).unwrap();
+    let path = common::root().join("scenes/manchester_in_curve_r300.toml");
+    let scene_text = std::fs::read_to_string(&path).unwrap().replace(
+        "vehicle = \"../vehicles/manchester_vehicle1.toml\"",
+        &format!("vehicle = \"{}\"", vehicle.display()),
+    );
+    let scene = Scene::from_toml_str(&scene_text, "in_curve.toml", path.parent().unwrap())
+        .unwrap_or_else(|e| panic!("{e}"));
+    std::fs::remove_dir_all(&dir).ok();
+    let sim = Simulation::new(&scene).unwrap_or_else(|e| panic!("{e}"));
+    let (iterations, residual) = sim.quasi_static_start().expect("a quasi-static start");
+    let round = Simulation::new(&Scene::from_file(&path).unwrap()).unwrap();
+    println!("out of round: {iterations} iterations, residual {residual:.3}");
+    assert!(residual <= 1.0);
+    for ws in ["ws1", "ws3"] {
+        let lag = common::state_index(&sim, &format!("{ws} rolled angle lag"));
+        assert_eq!(sim.initial_state()[lag], 0.0);
+        let i = common::state_index(&sim, &format!("{ws}.y"));
+        let j = common::state_index(&round, &format!("{ws}.y"));
+        let (a, b) = (sim.initial_state()[i], round.initial_state()[j]);
+        println!("{ws}: {:.4} mm against {:.4} mm round", a * 1e3, b * 1e3);
+        assert!((a - b).abs() < 0.05e-3, "{ws}: {a} / {b}");
+    }
+}
+
 /// R = 150 m, 100 mm cant at 120 km/h (6.1 m/s² uncompensated; the curving study finds no
 /// steady state there either): the start is an error that says so and what to do instead.
 #[test]
