@@ -862,10 +862,17 @@ fn newton_held(
             }
         }
     }
+    // The rolled-angle lags of out-of-round wheelsets grow while the wheels roll on radii other
+    // than r0 (`MemberModel::rolled_angle`): no steady state has them still, so they are held
+    // where they start, as the defects' positions of the state sought (below).
+    let angles: Vec<usize> = model
+        .members
+        .iter()
+        .filter_map(|mm| mm.rolled_angle)
+        .collect();
     // a held position's row: its distance from where it is held, to the rate tolerance's
-    // number in metres or radians (a rolled-angle lag's too: held below)
-    let angle_rows = model.members.iter().filter_map(|mm| mm.rolled_angle);
-    for row in held.iter().map(|h| h.1).chain(angle_rows) {
+    // number in metres or radians
+    for &row in held.iter().map(|h| &h.1).chain(&angles) {
         scale[row] = 1.0 / qs.rate_tol;
     }
     // the convergence test: the largest scaled residual and its row
@@ -883,16 +890,12 @@ fn newton_held(
     let merit = |f: &[f64]| -> f64 { f.iter().zip(&scale).map(|(v, s)| (v * s).powi(2)).sum() };
     let steps = difference_steps(model, sim.initial_state(), &ModalOptions::default());
     let mut x = start.unwrap_or(sim.initial_state()).to_vec();
-    // The rolled-angle lags of out-of-round wheelsets grow while the wheels roll on radii other
-    // than r0 (`MemberModel::rolled_angle`): no steady state has them still, so they are held
-    // where they start, as the defects' positions of the state sought.
-    let angles = model.members.iter().filter_map(|mm| mm.rolled_angle);
     let mut sys = Held {
         sys: Dynamics::new(model),
         held: held
             .iter()
             .map(|&(p, row)| (p, row, x[p]))
-            .chain(angles.map(|i| (i, i, x[i])))
+            .chain(angles.iter().map(|&i| (i, i, x[i])))
             .collect(),
     };
     let mut f = vec![0.0; n];

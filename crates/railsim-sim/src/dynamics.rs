@@ -390,7 +390,7 @@ impl RailFrame {
 /// rails, half the gauge deviation moves each rail outward, cross level rolls the rail pair
 /// about the centre line, and `support` = (y, z, vy, vz) \[m, m/s\] (zero on rigid rails) moves
 /// this rail (an out-of-round wheel's radius deviation is given here too,
-/// `SimModel::wheel_support`). Returns the rail frame (identity on a rigid track without
+/// [`SimModel::wheel_support`]). Returns the rail frame (identity on a rigid track without
 /// irregularities and a zero `support`, which are then not evaluated).
 #[allow(clippy::too_many_arguments)]
 pub fn rail_frame(
@@ -442,18 +442,6 @@ pub fn rail_frame(
         roll: delta,
         sin_cos: (sd, cd),
     }
-}
-
-/// The radius deviation δr \[m\] of an out-of-round wheel at its bottom
-/// ([`SimModel::wheel_radius_deviation`]) in the wheel's creepages: the wheel's surface point
-/// at the contact lies δr further from the axle than the round profile's, so it moves by
-/// −Ω δr more along the track (Ω the spin, forward rolling positive). The contact crate takes
-/// the wheel point's velocity as that of the axle plus ω × r, so the term is added to the
-/// axle's `vx`, which also divides the creepages: their relative change of δr/r0 (1e-4 for
-/// 0.05 mm) is left in the reference speed. Rigid-body kinematics of the wheel surface point
-/// (contact-theory.md §3.1's creepage); docs/models/dynamics.md, "Out-of-round wheels".
-pub fn apply_radius_deviation(vel: &mut WheelsetVelocity, dr: f64) {
-    vel.vx -= vel.spin * dr;
 }
 
 /// The model with its workspace: an [`OdeSystem`].
@@ -891,18 +879,11 @@ impl Dynamics<'_> {
             };
             let s_wheel = s + mm.p0[0] + k.q[0];
             let lag = mm.rolled_angle.map_or(0.0, |i| x[i]);
-            let deviation = m.wheel_radius_deviation(wi, s_wheel, radius, lag);
+            let support =
+                m.wheel_support(wi, m.rail_state(wi, x), (s_wheel, radius, lag), &mut vel);
             let rail = rail_frame(
-                m,
-                wheel.side,
-                s_wheel,
-                v,
-                radius,
-                m.wheel_support(m.rail_state(wi, x), deviation, vel.spin),
-                &mut pose,
-                &mut vel,
+                m, wheel.side, s_wheel, v, radius, support, &mut pose, &mut vel,
             );
-            apply_radius_deviation(&mut vel, deviation.0);
             // Other rails under the wheel: the warm start describes the other pair. In a
             // transition the section before's rails are evaluated too (`WheelContact::partner`).
             let blend = m.track.rail_blend_at(s_wheel);

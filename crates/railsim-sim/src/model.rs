@@ -8,6 +8,7 @@
 
 use railsim_contact::{
     ContactOptions, Friction, PairSpec, Side, WheelRailContact, WheelRailPair, WheelsetPose,
+    WheelsetVelocity,
 };
 use railsim_elastic::Material;
 use railsim_profile::{Profile, ProfileError, ProfileKind, analytic, read_simpack, read_table_mm};
@@ -76,7 +77,7 @@ pub struct MemberModel {
     /// two wheels, from the contact); the nominal radius until the initial state is found.
     pub rolling_radius: f64,
     /// A wheelset with an out-of-round wheel: the state index of its rolled angle's lag behind
-    /// its track position, φ = θ − s/r0 \[rad\] (`SimModel::wheel_radius_deviation`).
+    /// its track position, φ = θ − s/r0 \[rad\] (`SimModel::wheel_support`).
     pub rolled_angle: Option<usize>,
 }
 
@@ -507,35 +508,37 @@ impl SimModel {
         }
     }
 
-    /// The radius deviation δr \[m\] of wheel `wi` at its bottom and its rate dδr/dθ \[m/rad\]
-    /// at the rolled angle θ = `s_wheel`/`r0` + `lag`: (0, 0) for a round wheel. `s_wheel` is
-    /// the wheelset's track position, `r0` its nominal radius and `lag` its rolled angle's lag
-    /// (`MemberModel::rolled_angle`, the integral of Ω − (V + ẋ)/r0 from the start: the wheel's
-    /// creep and its rolling radius's difference from r0 turn it against its track position).
-    pub fn wheel_radius_deviation(&self, wi: usize, s_wheel: f64, r0: f64, lag: f64) -> (f64, f64) {
+    /// What an out-of-round wheel changes in its contact's input, for wheel `wi` at the
+    /// wheelset's track position `s_wheel` with nominal radius `r0`, rolled-angle lag `lag`
+    /// (`MemberModel::rolled_angle`, the integral of Ω − (V + ẋ)/r0 from the start; 0 where it
+    /// has none) and velocity `vel`. The radius deviation δr(θ) at the bottom of the wheel, at
+    /// the rolled angle θ = `s_wheel`/`r0` + `lag`:
+    /// - is met as a vertical displacement of the rail, δr up and dδr/dθ·Ω its rate (a larger
+    ///   radius lifts the axle as a raised rail does): added to `rail` (the rail's own
+    ///   displacement (y, z, vy, vz) \[m, m/s\], an elastic support's, [`SimModel::rail_state`])
+    ///   and returned, for [`crate::dynamics::rail_frame`];
+    /// - moves the wheel's surface point at the contact δr further from the axle, so it runs
+    ///   −Ω δr more along the track: added to `vel.vx`, which also divides the creepages (their
+    ///   relative change δr/r0, 1e-4 for 0.05 mm, is left in that reference speed). Rigid-body
+    ///   kinematics of the wheel surface point (contact-theory.md §3.1's creepage).
+    ///
+    /// A round wheel returns `rail` and leaves `vel` as it is. Source: the out-of-round wheel as
+    /// a moving irregularity of the wheel/rail gap, as in wheel-flat impact models (e.g. Wu &
+    /// Thompson, J. Sound Vib. 251, 2002); docs/models/dynamics.md, "Out-of-round wheels".
+    pub fn wheel_support(
+        &self,
+        wi: usize,
+        rail: [f64; 4],
+        (s_wheel, r0, lag): (f64, f64, f64),
+        vel: &mut WheelsetVelocity,
+    ) -> [f64; 4] {
         let defects = &self.wheels[wi].out_of_roundness;
         if defects.is_empty() {
-            return (0.0, 0.0);
+            return rail;
         }
-        radius_deviation(defects, s_wheel / r0 + lag, r0)
-    }
-
-    /// What a wheel meets of its rail's displacement (y, z, vy, vz) \[m, m/s\]: the rail's own,
-    /// `rail` (an elastic support's, [`SimModel::rail_state`]), and, for a wheel that is out of
-    /// round, its radius deviation at the bottom `deviation` = (δr, dδr/dθ)
-    /// ([`SimModel::wheel_radius_deviation`]) as a vertical displacement of the rail, δr up and
-    /// dδr/dθ·θ̇ its rate with θ̇ = `spin`, the wheelset's spin \[rad/s\] (a larger radius lifts
-    /// the axle as a raised rail does). The same δr changes the wheel's rolling radius in the creepages
-    /// ([`crate::dynamics::apply_radius_deviation`]). Source: the out-of-round wheel as a
-    /// moving irregularity of the wheel/rail gap, as in wheel-flat impact models (e.g. Wu &
-    /// Thompson, J. Sound Vib. 251, 2002); docs/models/dynamics.md, "Out-of-round wheels".
-    pub fn wheel_support(&self, rail: [f64; 4], deviation: (f64, f64), spin: f64) -> [f64; 4] {
-        let mut out = rail;
-        if deviation != (0.0, 0.0) {
-            out[1] += deviation.0;
-            out[3] += deviation.1 * spin;
-        }
-        out
+        let (dr, ddr) = radius_deviation(defects, s_wheel / r0 + lag, r0);
+        vel.vx -= vel.spin * dr;
+        [rail[0], rail[1] + dr, rail[2], rail[3] + ddr * vel.spin]
     }
 
     /// \[s\] the times in `(t0, t_end)` at which the right-hand side is not smooth in time,

@@ -18,9 +18,7 @@ use railsim_track::SegmentKind;
 use crate::assess::{
     Assessment, BogieSeries, ComfortSeries, CurveSection, Series, WheelSeries, assess,
 };
-use crate::dynamics::{
-    CostSplit, Dynamics, ElementRecord, MemberKin, Workspace, apply_radius_deviation, rail_frame,
-};
+use crate::dynamics::{CostSplit, Dynamics, ElementRecord, MemberKin, Workspace, rail_frame};
 use crate::error::SimError;
 use crate::math::{V3, add, cross, mul, mul_t, quaternion, rotation_rpy, scale};
 use crate::model::{MemberKind, MemberModel, SimModel};
@@ -838,10 +836,8 @@ fn settle(
             // Relative to this wheel's rail (moved by irregularities and `support`): find the rail-frame
             // height that carries the load, then the track-frame height that gives it.
             let (mut pr, mut vr) = (p, vel);
-            let deviation = model.wheel_radius_deviation(first_wheel + k, s, radius, 0.0);
-            let sup = model.wheel_support(support[k], deviation, vel.spin);
+            let sup = model.wheel_support(first_wheel + k, support[k], (s, radius, 0.0), &mut vr);
             let rail = rail_frame(model, wheel.side, s, vel.vx, radius, sup, &mut pr, &mut vr);
-            apply_radius_deviation(&mut vr, deviation.0);
             let sol = wheel.contacts[model.track.rail_section_at(s)]
                 .evaluate_with_load(wheel.side, &pr, &vr, 0.5 * load, 1e-10, &mut ws.contact)
                 .map_err(|e| e.to_string())?;

@@ -754,7 +754,7 @@ fn a_polygonal_wheel_shakes_the_axle_at_its_order_times_the_rotation_frequency()
 /// The polygon of the test above: third order, 0.05 mm, on both wheels.
 const POLYGON: &str = "type = \"harmonic\"\nside = \"both\"\norder = 3\namplitude_mm = 0.05";
 
-/// A polygonal wheel's radius in the creepages (`dynamics::apply_radius_deviation`). The
+/// A polygonal wheel's radius in the creepages (`SimModel::wheel_support`). The
 /// polygon above on the free wheelset, held in x, y and yaw, at 18 km/h, with the `linear` model
 /// at a constant creep coefficient f (Fx = −f ξ per wheel, whatever the load). The wheel
 /// surface at the contact lies δr = A cos(nθ) further from the axle, so with the spin

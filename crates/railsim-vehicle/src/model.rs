@@ -231,8 +231,8 @@ pub struct Wheelset {
 }
 
 /// An out-of-roundness of a wheel: a deviation of its radius with the rolled angle θ (the
-/// distance the wheelset has run over its nominal radius, so that the wheel meets the same
-/// point of its tread every 2π r0 of track).
+/// wheelset's track position over its nominal radius at the start; from there it turns with the
+/// wheel's spin, the simulator's `MemberModel::rolled_angle`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum WheelDefect {
     /// A polygonal wheel: `δr = amplitude cos(order θ + phase)`.
