@@ -600,28 +600,13 @@ fn falling_friction_keeps_a_wheel_slipping_after_a_low_adhesion_stretch() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The ideal straight track of most of the tests here.
+const STRAIGHT: &str = "tracks/straight.toml";
+
 /// The shipped free S1002 wheelset with `defect` (a `[[wheelset.out_of_roundness]]` table's
-/// keys) at `speed_kmh` on ideal straight track, held in x, y and yaw (free to bounce, roll and
+/// keys) at `speed_kmh` on the track file `track`, held in x, y and yaw (free to bounce, roll and
 /// spin), with the `[contact]` table `contact`, for `duration_s`; the samples every 0.5 ms.
 fn out_of_round_wheelset(
-    tag: &str,
-    defect: &str,
-    contact: &str,
-    speed_kmh: f64,
-    duration_s: f64,
-) -> (Simulation, Vec<Sample>) {
-    out_of_round_wheelset_on(
-        "tracks/straight.toml",
-        tag,
-        defect,
-        contact,
-        speed_kmh,
-        duration_s,
-    )
-}
-
-/// [`out_of_round_wheelset`] on the track file `track`.
-fn out_of_round_wheelset_on(
     track: &str,
     tag: &str,
     defect: &str,
@@ -730,7 +715,14 @@ fn contact_stiffness(sim: &Simulation, q0: f64, spin: f64) -> f64 {
 #[test]
 fn a_polygonal_wheel_shakes_the_axle_at_its_order_times_the_rotation_frequency() {
     let (n, a, v, r0, m) = (3.0, 0.05e-3, 20.0, 0.46, 1813.0);
-    let (sim, samples) = out_of_round_wheelset("polygon", POLYGON, "model = \"polach\"", 72.0, 1.0);
+    let (sim, samples) = out_of_round_wheelset(
+        STRAIGHT,
+        "polygon",
+        POLYGON,
+        "model = \"polach\"",
+        72.0,
+        1.0,
+    );
     let f = n * v / (std::f64::consts::TAU * r0);
     let q = |x: &Sample| x.wheelsets[0].q_left_n + x.wheelsets[0].q_right_n;
     let w = std::f64::consts::TAU * f;
@@ -774,6 +766,7 @@ fn a_polygonal_wheels_radius_drives_its_spin_through_the_creep_forces() {
     let w = std::f64::consts::TAU * f;
     for creep in [4e4, 1.5e4] {
         let (sim, samples) = out_of_round_wheelset(
+            STRAIGHT,
             &format!("creep{creep}"),
             POLYGON,
             &format!("model = \"linear\"\ncreep_coefficient_n = {creep}"),
@@ -813,7 +806,7 @@ fn a_polygonal_wheels_radius_drives_its_spin_through_the_creep_forces() {
 fn a_polygonal_wheel_loads_an_elastic_rail_support_as_two_dynamic_stiffnesses_in_series() {
     let (n, a, v, r0, half_mass) = (3.0, 0.05e-3, 20.0, 0.46, 0.5 * 1813.0);
     let (m_r, k_r, c_r) = (150.0, 100e6, 100e3);
-    let (sim, samples) = out_of_round_wheelset_on(
+    let (sim, samples) = out_of_round_wheelset(
         "tracks/straight_elastic.toml",
         "elastic",
         POLYGON,
@@ -963,6 +956,7 @@ fn a_wheel_flat_unloads_its_wheel_and_above_a_critical_speed_lifts_it_off_the_ra
     for (factor, loses_contact) in [(0.5, false), (2.0, true)] {
         let v = factor * v_c;
         let (_, samples) = out_of_round_wheelset(
+            STRAIGHT,
             "flat",
             flat,
             "model = \"polach\"",
