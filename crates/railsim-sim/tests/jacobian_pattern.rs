@@ -188,26 +188,7 @@ fn the_pattern_holds_for_torque_reactions_and_friction_loaded_by_another_element
 #[test]
 fn the_pattern_holds_for_the_rolled_angles_of_out_of_round_wheels() {
     let dir = std::env::temp_dir().join(format!("railsim-pattern-oor-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let mut text =
-        std::fs::read_to_string(root().join("vehicles/manchester_vehicle1.toml")).unwrap();
-    for (ws, defect) in [
-        (
-            "ws1",
-            "type = \"harmonic\"\nside = \"both\"\norder = 5\namplitude_mm = 0.1",
-        ),
-        (
-            "ws3",
-            "type = \"flat\"\nside = \"left\"\nlength_mm = 40\ndepth_mm = 0.1\nposition_deg = 10",
-        ),
-    ] {
-        // the defect's table right after its wheelset's name
-        let at = text.find(&format!("name = \"{ws}\"\n")).unwrap();
-        let end = text[at..].find("\n[").map_or(text.len(), |e| at + e + 1);
-        text.insert_str(end, &format!("[[wheelset.out_of_roundness]]\n{defect}\n\n"));
-    }
-    let vehicle = dir.join("out_of_round.toml");
-    std::fs::write(&vehicle, &text).unwrap();
+    let vehicle = common::out_of_round_manchester(&dir, 10.0);
     let s = scene(&format!(
         "vehicle = \"{}\"\ntrack = \"tracks/straight.toml\"\nspeed_kmh = 72\n\
          duration_s = 0.1\nfreeze = [\"carbody.x\"]\n[contact]\nmodel = \"polach\"\n\

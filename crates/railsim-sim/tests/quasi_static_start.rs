@@ -221,25 +221,7 @@ fn the_in_curve_scene_starts_with_stripes_at_the_default_step() {
 #[test]
 fn an_out_of_round_vehicle_starts_in_the_curve_from_its_quasi_static_state() {
     let dir = std::env::temp_dir().join(format!("railsim-qs-oor-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let mut text =
-        std::fs::read_to_string(common::root().join("vehicles/manchester_vehicle1.toml")).unwrap();
-    for (ws, defect) in [
-        (
-            "ws1",
-            "type = \"harmonic\"\nside = \"both\"\norder = 5\namplitude_mm = 0.1",
-        ),
-        (
-            "ws3",
-            "type = \"flat\"\nside = \"left\"\nlength_mm = 40\ndepth_mm = 0.1",
-        ),
-    ] {
-        let at = text.find(&format!("name = \"{ws}\"\n")).unwrap();
-        let end = text[at..].find("\n[").map_or(text.len(), |e| at + e + 1);
-        text.insert_str(end, &format!("[[wheelset.out_of_roundness]]\n{defect}\n\n"));
-    }
-    let vehicle = dir.join("out_of_round.toml");
-    std::fs::write(&vehicle, &text).unwrap();
+    let vehicle = common::out_of_round_manchester(&dir, 0.0);
     let path = common::root().join("scenes/manchester_in_curve_r300.toml");
     let scene_text = std::fs::read_to_string(&path).unwrap().replace(
         "vehicle = \"../vehicles/manchester_vehicle1.toml\"",

@@ -41,6 +41,37 @@ pub fn driven_wheelset_on(dir: &Path, track: &str, duration_s: f64, extra: &str)
     ))
 }
 
+/// Writes to `dir` the Manchester vehicle 1 with out-of-round wheels: a fifth-order polygon of
+/// 0.1 mm on both wheels of ws1 and a 40 × 0.1 mm flat on ws3's left wheel, its centre at the
+/// bottom at the rolled angle `flat_position_deg`; returns the file's path.
+#[allow(dead_code)]
+pub fn out_of_round_manchester(dir: &Path, flat_position_deg: f64) -> PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let mut text =
+        std::fs::read_to_string(root().join("vehicles/manchester_vehicle1.toml")).unwrap();
+    for (ws, defect) in [
+        (
+            "ws1",
+            "type = \"harmonic\"\nside = \"both\"\norder = 5\namplitude_mm = 0.1".to_owned(),
+        ),
+        (
+            "ws3",
+            format!(
+                "type = \"flat\"\nside = \"left\"\nlength_mm = 40\ndepth_mm = 0.1\n\
+                 position_deg = {flat_position_deg}"
+            ),
+        ),
+    ] {
+        // the defect's table right after its wheelset's keys
+        let at = text.find(&format!("name = \"{ws}\"\n")).unwrap();
+        let end = text[at..].find("\n[").map_or(text.len(), |e| at + e + 1);
+        text.insert_str(end, &format!("[[wheelset.out_of_roundness]]\n{defect}\n\n"));
+    }
+    let vehicle = dir.join("out_of_round.toml");
+    std::fs::write(&vehicle, &text).unwrap();
+    vehicle
+}
+
 /// The index of the state variable `name` (e.g. `"ws1.z"`) of a simulation.
 #[allow(dead_code)]
 pub fn state_index(sim: &Simulation, name: &str) -> usize {
