@@ -1,7 +1,7 @@
 //! The immutable description of one wheel/rail pair: profiles, their placement, material and
 //! friction. Built once from a [`PairSpec`]; shared by every evaluation.
 
-use railsim_elastic::Material;
+use railsim_elastic::{KalkerTable, Material};
 use railsim_profile::{ArcCurve, Profile, RailPlacement, place_rail};
 
 use crate::broad::ArcTree;
@@ -58,6 +58,9 @@ pub struct WheelRailPair {
     pub wheel_s_tip: f64,
     /// Combined elastic constants.
     pub material: Material,
+    /// Kalker's creep coefficients at the material's Poisson ratio (`KalkerTable`), for the
+    /// strips' ellipses of STRIPES
+    pub kalker: KalkerTable,
     /// Coulomb friction coefficient, constant or varying with the contact angle
     pub friction: Friction,
     /// \[1/m\] largest |curvature| of the wheel curve within [`KAPPA_WINDOW`] ahead of each node
@@ -318,6 +321,7 @@ impl WheelRailPair {
             r0: spec.r0,
             wheel_s_tip: s_tip,
             material: spec.material,
+            kalker: KalkerTable::new(spec.material.nu)?,
             friction: spec.friction.clone(),
             wheel_kappa_ahead,
             rail_kappa_ahead,

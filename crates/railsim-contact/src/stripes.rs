@@ -24,12 +24,14 @@
 //! Tangential forces: FaStrip (Sichani et al. 2016, the default) or FASTSIM (Kalker 1982) per
 //! strip, each strip a line of `nx` cells with its own rigid slip (the wheel's velocity at the
 //! strip's locus point, which carries the spin variation across the patch), and the Kalker
-//! coefficients and flexibilities of the patch's area- and aspect-preserving equivalent ellipse
-//! (Kik & Piotrowski 2008, as CONTACT does).
+//! coefficients and flexibilities of the strip's own ellipse: the Hertz ellipse of its local
+//! curvatures at the patch's approach (`StripEllipse`; until this version the patch's area- and
+//! aspect-preserving equivalent ellipse of Kik & Piotrowski 2008, as CONTACT does, which now
+//! stands in only where the strip's ellipse is degenerate).
 
 use railsim_elastic::{
-    Creepages, FastripPatch, FlexibilityBlend, Grid, SteadyRollingSolver, TractionBound,
-    fastrip_strip, fastsim_strip, hertz_coeffs_fast, kalker_coeffs, stripes_epsilon,
+    Creepages, FastripPatch, FlexibilityBlend, Grid, KalkerTable, SteadyRollingSolver,
+    TractionBound, fastrip_strip, fastsim_strip, hertz_coeffs_fast, stripes_epsilon,
 };
 
 use crate::error::ContactError;
@@ -43,7 +45,7 @@ use crate::wells::{WellScratch, memberships};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Tangential {
-    /// FASTSIM (Kalker 1982), three flexibilities of the equivalent ellipse, CONTACT's blending.
+    /// FASTSIM (Kalker 1982), three flexibilities of each strip's ellipse, CONTACT's blending.
     Fastsim,
     /// FaStrip (Sichani, Enblom & Berg 2016): strip theory with spin calibrated to Kalker's
     /// linear theory, FASTSIM directions in slip and FASTSIM where strip theory breaks down.
@@ -778,38 +780,16 @@ pub fn solve(
         f.fs = load_t + fs_t;
         return Ok(f);
     }
-    // Equivalent ellipse (area and aspect preserved) for the flexibilities.
+    // Each strip's ellipse for its Kalker coefficients and flexibilities (`StripEllipse`): the
+    // Hertz ellipse of its own curvatures at the patch's approach δ0. The patch's area- and
+    // aspect-preserving equivalent ellipse (Kik & Piotrowski, CONTACT's choice) stands in where
+    // that ellipse is degenerate.
     let len = f.length.max(1e-9);
     let wid = f.width.max(1e-9);
     let r = (area / std::f64::consts::PI).sqrt();
-    let a_eq = r * (len / wid).sqrt();
-    let b_eq = r * (wid / len).sqrt();
-    // The creepage blend of the flexibilities (CONTACT's) is taken with each strip's own
-    // creepages: with the reference point's, a wide patch's flexibilities jumped when its deepest
-    // pair moved from one well to the other (with the strips solved about the reference point,
-    // Fx jumped by 85 % on a flange-root zone; docs/models/contact.md §6).
-    let blend = FlexibilityBlend::new(
-        a_eq,
-        b_eq,
-        load,
-        input.pair.friction.at(fr.contact_angle),
-        &mat,
-    )?;
-    let fastrip = match tangential {
-        Tangential::Fastrip => {
-            let c = kalker_coeffs(a_eq, b_eq, mat.nu)?;
-            Some(FastripPatch {
-                c11: c.c11,
-                c22: c.c22,
-                c23: c.c23,
-                a: a_eq,
-                b: b_eq,
-                g: mat.g,
-                nu: mat.nu,
-            })
-        }
-        Tangential::Fastsim | Tangential::Exact => None,
-    };
+    let equivalent = (r * (len / wid).sqrt(), r * (wid / len).sqrt(), load);
+    let mu_patch = input.pair.friction.at(fr.contact_angle);
+    let mut ellipse: Option<StripEllipse> = None;
     let mut n_adh = 0u32;
     let mut n_cells = 0u32;
     f.fn_ = load_n;
@@ -827,12 +807,26 @@ pub fn solve(
         } else {
             mu0 * falling.factor(creep.xi.hypot(creep.eta) * input.kin.v_ref)
         };
-        let flex = blend.at(&creep);
+        let li = &local[s.pair - lo];
+        let ellipse = match ellipse {
+            Some(e) if e.key == (li.a_long, li.b) => e,
+            _ => {
+                let e =
+                    StripEllipse::new(li, delta0, equivalent, mu_patch, &mat, &input.pair.kalker)?;
+                ellipse = Some(e);
+                e
+            }
+        };
+        // The creepage blend of the flexibilities (CONTACT's) is taken with each strip's own
+        // creepages: with the reference point's, a wide patch's flexibilities jumped when its
+        // deepest pair moved from one well to the other (with the strips solved about the
+        // reference point, Fx jumped by 85 % on a flange-root zone; docs/models/contact.md §6).
+        let flex = ellipse.blend.at(&creep);
         // The strip at lateral coordinate l: its longitudinal creepage ξ_i = ξ − φ l is split
         // back into the frame point's ξ and the spin's −φ l, which FASTSIM takes with L3 and
         // FaStrip with C23 (docs/models/contact.md §6).
         let c = spin_split(&creep, s.l);
-        let st = match &fastrip {
+        let st = match ellipse.fastrip(tangential) {
             Some(patch) => {
                 let p0 = peak_for_line_load(s.q, s.a, TractionBound::Elliptic);
                 fastrip_strip(s.l, s.w, 0.0, s.a, p0, &c, &flex, patch, mu, nx).0
@@ -860,6 +854,70 @@ pub fn solve(
     Ok(f)
 }
 
+/// The ellipse whose Kalker coefficients and FASTSIM flexibilities a strip takes, kept for the
+/// next strip of the same curvatures (a patch's strips often share them).
+///
+/// It is the Hertz ellipse of the strip's own relative curvatures `A_i`, `B_i` at the patch's
+/// approach δ0 (the depth at which STRIPES gives the patch Hertz's solution):
+/// `c = sqrt(δ0 / (r_i (A_i + B_i)))`, semi-axes `m_i c`, `n_i c` and load
+/// `(4/3) E* (A_i + B_i) c³` (Johnson 1985, §4.2; the load sets the saturation creepage of the
+/// flexibilities' blend). On a constant-curvature geometry every strip has the Hertz ellipse,
+/// so the linear-theory calibration of FASTSIM and FaStrip holds as before. On a patch whose
+/// curvature changes across it, each part takes the elasticity of its own surroundings: on the
+/// benchmark's wide two-well tread patch (right wheel, y = 0.5 mm) the high-pressure well is
+/// 6.7 mm long and 2.4 mm wide while the patch's equivalent ellipse is 5.2 by 9.8 mm, and with
+/// that ellipse FaStrip kept half the well in adhesion where the exact solution on the same
+/// pressure and slip has it almost all in slip (Fs 22 % low on the well; docs/models/contact.md
+/// §6, docs/validation.md §1).
+#[derive(Clone, Copy, Debug)]
+struct StripEllipse {
+    /// (A_i, B_i) of the strip it was last built for
+    key: (f64, f64),
+    blend: FlexibilityBlend,
+    patch: FastripPatch,
+}
+
+impl StripEllipse {
+    /// The ellipse of strip `li`; `equivalent` (a, b \[m\], load \[N\]) is taken where the
+    /// local ellipse is degenerate.
+    fn new(
+        li: &Local,
+        delta0: f64,
+        equivalent: (f64, f64, f64),
+        mu: f64,
+        mat: &railsim_elastic::Material,
+        kalker: &KalkerTable,
+    ) -> Result<Self, ContactError> {
+        let sum = li.a_long + li.b;
+        let c = (delta0 / (li.hc.r * sum)).sqrt();
+        let (a, b, n) = if c.is_finite() && c > 0.0 {
+            let n = 4.0 / 3.0 * mat.e_star() * sum * c * c * c;
+            (li.hc.m * c, li.hc.n * c, n)
+        } else {
+            equivalent
+        };
+        let kc = kalker.coeffs(a, b)?;
+        Ok(StripEllipse {
+            key: (li.a_long, li.b),
+            blend: FlexibilityBlend::with_coeffs(a, b, n, mu, mat, &kc)?,
+            patch: FastripPatch {
+                c11: kc.c11,
+                c22: kc.c22,
+                c23: kc.c23,
+                a,
+                b,
+                g: mat.g,
+                nu: mat.nu,
+            },
+        })
+    }
+
+    /// FaStrip's patch data, for the FaStrip level.
+    fn fastrip(&self, tangential: Tangential) -> Option<&FastripPatch> {
+        (tangential == Tangential::Fastrip).then_some(&self.patch)
+    }
+}
+
 /// The creepages of a strip or row at lateral coordinate `l` \[m\] from the patch frame's point
 /// (the zone's rigid pair, as `Strip::l`), taken at its own point, with the spin's share of its
 /// longitudinal creepage moved back to that point: `ξ = ξ_i + φ l`, so that a strip solver given
@@ -880,4 +938,88 @@ pub(crate) fn spin_split(creep: &Creepages, l: f64) -> Creepages {
 fn run_range(pairs: &[IsoPair], zone: Zone) -> (usize, usize) {
     let (r0, r1) = crate::geometry::run_around(pairs, zone.first, zone.last);
     (r0.saturating_sub(1), (r1 + 1).min(pairs.len() - 1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use railsim_elastic::{Material, flexibilities, hertz_from_approach, kalker_coeffs};
+
+    fn local(a_long: f64, b: f64) -> Local {
+        Local {
+            u: 0.0,
+            chi: 1.0,
+            l: 0.0,
+            b,
+            hc: hertz_coeffs_fast(a_long, b),
+            k: 0.0,
+            load: 0.0,
+            width: 0.0,
+            d: 0.0,
+            a_long,
+            s_r: 0.0,
+            s_w: 0.0,
+            b_exact: f64::NAN,
+            qu_exact: (0.0, 0.0),
+        }
+    }
+
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b.abs()
+    }
+
+    /// A strip's ellipse is the Hertz ellipse of its own curvatures at the patch's approach, so
+    /// on a constant-curvature geometry every strip takes the Hertz ellipse's Kalker
+    /// coefficients and flexibilities, the linear-theory calibration of FASTSIM and FaStrip;
+    /// where that ellipse is degenerate (no approach) the patch's equivalent ellipse stands in.
+    #[test]
+    fn a_strips_ellipse_is_the_hertz_ellipse_of_its_curvatures_at_the_approach() {
+        let mat = Material::new(82e9, 0.28).unwrap();
+        let table = KalkerTable::new(mat.nu).unwrap();
+        let creep = Creepages {
+            xi: 5e-3,
+            eta: -3e-3,
+            phi: 0.3,
+        };
+        for (a_curv, b_curv) in [(1.087, 1.667), (1.087, 0.2), (1.087, 8.0)] {
+            let delta = 30e-6;
+            let hz = hertz_from_approach(a_curv, b_curv, delta, &mat).unwrap();
+            let e = StripEllipse::new(
+                &local(a_curv, b_curv),
+                delta,
+                (1.0, 1.0, 1.0),
+                0.3,
+                &mat,
+                &table,
+            )
+            .unwrap();
+            assert_eq!(e.key, (a_curv, b_curv));
+            // the fast Hertz coefficients against the exact ones: within 0.1 %
+            assert!(rel(e.patch.a, hz.a) < 1e-3, "{} {}", e.patch.a, hz.a);
+            assert!(rel(e.patch.b, hz.b) < 1e-3, "{} {}", e.patch.b, hz.b);
+            let k = kalker_coeffs(hz.a, hz.b, mat.nu).unwrap();
+            assert!(rel(e.patch.c11, k.c11) < 2e-3 && rel(e.patch.c23, k.c23) < 2e-3);
+            let want = FlexibilityBlend::new(hz.a, hz.b, hz.n, 0.3, &mat)
+                .unwrap()
+                .at(&creep);
+            let got = e.blend.at(&creep);
+            for (g, w) in [(got.l1, want.l1), (got.l2, want.l2), (got.l3, want.l3)] {
+                assert!(rel(g, w) < 3e-3, "{g} {w}");
+            }
+            // the blend moved the flexibilities: this creepage is not in the linear range
+            let base = flexibilities(hz.a, hz.b, &mat).unwrap();
+            let moved = [(got.l1, base.l1), (got.l2, base.l2), (got.l3, base.l3)]
+                .iter()
+                .map(|&(g, b)| rel(g, b))
+                .fold(0.0, f64::max);
+            assert!(moved > 1e-2, "{moved}");
+        }
+        let eq = (4e-3, 5e-3, 1e4);
+        let e = StripEllipse::new(&local(1.087, 1.667), 0.0, eq, 0.3, &mat, &table).unwrap();
+        assert_eq!((e.patch.a, e.patch.b), (eq.0, eq.1));
+        let want = FlexibilityBlend::new(eq.0, eq.1, eq.2, 0.3, &mat)
+            .unwrap()
+            .at(&creep);
+        assert_eq!(e.blend.at(&creep).l2, want.l2);
+    }
 }

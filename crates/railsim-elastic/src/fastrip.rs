@@ -3,8 +3,8 @@
 //!
 //! Each strip is a two-dimensional rolling contact (Carter's solution generalised to combined
 //! creepage and spin, as in Kalker's strip theory) under a semi-elliptic pressure. With the
-//! traction scale `k = mu p_peak / hl` \[Pa/m\] and the patch's Kalker coefficients (for its
-//! equivalent ellipse with semi-axes `a`, `b`):
+//! traction scale `k = mu p_peak / hl` \[Pa/m\] and the Kalker coefficients of the ellipse the
+//! strip is calibrated to (semi-axes `a`, `b`: a patch's equivalent ellipse, or the strip's own):
 //! - `P = -3G sqrt(ab) C23 phi / (2 pi a k)` \[-\], `X = -2G(1-nu) C11 xi / (pi^2 k) - P y`,
 //!   `Y = -2G(1-nu) C22 eta / (pi^2 k)` \[m\]: the strip's longitudinal creepage `xi - phi y`
 //!   with the spin's share scaled by C23 (CONTACT's `xi' - phi' y / a`, contact-theory note
@@ -31,15 +31,16 @@ use crate::kalker::Creepages;
 /// Patch data that FaStrip needs besides the strip itself.
 #[derive(Clone, Copy, Debug)]
 pub struct FastripPatch {
-    /// \[-\] Kalker coefficient C11 of the patch's equivalent ellipse
+    /// \[-\] Kalker coefficient C11 of the ellipse the strip is calibrated to (a patch's
+    /// equivalent ellipse, or the strip's own ellipse in `railsim-contact`'s STRIPES)
     pub c11: f64,
     /// \[-\] Kalker coefficient C22
     pub c22: f64,
     /// \[-\] Kalker coefficient C23
     pub c23: f64,
-    /// \[m\] equivalent-ellipse semi-axis along x
+    /// \[m\] that ellipse's semi-axis along x
     pub a: f64,
-    /// \[m\] equivalent-ellipse semi-axis along y
+    /// \[m\] that ellipse's semi-axis along y
     pub b: f64,
     /// \[Pa\] combined shear modulus
     pub g: f64,

@@ -9,7 +9,7 @@
 //! (Kalker 1982; contact-theory note §3.2).
 
 use crate::error::{ElasticError, non_negative, positive};
-use crate::kalker::{Creepages, TangentialForces, kalker_coeffs};
+use crate::kalker::{Creepages, KalkerCoeffs, TangentialForces, kalker_coeffs};
 use crate::material::Material;
 use std::f64::consts::PI;
 
@@ -46,12 +46,18 @@ impl Flexibilities {
 /// `a` is the semi-axis along the rolling direction, `b` the lateral one \[m\].
 pub fn flexibilities(a: f64, b: f64, mat: &Material) -> Result<Flexibilities, ElasticError> {
     let c = kalker_coeffs(a, b, mat.nu)?;
-    let g = mat.g;
-    Ok(Flexibilities {
+    Ok(flexibilities_of(a, b, mat.g, &c))
+}
+
+/// [`flexibilities`] from the ellipse's Kalker coefficients `c` (of [`kalker_coeffs`] for `a`,
+/// `b` and the material's ν) and the shear modulus `g` \[Pa\], for a caller that needs the
+/// coefficients too.
+pub fn flexibilities_of(a: f64, b: f64, g: f64, c: &KalkerCoeffs) -> Flexibilities {
+    Flexibilities {
         l1: 8.0 * a / (3.0 * c.c11 * g),
         l2: 8.0 * a / (3.0 * c.c22 * g),
         l3: PI * a * (a / b).sqrt() / (4.0 * c.c23 * g),
-    })
+    }
 }
 
 /// Flexibilities blended toward one combined value as the creepage grows, as CONTACT does
@@ -98,10 +104,25 @@ impl FlexibilityBlend {
         mu: f64,
         mat: &Material,
     ) -> Result<FlexibilityBlend, ElasticError> {
+        let c = kalker_coeffs(a, b, mat.nu)?;
+        Self::with_coeffs(a, b, n, mu, mat, &c)
+    }
+
+    /// [`FlexibilityBlend::new`] with the ellipse's Kalker coefficients `c` already computed
+    /// ([`kalker_coeffs`] for `a`, `b` and `mat.nu`).
+    pub fn with_coeffs(
+        a: f64,
+        b: f64,
+        n: f64,
+        mu: f64,
+        mat: &Material,
+        c: &KalkerCoeffs,
+    ) -> Result<FlexibilityBlend, ElasticError> {
+        positive("a [m]", a)?;
+        positive("b [m]", b)?;
         non_negative("n [N]", n)?;
         non_negative("mu [-]", mu)?;
-        let base = flexibilities(a, b, mat)?;
-        let c = kalker_coeffs(a, b, mat.nu)?;
+        let base = flexibilities_of(a, b, mat.g, c);
         let gab = a * b * mat.g;
         let xi_s = mu * n / (gab * c.c11);
         let eta_s = mu * n / (gab * c.c22);

@@ -92,41 +92,82 @@ pub fn kalker_coeffs(a: f64, b: f64, nu: f64) -> Result<KalkerCoeffs, ElasticErr
     positive("a [m]", a)?;
     positive("b [m]", b)?;
     in_range("nu [-]", nu, 0.0, 0.5, "a Poisson ratio in [0, 0.5]")?;
+    Ok(coeffs_from_rows(a, b, nu, |r| row_at_nu(r, nu)))
+}
+
+/// Kalker's table at one Poisson ratio, its rows interpolated in ν once, for the many lookups of
+/// a contact model (each strip of a STRIPES patch takes the coefficients of its own ellipse).
+/// [`KalkerTable::coeffs`] gives the same values as [`kalker_coeffs`].
+#[derive(Clone, Debug)]
+pub struct KalkerTable {
+    nu: f64,
+    rows: [[f64; 4]; 19],
+}
+
+impl KalkerTable {
+    /// The table at Poisson ratio `nu` in [0, 0.5].
+    pub fn new(nu: f64) -> Result<Self, ElasticError> {
+        in_range("nu [-]", nu, 0.0, 0.5, "a Poisson ratio in [0, 0.5]")?;
+        let mut rows = [[0.0; 4]; 19];
+        for (r, row) in rows.iter_mut().enumerate() {
+            *row = row_at_nu(r, nu);
+        }
+        Ok(KalkerTable { nu, rows })
+    }
+
+    /// \[-\] the table's Poisson ratio.
+    pub fn nu(&self) -> f64 {
+        self.nu
+    }
+
+    /// Kalker's coefficients for the ellipse with semi-axes `a` (rolling direction) and `b`
+    /// \[m\], as [`kalker_coeffs`] at the table's ν.
+    pub fn coeffs(&self, a: f64, b: f64) -> Result<KalkerCoeffs, ElasticError> {
+        positive("a [m]", a)?;
+        positive("b [m]", b)?;
+        Ok(coeffs_from_rows(a, b, self.nu, |r| self.rows[r]))
+    }
+}
+
+/// [`kalker_coeffs`] for checked `a`, `b` > 0 with the table's rows at ν given by `row_nu` (row
+/// index → C11, C22, C23, C33).
+#[inline]
+fn coeffs_from_rows(a: f64, b: f64, nu: f64, row_nu: impl Fn(usize) -> [f64; 4]) -> KalkerCoeffs {
     let a_lt_b = a <= b;
     let g = if a_lt_b { a / b } else { b / a };
     if g >= 0.1 {
         let p = (g * 10.0).min(10.0);
         let j0 = (p.floor() as usize).clamp(1, 9);
         let w = p - j0 as f64;
-        let lo = row_at_nu(row(a_lt_b, j0), nu);
-        let hi = row_at_nu(row(a_lt_b, j0 + 1), nu);
+        let lo = row_nu(row(a_lt_b, j0));
+        let hi = row_nu(row(a_lt_b, j0 + 1));
         let c = |k: usize| (1.0 - w) * lo[k] + w * hi[k];
-        return Ok(KalkerCoeffs {
+        return KalkerCoeffs {
             c11: c(0),
             c22: c(1),
             c23: c(2),
             c33: c(3),
-        });
+        };
     }
-    let edge = row_at_nu(row(a_lt_b, 1), nu);
+    let edge = row_nu(row(a_lt_b, 1));
     if a_lt_b {
-        Ok(KalkerCoeffs {
+        KalkerCoeffs {
             c11: PI * PI / (4.0 * (1.0 - nu)),
             c22: PI * PI / 4.0,
             c23: PI * g.sqrt() / (3.0 * (1.0 - nu)) * (1.0 + nu * ((16.0 / g).ln() - 5.0)),
             c33: edge[3] * 0.1 / g,
-        })
+        }
     } else {
         let lam = (16.0 / (g * g)).ln();
         let ln4 = 4f64.ln();
         let d1 = lam - 2.0 * nu;
         let d2 = (1.0 - nu) * lam + 2.0 * nu;
-        Ok(KalkerCoeffs {
+        KalkerCoeffs {
             c11: 2.0 * PI / (d1 * g) * (1.0 + (3.0 - ln4) / d1),
             c22: 2.0 * PI / g * (1.0 + (1.0 - nu) * (3.0 - ln4) / d2) / d2,
             c23: 2.0 * PI / (3.0 * g.powf(1.5) * ((1.0 - nu) * lam - 2.0 + 4.0 * nu)),
             c33: edge[3],
-        })
+        }
     }
 }
 
@@ -194,6 +235,28 @@ pub fn linear_kalker(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The table interpolated in ν once gives the coefficients of `kalker_coeffs` exactly, on
+    /// both branches, between and beyond the table's rows.
+    #[test]
+    fn the_table_at_one_poisson_ratio_gives_kalker_coeffs() {
+        for nu in [0.0, 0.25, 0.28, 0.5] {
+            let t = KalkerTable::new(nu).unwrap();
+            assert_eq!(t.nu(), nu);
+            for g in [0.02, 0.1, 0.137, 0.5, 0.95, 1.0] {
+                for (a, b) in [(g * 4e-3, 4e-3), (4e-3, g * 4e-3)] {
+                    let want = kalker_coeffs(a, b, nu).unwrap();
+                    let got = t.coeffs(a, b).unwrap();
+                    assert_eq!(
+                        [got.c11, got.c22, got.c23, got.c33],
+                        [want.c11, want.c22, want.c23, want.c33]
+                    );
+                }
+            }
+        }
+        assert!(KalkerTable::new(0.6).is_err());
+        assert!(KalkerTable::new(0.3).unwrap().coeffs(0.0, 1e-3).is_err());
+    }
 
     fn rel(a: f64, b: f64) -> f64 {
         (a - b).abs() / b.abs()

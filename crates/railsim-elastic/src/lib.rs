@@ -36,14 +36,16 @@ pub use error::ElasticError;
 pub use fastrip::{FastripPatch, StripMethod, fastrip_strip};
 pub use fastsim::{
     Flexibilities, FlexibilityBlend, StripTraction, TractionBound, blended_flexibilities,
-    fastsim_ellipse, fastsim_strip, flexibilities,
+    fastsim_ellipse, fastsim_strip, flexibilities, flexibilities_of,
 };
 pub use halfspace::{Grid, HalfspaceSolver, NormalSolution, love_influence};
 pub use hertz::{
     HertzCoeffs, HertzSolution, carlson_rd, carlson_rf, hertz_coeffs, hertz_coeffs_fast,
     hertz_from_approach, hertz_from_load, stripes_epsilon, try_carlson_rd, try_carlson_rf,
 };
-pub use kalker::{Creepages, KalkerCoeffs, TangentialForces, kalker_coeffs, linear_kalker};
+pub use kalker::{
+    Creepages, KalkerCoeffs, KalkerTable, TangentialForces, kalker_coeffs, linear_kalker,
+};
 pub use material::Material;
-pub use polach::{PolachParams, polach, spin_corrected_creepage};
+pub use polach::{PolachParams, polach, polach_with_coeffs, spin_corrected_creepage};
 pub use steady::{SteadyRollingSolver, SteadySolution, cerruti_influence};
