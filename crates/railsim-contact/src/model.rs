@@ -15,7 +15,7 @@
 use railsim_elastic::{
     Creepages, Grid, HalfspaceSolver, PolachParams, TangentialForces, TractionBound,
     blended_flexibilities, fastsim_ellipse, fastsim_strip, hertz_from_approach, linear_kalker,
-    polach_with_coeffs, spin_corrected_creepage,
+    polach, spin_corrected_creepage,
 };
 
 use crate::broad::{BroadMemory, BroadScratch};
@@ -1033,7 +1033,7 @@ impl WheelRailContact {
                 None => linear_kalker(hz.a, hz.b, &input.creep, mat)?,
             }
         } else if kind == HertzTangential::Polach {
-            polach_with_coeffs(
+            polach(
                 hz.a,
                 hz.b,
                 hz.n,
@@ -1041,7 +1041,6 @@ impl WheelRailContact {
                 input.kin.v_ref,
                 &self.opts.polach.at(mu, &self.opts.falling_friction),
                 mat,
-                &self.pair.kalker.coeffs(hz.a, hz.b)?,
             )?
         } else {
             // friction falling with Polach's slip velocity of the ellipse (`FallingFriction`)

@@ -47,5 +47,5 @@ pub use kalker::{
     Creepages, KalkerCoeffs, KalkerTable, TangentialForces, kalker_coeffs, linear_kalker,
 };
 pub use material::Material;
-pub use polach::{PolachParams, polach, polach_with_coeffs, spin_corrected_creepage};
+pub use polach::{PolachParams, polach, spin_corrected_creepage};
 pub use steady::{SteadyRollingSolver, SteadySolution, cerruti_influence};

@@ -6,7 +6,7 @@
 //! negated (contact-theory note §3.4).
 
 use crate::error::{ElasticError, in_range, non_negative, positive};
-use crate::kalker::{Creepages, KalkerCoeffs, TangentialForces, kalker_coeffs};
+use crate::kalker::{Creepages, TangentialForces, kalker_coeffs};
 use crate::material::Material;
 use std::f64::consts::PI;
 
@@ -100,29 +100,13 @@ pub fn polach(
     params: &PolachParams,
     mat: &Material,
 ) -> Result<TangentialForces, ElasticError> {
-    let c = kalker_coeffs(a, b, mat.nu)?;
-    polach_with_coeffs(a, b, n, creep, speed, params, mat, &c)
-}
-
-/// [`polach`] with the ellipse's Kalker coefficients `c` already computed (for `a`, `b` and
-/// `mat.nu`, e.g. from a [`crate::KalkerTable`]).
-#[allow(clippy::too_many_arguments)]
-pub fn polach_with_coeffs(
-    a: f64,
-    b: f64,
-    n: f64,
-    creep: &Creepages,
-    speed: f64,
-    params: &PolachParams,
-    mat: &Material,
-    c: &KalkerCoeffs,
-) -> Result<TangentialForces, ElasticError> {
     positive("a [m]", a)?;
     positive("b [m]", b)?;
     non_negative("n [N]", n)?;
     non_negative("speed [m/s]", speed)?;
     creep.check()?;
     params.check()?;
+    let c = kalker_coeffs(a, b, mat.nu)?;
     let (sx, sy, phi) = (creep.xi, creep.eta, creep.phi);
     let (sc, syc) = spin_corrected_creepage(creep, a);
     if sc == 0.0 {
