@@ -50,9 +50,8 @@ pub fn flexibilities(a: f64, b: f64, mat: &Material) -> Result<Flexibilities, El
 }
 
 /// [`flexibilities`] from the ellipse's Kalker coefficients `c` (of [`kalker_coeffs`] for `a`,
-/// `b` and the material's ν) and the shear modulus `g` \[Pa\], for a caller that needs the
-/// coefficients too.
-pub fn flexibilities_of(a: f64, b: f64, g: f64, c: &KalkerCoeffs) -> Flexibilities {
+/// `b` and the material's ν) and the shear modulus `g` \[Pa\].
+fn flexibilities_of(a: f64, b: f64, g: f64, c: &KalkerCoeffs) -> Flexibilities {
     Flexibilities {
         l1: 8.0 * a / (3.0 * c.c11 * g),
         l2: 8.0 * a / (3.0 * c.c22 * g),

@@ -36,7 +36,7 @@ pub use error::ElasticError;
 pub use fastrip::{FastripPatch, StripMethod, fastrip_strip};
 pub use fastsim::{
     Flexibilities, FlexibilityBlend, StripTraction, TractionBound, blended_flexibilities,
-    fastsim_ellipse, fastsim_strip, flexibilities, flexibilities_of,
+    fastsim_ellipse, fastsim_strip, flexibilities,
 };
 pub use halfspace::{Grid, HalfspaceSolver, NormalSolution, love_influence};
 pub use hertz::{
