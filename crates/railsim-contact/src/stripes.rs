@@ -866,9 +866,9 @@ pub fn solve(
 /// curvature changes across it, each part takes the elasticity of its own surroundings: on the
 /// benchmark's wide two-well tread patch (right wheel, y = 0.5 mm) the high-pressure well is
 /// 6.7 mm long and 2.4 mm wide while the patch's equivalent ellipse is 5.2 by 9.8 mm, and with
-/// that ellipse FaStrip kept half the well in adhesion where the exact solution on the same
-/// pressure and slip has it almost all in slip (Fs 22 % low on the well; docs/models/contact.md
-/// §6, docs/validation.md §1).
+/// that ellipse FaStrip kept up to half of each of the well's strips in adhesion where the exact
+/// solution on the same pressure and slip has 86 % of the well in slip (Fs 22 % low on the well;
+/// docs/models/contact.md §6, docs/validation.md §1).
 #[derive(Clone, Copy, Debug)]
 struct StripEllipse {
     /// (A_i, B_i) of the strip it was last built for
