@@ -76,35 +76,31 @@ fn regions_of(reg: &Table, side: &str, y: f64) -> Vec<usize> {
 /// known deviation; docs/validation.md §1).
 #[test]
 fn stripes_matches_contact_on_all_42_cases() {
-    let contact = mbench_contact(
-        ContactModelKind::Stripes,
-        ContactOptions::default().travel.step,
-    );
-    check_against_contact(&contact);
+    check_against_contact(&stripes_with(Tangential::Fastrip));
 }
 
 /// `stripes` with plain FASTSIM per strip (three flexibilities, CONTACT's blend): the same
 /// criteria, with no exception.
 #[test]
 fn stripes_with_fastsim_per_strip_matches_contact_on_all_42_cases() {
-    let mut contact = mbench_contact(
-        ContactModelKind::Stripes,
-        ContactOptions::default().travel.step,
-    );
-    contact.opts.tangential = Tangential::Fastsim;
-    check_against_contact(&contact);
+    check_against_contact(&stripes_with(Tangential::Fastsim));
 }
 
 /// `stripes` with Kalker's exact tangential solution on the STRIPES pressure: the acceptance
 /// criteria with no exception.
 #[test]
 fn stripes_with_exact_tangential_matches_contact_on_all_42_cases() {
+    check_against_contact(&stripes_with(Tangential::Exact));
+}
+
+/// `stripes` at its default step with the tangential solution `tangential`.
+fn stripes_with(tangential: Tangential) -> WheelRailContact {
     let mut contact = mbench_contact(
         ContactModelKind::Stripes,
         ContactOptions::default().travel.step,
     );
-    contact.opts.tangential = Tangential::Exact;
-    check_against_contact(&contact);
+    contact.opts.tangential = tangential;
+    contact
 }
 
 /// The acceptance criteria of issue 2 on all 42 cases.
