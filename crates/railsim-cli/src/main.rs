@@ -204,7 +204,7 @@ struct ContactArgs {
     model: ModelName,
     /// Tangential solution of `stripes` (per strip: fastrip, fastsim; or exact: Kalker's
     /// steady-rolling solution on a grid over the patch, the reference level, about a thousand
-    /// times slower) and `halfspace` (FASTSIM per grid row unless exact); default fastrip. The
+    /// times slower) and `halfspace` (per grid row: fastrip, fastsim; or exact); default fastrip. The
     /// Hertz models have their own.
     #[arg(long, value_enum)]
     tangential: Option<TangentialName>,

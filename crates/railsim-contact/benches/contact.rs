@@ -99,8 +99,8 @@ fn bench(c: &mut Criterion) {
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut group = c.benchmark_group("contact_42_cases");
     group.sample_size(20);
-    // Every model at three steps with its default tangential solution, plus Kalker's exact
-    // tangential solution on the `stripes` and `halfspace` patches at the default step.
+    // Every model at three steps with its default tangential solution, plus FASTSIM per strip
+    // or row and Kalker's exact tangential solution on the `stripes` and `halfspace` patches.
     // The Hertz models (`linear`, `polach`, `fastsim`) with their default single-point search
     // (the step does not enter) and with the seed's travelling at each step, for comparison.
     let mut configs = Vec::new();
@@ -127,6 +127,18 @@ fn bench(c: &mut Criterion) {
     }
     configs.push((
         ContactModelKind::Stripes,
+        Some(Tangential::Fastsim),
+        1.0e-3,
+        HertzSearch::Travel,
+    ));
+    configs.push((
+        ContactModelKind::Halfspace,
+        Some(Tangential::Fastsim),
+        0.5e-3,
+        HertzSearch::Travel,
+    ));
+    configs.push((
+        ContactModelKind::Stripes,
         Some(Tangential::Exact),
         0.5e-3,
         HertzSearch::Travel,
@@ -150,8 +162,10 @@ fn bench(c: &mut Criterion) {
         let slow = model == ContactModelKind::Halfspace || tangential == Some(Tangential::Exact);
         let tang_name = match (model, tangential) {
             (_, Some(Tangential::Exact)) => "exact",
+            (ContactModelKind::Stripes, Some(Tangential::Fastsim)) => "FASTSIM per strip",
             (ContactModelKind::Stripes, _) => "FaStrip per strip",
-            (ContactModelKind::Halfspace, _) => "FASTSIM per row",
+            (ContactModelKind::Halfspace, Some(Tangential::Fastsim)) => "FASTSIM per row",
+            (ContactModelKind::Halfspace, _) => "FaStrip per row",
             (ContactModelKind::Polach, _) => "Polach",
             (ContactModelKind::Linear, _) => "Kalker linear",
             (ContactModelKind::Fastsim, _) => "FASTSIM",
@@ -201,7 +215,12 @@ fn bench(c: &mut Criterion) {
         );
         let mut ws = ContactWorkspace::new();
         let name = match (tangential, tree) {
-            (Some(_), _) => format!("{}_exact_step{}", model.name(), step * 1e3),
+            (Some(t), _) => format!(
+                "{}_{}_step{}",
+                model.name(),
+                format!("{t:?}").to_lowercase(),
+                step * 1e3
+            ),
             (None, true) => format!("{}_point", model.name()),
             (None, false) => format!("{}_step{}", model.name(), step * 1e3),
         };

@@ -9,12 +9,12 @@
 //! | `linear` | Hertz ellipse per patch | Kalker's linear theory, or a constant creep coefficient (Wickens) |
 //! | `polach` | Hertz ellipse per patch from the rigid pair's curvatures and penetration | Polach (1999/2005) |
 //! | `fastsim` | Hertz ellipse per patch | FASTSIM (Kalker 1982) on the ellipse |
-//! | `stripes` | STRIPES on the isosceles strips (Ayasse & Chollet 2005; Jalili & Salehi 2011) | FASTSIM per strip |
-//! | `halfspace` | Boussinesq–Love half-space (Kalker's NORM; Polonsky & Keer CG) on the patch's gap | FASTSIM per grid row |
+//! | `stripes` | STRIPES on the isosceles strips (Ayasse & Chollet 2005; Jalili & Salehi 2011) | FaStrip (default) or FASTSIM per strip |
+//! | `halfspace` | Boussinesq–Love half-space (Kalker's NORM; Polonsky & Keer CG) on the patch's gap | FaStrip (default) or FASTSIM per grid row |
 
 use railsim_elastic::{
     Creepages, Grid, HalfspaceSolver, PolachParams, TangentialForces, TractionBound,
-    blended_flexibilities, fastsim_ellipse, fastsim_strip, hertz_from_approach, linear_kalker,
+    blended_flexibilities, fastsim_ellipse, hertz_coeffs_fast, hertz_from_approach, linear_kalker,
     polach, spin_corrected_creepage,
 };
 
@@ -56,10 +56,11 @@ pub enum ContactModelKind {
     /// Hertz ellipse per patch + FASTSIM (J.J. Kalker, VSD 11, 1982).
     Fastsim,
     /// The seed's model: isosceles strips + STRIPES (J.B. Ayasse, H. Chollet, VSD 43, 2005;
-    /// M.M. Jalili, H. Salehi 2011) + FASTSIM per strip. The default.
+    /// M.M. Jalili, H. Salehi 2011) + FaStrip (or FASTSIM) per strip. The default.
     Stripes,
     /// Half-space boundary elements for the normal problem (Love 1929 influence coefficients,
-    /// Polonsky & Keer, Wear 231, 1999) + FASTSIM per row: the reference level.
+    /// Polonsky & Keer, Wear 231, 1999) + FaStrip (or FASTSIM) per grid row: the reference
+    /// normal level.
     Halfspace,
 }
 
@@ -1139,8 +1140,9 @@ impl WheelRailContact {
 }
 
 /// Half-space reference: the patch's undeformed gap on a grid in the patch plane, the exact
-/// elastic normal solution for the patch's penetration, and FASTSIM per grid row with the
-/// row's load as a semi-ellipse.
+/// elastic normal solution for the patch's penetration, and FaStrip or FASTSIM per grid row
+/// with the row's load as a semi-ellipse and the Kalker coefficients and flexibilities of the
+/// row's own ellipse (or Kalker's exact tangential solution on the grid).
 fn solve_halfspace(
     input: &PatchInput<'_>,
     opts: &ContactOptions,
@@ -1343,20 +1345,26 @@ fn solve_halfspace(
         stripes::solve_exact(input, grid, exact, &mut f)?;
         return Ok(f);
     }
-    // FASTSIM per row with the flexibilities of the equivalent ellipse.
-    let flex = {
+    // FaStrip or FASTSIM per row, each row with the Kalker coefficients and flexibilities of its
+    // own ellipse (`stripes::StripEllipse`, as the strips of `stripes`): the Hertz ellipse of
+    // the row's relative curvatures (interpolated between its two pairs) at the patch's
+    // approach. The patch's area- and aspect-preserving equivalent ellipse stands in where that
+    // ellipse is degenerate.
+    let equivalent = {
         let r = (f.area / std::f64::consts::PI).sqrt();
-        let a_eq = r * (f.length / f.width).sqrt();
-        let b_eq = r * (f.width / f.length).sqrt();
-        blended_flexibilities(
-            a_eq,
-            b_eq,
+        (
+            r * (f.length / f.width).sqrt(),
+            r * (f.width / f.length).sqrt(),
             f.fn_,
-            input.pair.friction.at(fr.contact_angle),
-            &input.creep,
-            &input.pair.material,
-        )?
+        )
     };
+    let mu_patch = input.pair.friction.at(fr.contact_angle);
+    // The rows' spin slip is split about CONTACT's reference point (the d^(5/2) centroid, where
+    // the exact level's planar creepages are taken), `l_ref` across from the frame's point: FaStrip's
+    // and FASTSIM's spin calibrations hold for a lateral coordinate from the ellipse's centre,
+    // and a zone's deepest pair can lie at one end of a wide patch (docs/models/contact.md §6).
+    let l_ref = fr.lateral(&input.reference.0);
+    let mut ellipse: Option<stripes::StripEllipse> = None;
     let mut cursor = lo;
     let mut n_adh = 0;
     let mut n_cells = 0;
@@ -1374,30 +1382,54 @@ fn solve_halfspace(
         let xc = 0.5 * (x_a + x_b);
         let l = grid.y0 + iy as f64 * dy;
         let (j, fr_) = bracket(&mut cursor, l);
-        let p = crate::patch::lerp_pair(&pairs[j], &pairs[(j + 1).min(hi)], fr_);
+        let k = (j + 1).min(hi);
+        let p = crate::patch::lerp_pair(&pairs[j], &pairs[k], fr_);
         let creep = input.kin.creepages([p.x, p.a[0], p.a[1]], fr.t, p.n);
+        // the row's curvatures, as a strip's (`stripes::solve`)
+        let a_long = longitudinal_curvature(p.rho, p.rho_slope);
+        let kw_j = crate::geometry::locus_curvature_at(pairs, j, input.ctx.yawed);
+        let kw_k = crate::geometry::locus_curvature_at(pairs, k, input.ctx.yawed);
+        let kw = kw_j + fr_ * (kw_k - kw_j);
+        let b = (0.5 * (kw - p.kappa_r)).max(crate::patch::B_MIN);
+        let e = match ellipse {
+            Some(e) if e.key() == (a_long, b) => e,
+            _ => {
+                let e = stripes::StripEllipse::new(
+                    a_long,
+                    b,
+                    &hertz_coeffs_fast(a_long, b),
+                    fr.delta0,
+                    equivalent,
+                    mu_patch,
+                    &input.pair.material,
+                    &input.pair.kalker,
+                )?;
+                ellipse = Some(e);
+                e
+            }
+        };
         // The row is solved about the locus point where its creepages are taken, `lead` ahead of
         // the reference point (solved about the reference point, the spin term phi x counted the
         // yawed locus' lead twice, as STRIPES' strips once did); the moment is
         // carried back.
         let lead = p.x - fr.wheel_point[0];
-        let p0 = stripes::peak_for_line_load(q, hl, opts.bound);
-        let st = fastsim_strip(
-            l,
+        let st = e.solve(
+            opts.tangential,
+            opts.bound,
+            l - l_ref,
             dy,
             xc - lead,
             hl,
-            p0,
-            opts.bound,
-            &stripes::spin_split(&creep, l),
-            &flex,
+            q,
+            &creep,
             input.pair.friction.at_normal(p.n),
             opts.fastsim_nx,
         );
         f.fx += st.fx;
         f.fs += st.fy;
-        // (the moment already holds the lever l of the row's longitudinal force)
-        f.mz += st.mz + lead * st.fy;
+        // (the moment already holds the lever l - l_ref of the row's longitudinal force; the rest
+        // of the lever, l_ref, carries it to the frame's point)
+        f.mz += st.mz + lead * st.fy - l_ref * st.fx;
         n_adh += st.n_adhesion;
         n_cells += st.n_cells;
     }

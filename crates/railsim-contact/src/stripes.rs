@@ -31,7 +31,7 @@
 
 use railsim_elastic::{
     Creepages, FastripPatch, FlexibilityBlend, Grid, KalkerTable, SteadyRollingSolver,
-    TractionBound, fastrip_strip, fastsim_strip, hertz_coeffs_fast, stripes_epsilon,
+    StripTraction, TractionBound, fastrip_strip, fastsim_strip, hertz_coeffs_fast, stripes_epsilon,
 };
 
 use crate::error::ContactError;
@@ -811,31 +811,21 @@ pub fn solve(
         let ellipse = match ellipse {
             Some(e) if e.key == (li.a_long, li.b) => e,
             _ => {
-                let e =
-                    StripEllipse::new(li, delta0, equivalent, mu_patch, &mat, &input.pair.kalker)?;
+                let e = StripEllipse::new(
+                    li.a_long,
+                    li.b,
+                    &li.hc,
+                    delta0,
+                    equivalent,
+                    mu_patch,
+                    &mat,
+                    &input.pair.kalker,
+                )?;
                 ellipse = Some(e);
                 e
             }
         };
-        // The creepage blend of the flexibilities (CONTACT's) is taken with each strip's own
-        // creepages: with the reference point's, a wide patch's flexibilities jumped when its
-        // deepest pair moved from one well to the other (with the strips solved about the
-        // reference point, Fx jumped by 85 % on a flange-root zone; docs/models/contact.md §6).
-        let flex = ellipse.blend.at(&creep);
-        // The strip at lateral coordinate l: its longitudinal creepage ξ_i = ξ − φ l is split
-        // back into the frame point's ξ and the spin's −φ l, which FASTSIM takes with L3 and
-        // FaStrip with C23 (docs/models/contact.md §6).
-        let c = spin_split(&creep, s.l);
-        let st = match ellipse.fastrip(tangential) {
-            Some(patch) => {
-                let p0 = peak_for_line_load(s.q, s.a, TractionBound::Elliptic);
-                fastrip_strip(s.l, s.w, 0.0, s.a, p0, &c, &flex, patch, mu, nx).0
-            }
-            None => {
-                let p0 = peak_for_line_load(s.q, s.a, bound);
-                fastsim_strip(s.l, s.w, 0.0, s.a, p0, bound, &c, &flex, mu, nx)
-            }
-        };
+        let st = ellipse.solve(tangential, bound, s.l, s.w, 0.0, s.a, s.q, &creep, mu, nx);
         f.fx += st.fx;
         f.fs += st.fy * (t[0] * fr.t[0] + t[1] * fr.t[1]);
         f.fn_ += st.fy * (t[0] * fr.n[0] + t[1] * fr.n[1]);
@@ -870,7 +860,7 @@ pub fn solve(
 /// solution on the same pressure and slip has 86 % of the well in slip (Fs 22 % low on the well;
 /// docs/models/contact.md §6, docs/validation.md §1).
 #[derive(Clone, Copy, Debug)]
-struct StripEllipse {
+pub(crate) struct StripEllipse {
     /// (A_i, B_i) of the strip it was last built for
     key: (f64, f64),
     blend: FlexibilityBlend,
@@ -878,43 +868,86 @@ struct StripEllipse {
 }
 
 impl StripEllipse {
-    /// The ellipse of strip `li`; `equivalent` (a, b \[m\], load \[N\]) is taken where the
-    /// local ellipse is degenerate.
-    fn new(
-        li: &Local,
+    /// The ellipse of a strip or grid row with longitudinal and lateral relative curvatures
+    /// `a_long`, `b` \[1/m\] (`b` clamped to `B_MIN`) and their Hertz coefficients `hc`, at the
+    /// patch's approach `delta0` \[m\]; `equivalent` (a, b \[m\], load \[N\]) is taken where
+    /// that ellipse is degenerate.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        a_long: f64,
+        b: f64,
+        hc: &railsim_elastic::HertzCoeffs,
         delta0: f64,
         equivalent: (f64, f64, f64),
         mu: f64,
         mat: &railsim_elastic::Material,
         kalker: &KalkerTable,
     ) -> Result<Self, ContactError> {
-        let sum = li.a_long + li.b;
-        let c = (delta0 / (li.hc.r * sum)).sqrt();
-        let (a, b, n) = if c.is_finite() && c > 0.0 {
+        let sum = a_long + b;
+        let c = (delta0 / (hc.r * sum)).sqrt();
+        let (a, b_axis, n) = if c.is_finite() && c > 0.0 {
             let n = 4.0 / 3.0 * mat.e_star() * sum * c * c * c;
-            (li.hc.m * c, li.hc.n * c, n)
+            (hc.m * c, hc.n * c, n)
         } else {
             equivalent
         };
-        let kc = kalker.coeffs(a, b)?;
+        let kc = kalker.coeffs(a, b_axis)?;
         Ok(StripEllipse {
-            key: (li.a_long, li.b),
-            blend: FlexibilityBlend::with_coeffs(a, b, n, mu, mat, &kc)?,
+            key: (a_long, b),
+            blend: FlexibilityBlend::with_coeffs(a, b_axis, n, mu, mat, &kc)?,
             patch: FastripPatch {
                 c11: kc.c11,
                 c22: kc.c22,
                 c23: kc.c23,
                 a,
-                b,
+                b: b_axis,
                 g: mat.g,
                 nu: mat.nu,
             },
         })
     }
 
-    /// FaStrip's patch data, for the FaStrip level.
-    fn fastrip(&self, tangential: Tangential) -> Option<&FastripPatch> {
-        (tangential == Tangential::Fastrip).then_some(&self.patch)
+    /// The (key) curvatures it was built for.
+    pub(crate) fn key(&self) -> (f64, f64) {
+        self.key
+    }
+
+    /// The traction of one strip or grid row with this ellipse's coefficients: at lateral
+    /// coordinate `l` \[m\] from the patch frame's point, `w` wide, centred at `xc` \[m\]
+    /// along the rolling direction, `hl` \[m\] half long, carrying the line load `q` \[N/m\]
+    /// as a semi-ellipse (FaStrip) or under `bound` (FASTSIM), with the creepages `creep` taken
+    /// at its own point and friction `mu`, on `nx` cells. The flexibilities are blended with
+    /// the strip's own creepages and its spin's longitudinal slip is split back (`spin_split`).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn solve(
+        &self,
+        tangential: Tangential,
+        bound: TractionBound,
+        l: f64,
+        w: f64,
+        xc: f64,
+        hl: f64,
+        q: f64,
+        creep: &Creepages,
+        mu: f64,
+        nx: usize,
+    ) -> StripTraction {
+        // The creepage blend of the flexibilities (CONTACT's) is taken with each strip's own
+        // creepages: with the reference point's, a wide patch's flexibilities jumped when its
+        // deepest pair moved from one well to the other (with the strips solved about the
+        // reference point, Fx jumped by 85 % on a flange-root zone; docs/models/contact.md §6).
+        let flex = self.blend.at(creep);
+        // The strip at lateral coordinate l: its longitudinal creepage ξ_i = ξ − φ l is split
+        // back into the frame point's ξ and the spin's −φ l, which FASTSIM takes with L3 and
+        // FaStrip with C23 (docs/models/contact.md §6).
+        let c = spin_split(creep, l);
+        if tangential == Tangential::Fastrip {
+            let p0 = peak_for_line_load(q, hl, TractionBound::Elliptic);
+            fastrip_strip(l, w, xc, hl, p0, &c, &flex, &self.patch, mu, nx).0
+        } else {
+            let p0 = peak_for_line_load(q, hl, bound);
+            fastsim_strip(l, w, xc, hl, p0, bound, &c, &flex, mu, nx)
+        }
     }
 }
 
@@ -984,8 +1017,11 @@ mod tests {
         for (a_curv, b_curv) in [(1.087, 1.667), (1.087, 0.2), (1.087, 8.0)] {
             let delta = 30e-6;
             let hz = hertz_from_approach(a_curv, b_curv, delta, &mat).unwrap();
+            let li = local(a_curv, b_curv);
             let e = StripEllipse::new(
-                &local(a_curv, b_curv),
+                li.a_long,
+                li.b,
+                &li.hc,
                 delta,
                 (1.0, 1.0, 1.0),
                 0.3,
@@ -1015,7 +1051,8 @@ mod tests {
             assert!(moved > 1e-2, "{moved}");
         }
         let eq = (4e-3, 5e-3, 1e4);
-        let e = StripEllipse::new(&local(1.087, 1.667), 0.0, eq, 0.3, &mat, &table).unwrap();
+        let li = local(1.087, 1.667);
+        let e = StripEllipse::new(li.a_long, li.b, &li.hc, 0.0, eq, 0.3, &mat, &table).unwrap();
         assert_eq!((e.patch.a, e.patch.b), (eq.0, eq.1));
         let want = FlexibilityBlend::new(eq.0, eq.1, eq.2, 0.3, &mat)
             .unwrap()
