@@ -1,7 +1,8 @@
 //! One right-hand-side evaluation of the simulator (frames, suspension, the online contact of
 //! every wheel, equations of motion) for scenes of different size: what a scene does not use is
 //! not evaluated; and the Manchester vehicle's on a thread of a two-thread pool (the wheels in
-//! parallel). `cargo bench -p railsim-sim --bench rhs`.
+//! parallel). And the out-of-round wheel's support (`railsim_vehicle::rim_support`), which every
+//! right-hand side evaluates per out-of-round wheel. `cargo bench -p railsim-sim --bench rhs`.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -87,6 +88,39 @@ fn bench(c: &mut Criterion) {
                 })
             });
         }
+    }
+    g.finish();
+    // The rim's support over 100 rolled angles across a 50 mm flat (and beyond its ends): a
+    // shallow one (0.2 mm, the rim convex: Newton's method), a deep one (1 mm, the rim concave:
+    // branch and bound), against the radius deviation at the bottom alone.
+    use railsim_vehicle::{WheelDefect, radius_deviation, rim_support};
+    let mut g = c.benchmark_group("rim_support_100_angles");
+    let r0 = 0.46;
+    let flat = |depth: f64| {
+        [WheelDefect::Flat {
+            length: 0.05,
+            depth,
+            position: 1.0,
+        }]
+    };
+    let angles: Vec<f64> = (0..100).map(|k| 0.92 + 0.0016 * f64::from(k)).collect();
+    for (name, d) in [("flat_0.2mm", flat(0.2e-3)), ("flat_1mm", flat(1e-3))] {
+        g.bench_function(format!("{name}_support"), |b| {
+            b.iter(|| {
+                angles
+                    .iter()
+                    .map(|&t| rim_support(&d, black_box(t), r0).0)
+                    .sum::<f64>()
+            })
+        });
+        g.bench_function(format!("{name}_radius_at_bottom"), |b| {
+            b.iter(|| {
+                angles
+                    .iter()
+                    .map(|&t| radius_deviation(&d, black_box(t), r0).0)
+                    .sum::<f64>()
+            })
+        });
     }
     g.finish();
 }

@@ -14,7 +14,7 @@ use railsim_elastic::Material;
 use railsim_profile::{Profile, ProfileError, ProfileKind, analytic, read_simpack, read_table_mm};
 use railsim_track::{RailProfile, RailSection, RailSupport, TrackModel};
 use railsim_vehicle::model::{
-    Endpoint, ForceLaw, Member, WheelDefect, WheelProfile, Wheelset, radius_deviation,
+    Endpoint, ForceLaw, Member, WheelDefect, WheelProfile, Wheelset, rim_support,
 };
 use railsim_vehicle::{DofKind, VehicleModel};
 
@@ -511,20 +511,25 @@ impl SimModel {
     /// What an out-of-round wheel changes in its contact's input, for wheel `wi` at the
     /// wheelset's track position `s_wheel` with nominal radius `r0`, rolled-angle lag `lag`
     /// (`MemberModel::rolled_angle`, the integral of Ω − (V + ẋ)/r0 from the start; 0 where it
-    /// has none) and velocity `vel`. The radius deviation δr(θ) at the bottom of the wheel, at
-    /// the rolled angle θ = `s_wheel`/`r0` + `lag`:
-    /// - is met as a vertical displacement of the rail, δr up and dδr/dθ·Ω its rate (a larger
-    ///   radius lifts the axle as a raised rail does): added to `rail` (the rail's own
-    ///   displacement (y, z, vy, vz) \[m, m/s\], an elastic support's, [`SimModel::rail_state`])
-    ///   and returned, for [`crate::dynamics::rail_frame`];
-    /// - moves the wheel's surface point at the contact δr further from the axle, so it runs
-    ///   −Ω δr more along the track: added to `vel.vx`, which also divides the creepages (their
-    ///   relative change δr/r0, 1e-4 for 0.05 mm, is left in that reference speed). Rigid-body
+    /// has none) and velocity `vel`. The wheel rests on the lowest point of its rim
+    /// ([`railsim_vehicle::rim_support`]): at the rolled angle θ = `s_wheel`/`r0` + `lag` its
+    /// centre stands e(θ) higher than a round wheel's, e the rim's support function less r0
+    /// (δr(θ) at the bottom of the wheel where the rim is round about it; on a defect's flank the
+    /// lowest rim point lies ahead of or behind the bottom). This height:
+    /// - is met as a vertical displacement of the rail, e up and de/dθ·Ω its rate (a larger
+    ///   radius lifts the axle as a raised rail does; the rate is the vertical velocity of the
+    ///   wheel's material point at the support): added to `rail` (the rail's own displacement
+    ///   (y, z, vy, vz) \[m, m/s\], an elastic support's, [`SimModel::rail_state`]) and
+    ///   returned, for [`crate::dynamics::rail_frame`];
+    /// - puts the wheel's surface point at the contact e further below the axle, so it runs
+    ///   −Ω e more along the track: added to `vel.vx`, which also divides the creepages (their
+    ///   relative change e/r0, 1e-4 for 0.05 mm, is left in that reference speed). Rigid-body
     ///   kinematics of the wheel surface point (contact-theory.md §3.1's creepage).
     ///
     /// A round wheel returns `rail` and leaves `vel` as it is. Source: the out-of-round wheel as
     /// a moving irregularity of the wheel/rail gap, as in wheel-flat impact models (e.g. Wu &
-    /// Thompson, J. Sound Vib. 251, 2002); docs/models/dynamics.md, "Out-of-round wheels".
+    /// Thompson, J. Sound Vib. 251, 2002), with the wheel centre's geometric path over a flat
+    /// rail; docs/models/dynamics.md, "Out-of-round wheels".
     pub fn wheel_support(
         &self,
         wi: usize,
@@ -536,9 +541,9 @@ impl SimModel {
         if defects.is_empty() {
             return rail;
         }
-        let (dr, ddr) = radius_deviation(defects, s_wheel / r0 + lag, r0);
-        vel.vx -= vel.spin * dr;
-        [rail[0], rail[1] + dr, rail[2], rail[3] + ddr * vel.spin]
+        let (e, de) = rim_support(defects, s_wheel / r0 + lag, r0);
+        vel.vx -= vel.spin * e;
+        [rail[0], rail[1] + e, rail[2], rail[3] + de * vel.spin]
     }
 
     /// \[s\] the times in `(t0, t_end)` at which the right-hand side is not smooth in time,

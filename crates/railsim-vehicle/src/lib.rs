@@ -27,7 +27,7 @@ pub use error::{Problem, SourceMap, VehicleError};
 pub use model::{
     Axis, Body, BodyId, Dof, DofKind, Endpoint, ForceElement, ForceElementId, ForceLaw, ForceTable,
     InternalState, InternalStateKind, Member, VehicleModel, WheelDefect, WheelProfile, Wheelset,
-    WheelsetId, radius_deviation, series_force, series_state_rate,
+    WheelsetId, radius_deviation, rim_support, series_force, series_state_rate,
 };
 pub use spec::{
     BodySpec, ForceSpec, NumberOrTriple, OutOfRoundnessSpec, VehicleSpec, WheelProfileSpec,
