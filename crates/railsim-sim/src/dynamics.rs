@@ -266,6 +266,8 @@ struct WheelInput {
     section: usize,
     /// its weight: below 1 in its transition, where section − 1 carries the rest (`WheelContact::partner`)
     weight: f64,
+    /// \[m\] an out-of-round wheel's support point ahead of the axle (`SimModel::wheel_support`)
+    lead: f64,
 }
 
 /// The buffers of one contact evaluation: its workspace (whose `patches` hold the patches of
@@ -879,7 +881,7 @@ impl Dynamics<'_> {
             };
             let s_wheel = s + mm.p0[0] + k.q[0];
             let lag = mm.rolled_angle.map_or(0.0, |i| x[i]);
-            let support =
+            let (support, lead) =
                 m.wheel_support(wi, m.rail_state(wi, x), (s_wheel, radius, lag), &mut vel);
             let rail = rail_frame(
                 m, wheel.side, s_wheel, v, radius, support, &mut pose, &mut vel,
@@ -905,6 +907,7 @@ impl Dynamics<'_> {
                 r,
                 section,
                 weight: if blended { blend.weight } else { 1.0 },
+                lead,
             };
         }
         let timer = self.ws.timing.then(Instant::now);
@@ -962,7 +965,11 @@ impl Dynamics<'_> {
                 return Err(RhsError(message));
             }
             let WheelInput {
-                rail, r, weight, ..
+                rail,
+                r,
+                weight,
+                lead,
+                ..
             } = self.ws.wheel_input[wi];
             let frame = self.ws.kin[mi].frame;
             let o = rail.origin;
@@ -989,7 +996,8 @@ impl Dynamics<'_> {
                 let pt = add(back(p.point_track), [0.0, o[0], o[1]]);
                 let f = scale(w, back(p.force_track));
                 let mo = scale(w, back(p.moment_track));
-                let arm = [pt[0], pt[1] - r[1], pt[2] - r[2]];
+                // an out-of-round wheel's support point lies `lead` ahead of the axle
+                let arm = [pt[0] + lead, pt[1] - r[1], pt[2] - r[2]];
                 total = add(total, f);
                 force_g = add(force_g, mul(&frame, f));
                 moment_g = add(moment_g, mul(&frame, add(cross(arm, f), mo)));

@@ -526,7 +526,11 @@ impl SimModel {
     ///   relative change e/r0, 1e-4 for 0.05 mm, is left in that reference speed). Rigid-body
     ///   kinematics of the wheel surface point (contact-theory.md §3.1's creepage).
     ///
-    /// A round wheel returns `rail` and leaves `vel` as it is. Source: the out-of-round wheel as
+    /// Also returned: the support point's lead x_c = (r0 + δr(θ + u*)) sin u* = de/dθ \[m\] ahead
+    /// of the axle (behind where negative), the lever of the contact's vertical force about the
+    /// axle (the rim's tangent at its lowest point is level, so the normal stays vertical).
+    ///
+    /// A round wheel returns `rail`, no lead, and leaves `vel` as it is. Source: the out-of-round wheel as
     /// a moving irregularity of the wheel/rail gap, as in wheel-flat impact models (e.g. Wu &
     /// Thompson, J. Sound Vib. 251, 2002), with the wheel centre's geometric path over a flat
     /// rail; docs/models/dynamics.md, "Out-of-round wheels".
@@ -536,14 +540,14 @@ impl SimModel {
         rail: [f64; 4],
         (s_wheel, r0, lag): (f64, f64, f64),
         vel: &mut WheelsetVelocity,
-    ) -> [f64; 4] {
+    ) -> ([f64; 4], f64) {
         let defects = &self.wheels[wi].out_of_roundness;
         if defects.is_empty() {
-            return rail;
+            return (rail, 0.0);
         }
         let (e, de) = rim_support(defects, s_wheel / r0 + lag, r0);
         vel.vx -= vel.spin * e;
-        [rail[0], rail[1] + e, rail[2], rail[3] + de * vel.spin]
+        ([rail[0], rail[1] + e, rail[2], rail[3] + de * vel.spin], de)
     }
 
     /// \[s\] the times in `(t0, t_end)` at which the right-hand side is not smooth in time,

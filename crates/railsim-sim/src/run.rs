@@ -836,7 +836,9 @@ fn settle(
             // Relative to this wheel's rail (moved by irregularities and `support`): find the rail-frame
             // height that carries the load, then the track-frame height that gives it.
             let (mut pr, mut vr) = (p, vel);
-            let sup = model.wheel_support(first_wheel + k, support[k], (s, radius, 0.0), &mut vr);
+            // (the support's lead, a lever about the axle, does not enter the vertical balance)
+            let (sup, _) =
+                model.wheel_support(first_wheel + k, support[k], (s, radius, 0.0), &mut vr);
             let rail = rail_frame(model, wheel.side, s, vel.vx, radius, sup, &mut pr, &mut vr);
             let sol = wheel.contacts[model.track.rail_section_at(s)]
                 .evaluate_with_load(wheel.side, &pr, &vr, 0.5 * load, 1e-10, &mut ws.contact)
