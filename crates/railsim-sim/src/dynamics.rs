@@ -81,7 +81,9 @@ pub struct MemberKin {
 pub struct PatchRecord {
     /// Index into [`SimModel::wheels`].
     pub wheel: usize,
-    /// The contact crate's result (in the rail's frame when the track has irregularities).
+    /// The contact crate's result (in the rail's frame when the track has irregularities), its
+    /// point moved ahead by an out-of-round wheel's support lead (`SimModel::wheel_support`),
+    /// where its forces act.
     pub result: PatchResult,
     /// \[N\] force on the wheel in the wheelset's track frame (its share: times `weight`).
     pub force_frame: V3,
@@ -1002,9 +1004,11 @@ impl Dynamics<'_> {
                 force_g = add(force_g, mul(&frame, f));
                 moment_g = add(moment_g, mul(&frame, add(cross(arm, f), mo)));
                 if self.ws.record {
+                    let mut result = *p;
+                    result.point_track[0] += lead;
                     self.ws.patches.push(PatchRecord {
                         wheel: wi,
-                        result: *p,
+                        result,
                         force_frame: f,
                         weight: w,
                     });
