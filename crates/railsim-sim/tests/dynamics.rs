@@ -614,6 +614,19 @@ fn out_of_round_wheelset(
     speed_kmh: f64,
     duration_s: f64,
 ) -> (Simulation, Vec<Sample>) {
+    let held = r#"["ws.x", "ws.y", "ws.yaw"]"#;
+    out_of_round_wheelset_held(track, tag, defect, contact, (speed_kmh, duration_s), held)
+}
+
+/// [`out_of_round_wheelset`] with the scene's `freeze` list `held`.
+fn out_of_round_wheelset_held(
+    track: &str,
+    tag: &str,
+    defect: &str,
+    contact: &str,
+    (speed_kmh, duration_s): (f64, f64),
+    held: &str,
+) -> (Simulation, Vec<Sample>) {
     let dir = std::env::temp_dir().join(format!("railsim-oor-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let text = std::fs::read_to_string(common::root().join("vehicles/wheelset_free.toml")).unwrap();
@@ -625,7 +638,7 @@ fn out_of_round_wheelset(
     .unwrap();
     let s = common::scene(&format!(
         "vehicle = \"{}\"\ntrack = \"{track}\"\nspeed_kmh = {speed_kmh}\n\
-         duration_s = {duration_s}\nfreeze = [\"ws.x\", \"ws.y\", \"ws.yaw\"]\n\
+         duration_s = {duration_s}\nfreeze = {held}\n\
          [contact]\n{contact}\n[log]\nrate_hz = 2000\n",
         vehicle.display()
     ));
@@ -1079,26 +1092,14 @@ fn a_flat_wheels_centre_follows_the_lowest_point_of_its_rim() {
 fn a_wheel_rolling_into_a_flat_gains_the_energy_its_axle_loses_in_height() {
     let (v, r0, m, i_spin, depth, g) = (0.1, 0.46, 1813.0, 112.0, 0.2e-3, 9.81);
     let position = 10f64.to_radians();
-    let dir = std::env::temp_dir().join(format!("railsim-flat-energy-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string(common::root().join("vehicles/wheelset_free.toml")).unwrap();
-    let vehicle = dir.join("wheelset.toml");
-    std::fs::write(
-        &vehicle,
-        format!(
-            "{text}\n[[wheelset.out_of_roundness]]\ntype = \"flat\"\nside = \"both\"\n\
-             length_mm = 50\ndepth_mm = 0.2\nposition_deg = 10\n"
-        ),
-    )
-    .unwrap();
-    let s = common::scene(&format!(
-        "vehicle = \"{}\"\ntrack = \"{STRAIGHT}\"\nspeed_kmh = {}\nduration_s = 1.0\n\
-         freeze = [\"ws.y\", \"ws.yaw\"]\n[contact]\nmodel = \"polach\"\n[log]\nrate_hz = 2000\n",
-        vehicle.display(),
-        v * 3.6
-    ));
-    let (sim, samples, _) = run(&s);
-    std::fs::remove_dir_all(&dir).ok();
+    let (sim, samples) = out_of_round_wheelset_held(
+        STRAIGHT,
+        "flat-energy",
+        "type = \"flat\"\nside = \"both\"\nlength_mm = 50\ndepth_mm = 0.2\nposition_deg = 10",
+        "model = \"polach\"",
+        (v * 3.6, 1.0),
+        r#"["ws.y", "ws.yaw"]"#,
+    );
     let (xd, spin, z) = (
         common::state_index(&sim, "d/dt ws.x"),
         common::state_index(&sim, "d/dt ws.spin"),
