@@ -1350,15 +1350,18 @@ fn solve_halfspace(
     // the row's relative curvatures (interpolated between its two pairs) at the patch's
     // approach. The patch's area- and aspect-preserving equivalent ellipse stands in where that
     // ellipse is degenerate.
-    let equivalent = {
-        let r = (f.area / std::f64::consts::PI).sqrt();
-        (
+    let r = (f.area / std::f64::consts::PI).sqrt();
+    let source = stripes::EllipseSource {
+        delta0: fr.delta0,
+        equivalent: (
             r * (f.length / f.width).sqrt(),
             r * (f.width / f.length).sqrt(),
             f.fn_,
-        )
+        ),
+        mu: input.pair.friction.at(fr.contact_angle),
+        mat: &input.pair.material,
+        kalker: &input.pair.kalker,
     };
-    let mu_patch = input.pair.friction.at(fr.contact_angle);
     // The rows' spin slip is split about CONTACT's reference point (the d^(5/2) centroid, where
     // the exact level's planar creepages are taken), `l_ref` across from the frame's point: FaStrip's
     // and FASTSIM's spin calibrations hold for a lateral coordinate from the ellipse's centre,
@@ -1391,23 +1394,7 @@ fn solve_halfspace(
         let kw_k = crate::geometry::locus_curvature_at(pairs, k, input.ctx.yawed);
         let kw = kw_j + fr_ * (kw_k - kw_j);
         let b = (0.5 * (kw - p.kappa_r)).max(crate::patch::B_MIN);
-        let e = match ellipse {
-            Some(e) if e.key() == (a_long, b) => e,
-            _ => {
-                let e = stripes::StripEllipse::new(
-                    a_long,
-                    b,
-                    &hertz_coeffs_fast(a_long, b),
-                    fr.delta0,
-                    equivalent,
-                    mu_patch,
-                    &input.pair.material,
-                    &input.pair.kalker,
-                )?;
-                ellipse = Some(e);
-                e
-            }
-        };
+        let e = source.ellipse(&mut ellipse, a_long, b, || hertz_coeffs_fast(a_long, b))?;
         // The row is solved about the locus point where its creepages are taken, `lead` ahead of
         // the reference point (solved about the reference point, the spin term phi x counted the
         // yawed locus' lead twice, as STRIPES' strips once did); the moment is

@@ -787,8 +787,13 @@ pub fn solve(
     let len = f.length.max(1e-9);
     let wid = f.width.max(1e-9);
     let r = (area / std::f64::consts::PI).sqrt();
-    let equivalent = (r * (len / wid).sqrt(), r * (wid / len).sqrt(), load);
-    let mu_patch = input.pair.friction.at(fr.contact_angle);
+    let source = EllipseSource {
+        delta0,
+        equivalent: (r * (len / wid).sqrt(), r * (wid / len).sqrt(), load),
+        mu: input.pair.friction.at(fr.contact_angle),
+        mat: &mat,
+        kalker: &input.pair.kalker,
+    };
     let mut ellipse: Option<StripEllipse> = None;
     let mut n_adh = 0u32;
     let mut n_cells = 0u32;
@@ -808,24 +813,8 @@ pub fn solve(
             mu0 * falling.factor(creep.xi.hypot(creep.eta) * input.kin.v_ref)
         };
         let li = &local[s.pair - lo];
-        let ellipse = match ellipse {
-            Some(e) if e.key == (li.a_long, li.b) => e,
-            _ => {
-                let e = StripEllipse::new(
-                    li.a_long,
-                    li.b,
-                    &li.hc,
-                    delta0,
-                    equivalent,
-                    mu_patch,
-                    &mat,
-                    &input.pair.kalker,
-                )?;
-                ellipse = Some(e);
-                e
-            }
-        };
-        let st = ellipse.solve(tangential, bound, s.l, s.w, 0.0, s.a, s.q, &creep, mu, nx);
+        let e = source.ellipse(&mut ellipse, li.a_long, li.b, || li.hc)?;
+        let st = e.solve(tangential, bound, s.l, s.w, 0.0, s.a, s.q, &creep, mu, nx);
         f.fx += st.fx;
         f.fs += st.fy * (t[0] * fr.t[0] + t[1] * fr.t[1]);
         f.fn_ += st.fy * (t[0] * fr.n[0] + t[1] * fr.n[1]);
@@ -869,32 +858,27 @@ pub(crate) struct StripEllipse {
 
 impl StripEllipse {
     /// The ellipse of a strip or grid row with longitudinal and lateral relative curvatures
-    /// `a_long`, `b` \[1/m\] (`b` clamped to `B_MIN`) and their Hertz coefficients `hc`, at the
-    /// patch's approach `delta0` \[m\]; `equivalent` (a, b \[m\], load \[N\]) is taken where
-    /// that ellipse is degenerate.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn new(
+    /// `a_long`, `b` \[1/m\] (`b` clamped to `B_MIN`) and their Hertz coefficients `hc`, in the
+    /// patch described by `src`.
+    fn new(
         a_long: f64,
         b: f64,
         hc: &railsim_elastic::HertzCoeffs,
-        delta0: f64,
-        equivalent: (f64, f64, f64),
-        mu: f64,
-        mat: &railsim_elastic::Material,
-        kalker: &KalkerTable,
+        src: &EllipseSource<'_>,
     ) -> Result<Self, ContactError> {
+        let mat = src.mat;
         let sum = a_long + b;
-        let c = (delta0 / (hc.r * sum)).sqrt();
+        let c = (src.delta0 / (hc.r * sum)).sqrt();
         let (a, b_axis, n) = if c.is_finite() && c > 0.0 {
             let n = 4.0 / 3.0 * mat.e_star() * sum * c * c * c;
             (hc.m * c, hc.n * c, n)
         } else {
-            equivalent
+            src.equivalent
         };
-        let kc = kalker.coeffs(a, b_axis)?;
+        let kc = src.kalker.coeffs(a, b_axis)?;
         Ok(StripEllipse {
             key: (a_long, b),
-            blend: FlexibilityBlend::with_coeffs(a, b_axis, n, mu, mat, &kc)?,
+            blend: FlexibilityBlend::with_coeffs(a, b_axis, n, src.mu, mat, &kc)?,
             patch: FastripPatch {
                 c11: kc.c11,
                 c22: kc.c22,
@@ -905,11 +889,6 @@ impl StripEllipse {
                 nu: mat.nu,
             },
         })
-    }
-
-    /// The (key) curvatures it was built for.
-    pub(crate) fn key(&self) -> (f64, f64) {
-        self.key
     }
 
     /// The traction of one strip or grid row with this ellipse's coefficients: at lateral
@@ -947,6 +926,41 @@ impl StripEllipse {
         } else {
             let p0 = peak_for_line_load(q, hl, bound);
             fastsim_strip(l, w, xc, hl, p0, bound, &c, &flex, mu, nx)
+        }
+    }
+}
+
+/// What the ellipses of one patch's strips or grid rows share ([`StripEllipse`]): the patch's
+/// approach δ0 \[m\], its area- and aspect-preserving equivalent ellipse (a, b \[m\], load
+/// \[N\]) that stands in where a strip's ellipse is degenerate, the friction of the flexibilities'
+/// blend, the material and Kalker's table.
+pub(crate) struct EllipseSource<'a> {
+    pub(crate) delta0: f64,
+    pub(crate) equivalent: (f64, f64, f64),
+    pub(crate) mu: f64,
+    pub(crate) mat: &'a railsim_elastic::Material,
+    pub(crate) kalker: &'a KalkerTable,
+}
+
+impl EllipseSource<'_> {
+    /// The ellipse of the strip or row with curvatures `a_long`, `b` \[1/m\] (Hertz coefficients
+    /// from `hc`, asked for only when a new ellipse is built): `last` if it was built for the
+    /// same curvatures (a patch's neighbouring strips often share them), otherwise a new one,
+    /// kept in `last`.
+    pub(crate) fn ellipse(
+        &self,
+        last: &mut Option<StripEllipse>,
+        a_long: f64,
+        b: f64,
+        hc: impl FnOnce() -> railsim_elastic::HertzCoeffs,
+    ) -> Result<StripEllipse, ContactError> {
+        match *last {
+            Some(e) if e.key == (a_long, b) => Ok(e),
+            _ => {
+                let e = StripEllipse::new(a_long, b, &hc(), self)?;
+                *last = Some(e);
+                Ok(e)
+            }
         }
     }
 }
@@ -1009,6 +1023,13 @@ mod tests {
     fn a_strips_ellipse_is_the_hertz_ellipse_of_its_curvatures_at_the_approach() {
         let mat = Material::new(82e9, 0.28).unwrap();
         let table = KalkerTable::new(mat.nu).unwrap();
+        let source = |delta0: f64, equivalent: (f64, f64, f64)| EllipseSource {
+            delta0,
+            equivalent,
+            mu: 0.3,
+            mat: &mat,
+            kalker: &table,
+        };
         let creep = Creepages {
             xi: 5e-3,
             eta: -3e-3,
@@ -1018,17 +1039,8 @@ mod tests {
             let delta = 30e-6;
             let hz = hertz_from_approach(a_curv, b_curv, delta, &mat).unwrap();
             let li = local(a_curv, b_curv);
-            let e = StripEllipse::new(
-                li.a_long,
-                li.b,
-                &li.hc,
-                delta,
-                (1.0, 1.0, 1.0),
-                0.3,
-                &mat,
-                &table,
-            )
-            .unwrap();
+            let e = StripEllipse::new(li.a_long, li.b, &li.hc, &source(delta, (1.0, 1.0, 1.0)))
+                .unwrap();
             assert_eq!(e.key, (a_curv, b_curv));
             // the fast Hertz coefficients against the exact ones: within 0.1 %
             assert!(rel(e.patch.a, hz.a) < 1e-3, "{} {}", e.patch.a, hz.a);
@@ -1052,7 +1064,7 @@ mod tests {
         }
         let eq = (4e-3, 5e-3, 1e4);
         let li = local(1.087, 1.667);
-        let e = StripEllipse::new(li.a_long, li.b, &li.hc, 0.0, eq, 0.3, &mat, &table).unwrap();
+        let e = StripEllipse::new(li.a_long, li.b, &li.hc, &source(0.0, eq)).unwrap();
         assert_eq!((e.patch.a, e.patch.b), (eq.0, eq.1));
         let want = FlexibilityBlend::new(eq.0, eq.1, eq.2, 0.3, &mat)
             .unwrap()
