@@ -279,7 +279,17 @@ fn stability_note(method: &Method, rail_mass: Option<f64>) -> Option<String> {
 /// The assessment lines of the summary: EN 14363's track-shift force per axle, and the
 /// carbody's ride quantities per point.
 /// Per wheel: (Y/Q)2m, Q, and the quasi-static forces in the curves.
-fn print_wheels(a: &Assessment) -> Result<()> {
+/// "wheelset N (name)": a wheelset by its number from the front (the logs' `/wheelsets/N`)
+/// and its name in the vehicle file.
+fn wheelset(names: &[String], n: impl Into<u64>) -> String {
+    let n = n.into();
+    match names.get(n as usize) {
+        Some(name) => format!("wheelset {n} ({name})"),
+        None => format!("wheelset {n}"),
+    }
+}
+
+fn print_wheels(a: &Assessment, names: &[String]) -> Result<()> {
     if a.wheels.is_empty() {
         return Ok(());
     }
@@ -341,8 +351,8 @@ fn print_wheels(a: &Assessment) -> Result<()> {
             ));
         }
         outln!(
-            "  wheelset {} {}: {}",
-            w.wheelset,
+            "  {} {}: {}",
+            wheelset(names, w.wheelset),
             w.side.name(),
             parts.join("; ")
         );
@@ -370,11 +380,11 @@ fn print_wheels(a: &Assessment) -> Result<()> {
                 String::new()
             };
             outln!(
-                "  curve {} (R {:.0} m): wheelset {} {}{}: Y_qst {:.2} kN, Q_qst {:.2} kN \
+                "  curve {} (R {:.0} m): {} {}{}: Y_qst {:.2} kN, Q_qst {:.2} kN \
                  ({} samples){verdict}",
                 q.curve,
                 q.radius,
-                w.wheelset,
+                wheelset(names, w.wheelset),
                 w.side.name(),
                 if q.outer { " (outer)" } else { "" },
                 q.y_qst * 1e-3,
@@ -440,7 +450,7 @@ fn print_bogies(a: &Assessment) -> Result<()> {
     Ok(())
 }
 
-fn print_assessment(a: &Assessment) -> Result<()> {
+fn print_assessment(a: &Assessment, names: &[String]) -> Result<()> {
     let band = match (a.band, a.instability_frequency) {
         (Some((lo, hi)), Some((f0, found))) => format!(
             "band-passed {lo:.2}-{hi:.2} Hz around f0 = {f0:.2} Hz ({})",
@@ -496,9 +506,9 @@ fn print_assessment(a: &Assessment) -> Result<()> {
             }
             None => "no r.m.s.".to_owned(),
         };
-        outln!("  wheelset {}: {mean}; {rms}", ax.wheelset);
+        outln!("  {}: {mean}; {rms}", wheelset(names, ax.wheelset));
     }
-    print_wheels(a)?;
+    print_wheels(a, names)?;
     print_bogies(a)?;
     if !a.comfort.is_empty() {
         outln!(
@@ -564,35 +574,40 @@ fn print_summary(s: &RunSummary, timing: bool) -> Result<()> {
         s.wall,
         s.real_time_factor()
     );
+    let names = &s.wheelset_names;
     for (i, y) in s.max_lateral.iter().enumerate() {
-        outln!("wheelset {i}: max |lateral displacement| {:.2} mm", y * 1e3);
+        outln!(
+            "{}: max |lateral displacement| {:.2} mm",
+            wheelset(names, i as u64),
+            y * 1e3
+        );
     }
     let side = |x: railsim_contact::Side| x.name();
     let at = |m: Option<(f64, u32, railsim_contact::Side)>, what: &str, none: &str| match m {
-        Some((v, n, sd)) => format!("{v:.3} {what} (wheelset {n}, {} wheel)", side(sd)),
+        Some((v, n, sd)) => format!("{v:.3} {what} ({}, {} wheel)", wheelset(names, n), side(sd)),
         None => format!("none {what} ({none})"),
     };
     outln!(
-        "max Y/Q {}; max Q {:.1} kN (wheelset {}, {} wheel)",
+        "max Y/Q {}; max Q {:.1} kN ({}, {} wheel)",
         at(s.max_y_over_q, "at a sample", "no samples"),
         s.max_q.0 * 1e-3,
-        s.max_q.1,
+        wheelset(names, s.max_q.1),
         side(s.max_q.2)
     );
     outln!(
         "EN 14363 assessment, maxima at a sample and energies from the run's samples at {} Hz",
         s.assessment_rate_hz
     );
-    print_assessment(&s.assessment)?;
+    print_assessment(&s.assessment, names)?;
     if let Some([lat, vert]) = s.max_rail {
         outln!(
-            "elastic rail support: max rail displacement {:.3} mm lateral (wheelset {}, {} wheel), \
-             {:.3} mm vertical (wheelset {}, {} wheel)",
+            "elastic rail support: max rail displacement {:.3} mm lateral ({}, {} wheel), \
+             {:.3} mm vertical ({}, {} wheel)",
             lat.0 * 1e3,
-            lat.1,
+            wheelset(names, lat.1),
             side(lat.2),
             vert.0 * 1e3,
-            vert.1,
+            wheelset(names, vert.1),
             side(vert.2)
         );
     }

@@ -49,7 +49,7 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
         "max Y/Q",
         "EN 14363 assessment, maxima at a sample and energies from the run's samples at 1000 Hz",
         "track-shift force ΣY (EN 14363",
-        "wheelset 0: (ΣY)2m max",
+        "wheelset 0 (ws): (ΣY)2m max",
         "integrator:",
         "state digest",
     ] {
@@ -148,7 +148,7 @@ fn the_readmes_klingel_scene_runs_to_its_end() {
     assert!(out.contains("simulated 20.000 s"), "{out}");
     let max: f64 = out
         .lines()
-        .find_map(|l| l.strip_prefix("wheelset 0: max |lateral displacement| "))
+        .find_map(|l| l.strip_prefix("wheelset 0 (ws): max |lateral displacement| "))
         .and_then(|v| v.trim_end_matches(" mm").parse().ok())
         .unwrap_or_else(|| panic!("{out}"));
     assert!(max > 1.0 && max < 4.0, "{max} mm");
@@ -344,7 +344,7 @@ fn threads_do_not_change_the_run() {
         assert!(!err.contains("note: at "), "{err}");
         for key in [
             "running safety and vertical force per wheel (EN 14363",
-            "wheelset 0 left: (Y/Q)2m",
+            "wheelset 0 (ws1) left: (Y/Q)2m",
             "bogie frames, simplified stability method",
             // (no peak: a record under 2 s has no instability frequency to band-pass around)
             "bogie_front above ws1: no peak (no band)",
@@ -413,7 +413,7 @@ fn a_quasi_static_start_is_reported() {
     );
     // the leading wheelset runs 6.28 mm out toward the outer rail throughout
     assert!(
-        out.contains("wheelset 0: max |lateral displacement| 6.28 mm"),
+        out.contains("wheelset 0 (ws1): max |lateral displacement| 6.28 mm"),
         "{out}"
     );
     std::fs::remove_dir_all(&dir).ok();

@@ -704,6 +704,21 @@ impl SimModel {
         pattern
     }
 
+    /// The wheelsets' names (the vehicle file's) in the order of their numbers, from the front
+    /// (the order of the logs' `/wheelsets/N` topics and of the run summary).
+    pub fn wheelset_names(&self) -> Vec<String> {
+        let mut named: Vec<(u32, &str)> = self
+            .wheels
+            .chunks(2)
+            .map(|pair| {
+                let w = &pair[0];
+                (w.wheelset_number, self.members[w.member.0].name.as_str())
+            })
+            .collect();
+        named.sort_by_key(|&(n, _)| n);
+        named.into_iter().map(|(_, name)| name.to_owned()).collect()
+    }
+
     /// The contact pose of a wheelset's axle relative to the local track (no irregularity).
     pub fn wheelset_pose(&self, m: usize, x: &[f64]) -> WheelsetPose {
         let mm = &self.members[m];

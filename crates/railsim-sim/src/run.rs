@@ -120,6 +120,9 @@ pub struct RunSummary {
     pub t_end: f64,
     /// \[s\] wall-clock time of the step loop.
     pub wall: f64,
+    /// The wheelsets' names in the vehicle file, by their numbers from the front (the numbers
+    /// the other fields and the logs use).
+    pub wheelset_names: Vec<String>,
     /// \[m\] per wheelset (numbered from the front): largest |lateral displacement|.
     pub max_lateral: Vec<f64>,
     /// \[-\] largest Y/Q of any wheel at a sample, with its wheelset and side (`None`
@@ -542,6 +545,7 @@ impl Simulation {
             RunSummary {
                 t_end,
                 wall: wall.elapsed().as_secs_f64(),
+                wheelset_names: self.model.wheelset_names(),
                 max_lateral: state.max_lateral.clone(),
                 max_y_over_q: state.max_yq,
                 max_q: state.max_q,
