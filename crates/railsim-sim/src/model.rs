@@ -521,10 +521,13 @@ impl SimModel {
     ///   wheel's material point at the support): added to `rail` (the rail's own displacement
     ///   (y, z, vy, vz) \[m, m/s\], an elastic support's, [`SimModel::rail_state`]) and
     ///   returned, for [`crate::dynamics::rail_frame`];
-    /// - puts the wheel's surface point at the contact e further below the axle, so it runs
-    ///   −Ω e more along the track: added to `vel.vx`, which also divides the creepages (their
-    ///   relative change e/r0, 1e-4 for 0.05 mm, is left in that reference speed). Rigid-body
-    ///   kinematics of the wheel surface point (contact-theory.md §3.1's creepage).
+    /// - puts the wheel's surface point at the contact e further below the axle and x_c ahead of
+    ///   it (below), so its velocity differs from that of the point below the axle, where the
+    ///   contact solves the patch, by ω × (x_c, 0, −e): it runs −Ω e more along the track (added
+    ///   to `vel.vx`, which also divides the creepages: their relative change e/r0, 1e-4 for
+    ///   0.05 mm, is left in that reference speed) and ω_z x_c + ω_x e more to the left (added to
+    ///   `vel.vy`; since stop 38). Rigid-body kinematics of the wheel surface point
+    ///   (contact-theory.md §3.1's creepage).
     ///
     /// Also returned: the support point's lead x_c = (r0 + δr(θ + u*)) sin u* = de/dθ \[m\] ahead
     /// of the axle (behind where negative), the lever of the contact's vertical force about the
@@ -546,7 +549,11 @@ impl SimModel {
             return (rail, 0.0);
         }
         let (e, de) = rim_support(defects, s_wheel / r0 + lag, r0);
+        // the wheel's material point at the support, (x_c, 0, -e) from the point below the
+        // axle where the contact solves the patch: its velocity differs by ω × (x_c, 0, -e)
+        // (the vertical part, -Ω x_c, is the rail's rate below)
         vel.vx -= vel.spin * e;
+        vel.vy += vel.yaw_rate * de + vel.roll_rate * e;
         ([rail[0], rail[1] + e, rail[2], rail[3] + de * vel.spin], de)
     }
 

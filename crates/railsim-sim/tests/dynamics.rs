@@ -1077,6 +1077,58 @@ fn a_flat_wheels_centre_follows_the_lowest_point_of_its_rim() {
     assert!(worst_bottom > 30e-6, "{worst_bottom}");
 }
 
+/// The wheel's velocity handed to the contact is that of its material point at the support:
+/// `SimModel::wheel_support` moves it from the point below the axle, where the contact solves
+/// the patch, by ω × (x_c, 0, −e) (x_c the support's lead, e its height), and gives the rail the
+/// vertical rate that stands for the third component. Over the 50 mm, 0.2 mm flat, with all
+/// three angular rates non-zero; the lead reaches millimetres there, so a missing term shows.
+#[test]
+fn an_out_of_round_wheels_support_moves_with_the_wheels_material_point() {
+    use railsim_contact::WheelsetVelocity;
+    use railsim_vehicle::rim_support;
+    let (sim, _) = out_of_round_wheelset(
+        STRAIGHT,
+        "flat-velocity",
+        "type = \"flat\"\nside = \"left\"\nlength_mm = 50\ndepth_mm = 0.2\nposition_deg = 10",
+        "model = \"polach\"",
+        36.0,
+        0.002,
+    );
+    let m = sim.model();
+    let r0 = 0.46;
+    let defects = &m.wheels[0].out_of_roundness;
+    let vel = WheelsetVelocity {
+        vx: 10.0,
+        vy: 0.02,
+        vz: -0.01,
+        roll_rate: 0.3,
+        yaw_rate: -0.2,
+        spin: -10.0 / r0,
+    };
+    let mut largest_lead = 0.0f64;
+    for k in 0..=200 {
+        let th = 10f64.to_radians() + (k as f64 - 100.0) * 0.3e-3;
+        let (e, lead) = rim_support(defects, th, r0);
+        let mut moved = vel;
+        let (rail, x_c) = m.wheel_support(0, [0.0; 4], (th * r0, r0, 0.0), &mut moved);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + b.abs());
+        assert!(close(x_c, lead), "θ {th}: lead {x_c} against {lead}");
+        largest_lead = largest_lead.max(lead.abs());
+        // ω × (x_c, 0, −e), ω = (roll rate, spin, yaw rate)
+        let (wx, wy, wz) = (vel.roll_rate, vel.spin, vel.yaw_rate);
+        let d = [-wy * e, wz * x_c + wx * e, -wy * x_c];
+        assert!(close(moved.vx - vel.vx, d[0]), "θ {th}: vx {}", moved.vx);
+        assert!(close(moved.vy - vel.vy, d[1]), "θ {th}: vy {}", moved.vy);
+        assert_eq!((moved.vz, moved.spin), (vel.vz, vel.spin));
+        // the rail stands for the vertical part: up by e, moving up at the rate the point moves down
+        assert!(
+            close(rail[1], e) && close(rail[3], -d[2]),
+            "θ {th}: rail {rail:?}"
+        );
+    }
+    assert!(largest_lead > 3e-3, "{largest_lead}");
+}
+
 /// The support's lead closes the energy balance of a wheel rolling into a flat. A free wheelset
 /// (held laterally and in yaw only, so it rolls at its own speed) with a 50 mm, 0.2 mm deep
 /// rounded flat on both wheels, at 0.1 m/s: as the flat comes under the wheels the axle drops by
