@@ -227,7 +227,10 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
             .iter()
             .enumerate()
             .map(|(n, b)| Series {
-                name: format!("wheelset {n}"),
+                name: match res.summary.wheelset_names.get(n) {
+                    Some(name) => format!("wheelset {n} ({name})"),
+                    None => format!("wheelset {n}"),
+                },
                 points: b
                     .iter()
                     .filter(|p| p.t >= res.ramp_start)
@@ -299,9 +302,15 @@ fn print_branch(res: &RampResult, r: &RampDown) -> Result<()> {
     );
     let band = 10.0 / 3.6;
     let n_bands = ((r.v_start - r.v_end) / band).ceil() as usize;
+    // the columns named by the wheelsets' names in the vehicle file, from the front
+    let names = &res.summary.wheelset_names;
+    let label = |n: usize| names.get(n).map_or_else(|| format!("#{n}"), Clone::clone);
+    let widths: Vec<usize> = (0..res.branch.len())
+        .map(|n| (label(n).chars().count() + 3).max(7))
+        .collect();
     let mut head = String::from("speed band km/h  ");
-    for n in 0..res.branch.len() {
-        write!(head, "  ws{n} mm")?;
+    for (n, w) in widths.iter().enumerate() {
+        write!(head, "  {:>w$}", format!("{} mm", label(n)))?;
     }
     head.push_str("  ΣY rms/limit");
     outln!(
@@ -315,7 +324,7 @@ fn print_branch(res: &RampResult, r: &RampDown) -> Result<()> {
         let lo = (hi - band).max(r.v_end);
         let mut line = format!("{:6.1} .. {:6.1}", hi * 3.6, lo * 3.6);
         let mut any = false;
-        for b in &res.branch {
+        for (b, &w) in res.branch.iter().zip(&widths) {
             let m = b
                 .iter()
                 .filter(|p| p.t >= res.ramp_start && p.speed <= hi && p.speed > lo)
@@ -324,9 +333,9 @@ fn print_branch(res: &RampResult, r: &RampDown) -> Result<()> {
             match m {
                 Some(m) => {
                     any = true;
-                    write!(line, "  {:7.3}", m * 1e3)?;
+                    write!(line, "  {:w$.3}", m * 1e3)?;
                 }
-                None => write!(line, "  {:>7}", "-")?,
+                None => write!(line, "  {:>w$}", "-")?,
             }
         }
         let ratio = res
