@@ -245,15 +245,27 @@ fn print_case(r: &SteadyCurving) -> Result<()> {
         r.uncompensated,
         r.cant_deficiency * 1e3
     );
+    // the wheelsets by number from the front and by name in the vehicle file
+    let label = |n: usize| match r.wheelset_names.get(n) {
+        Some(name) => format!("{n} {name}"),
+        None => n.to_string(),
+    };
+    let width = (0..r.wheelsets.len())
+        .map(|n| label(n).chars().count())
+        .max()
+        .unwrap_or(2)
+        .max(9);
     outln!(
-        "  ws  y out mm  AoA out mrad   ΣY out kN  Y outer kN  Q outer kN  Y/Q outer  Y inner kN  Q inner kN  Tγ outer N  Tγ inner N  swing mm"
+        "  {:<width$}  y out mm  AoA out mrad   ΣY out kN  Y outer kN  Q outer kN  Y/Q outer  Y inner kN  Q inner kN  Tγ outer N  Tγ inner N  swing mm",
+        "wheelset"
     );
     let (o, i) = outer_inner(r);
     // "out": toward the outside of the curve (−y in a left curve)
     let out = if c.left { -1.0 } else { 1.0 };
     for (n, w) in r.wheelsets.iter().enumerate() {
         outln!(
-            "  {n:2}  {:8.2}  {:12.2}  {:10.2}  {:10.2}  {:10.2}  {:9.3}  {:10.2}  {:10.2}  {:10.1}  {:10.1}  {:8.3}",
+            "  {:<width$}  {:8.2}  {:12.2}  {:10.2}  {:10.2}  {:10.2}  {:9.3}  {:10.2}  {:10.2}  {:10.1}  {:10.1}  {:8.3}",
+            label(n),
             out * w.lateral * 1e3,
             out * w.angle_of_attack * 1e3,
             out * w.sum_y * 1e-3,
@@ -273,7 +285,7 @@ fn print_case(r: &SteadyCurving) -> Result<()> {
 fn csv(results: &[SteadyCurving]) -> Result<String> {
     let mut text = String::from(
         "radius_m,cant_mm,speed_kmh,direction,uncompensated_m_s2,cant_deficiency_mm,wheelset,\
-         lateral_mm,angle_of_attack_mrad,sum_y_kn,y_left_kn,q_left_kn,y_over_q_left,wear_left_n,\
+         wheelset_name,lateral_mm,angle_of_attack_mrad,sum_y_kn,y_left_kn,q_left_kn,y_over_q_left,wear_left_n,\
          y_right_kn,q_right_kn,y_over_q_right,wear_right_n,lateral_swing_mm\n",
     );
     for r in results {
@@ -282,13 +294,14 @@ fn csv(results: &[SteadyCurving]) -> Result<String> {
             let [l, rt] = &w.wheels;
             writeln!(
                 text,
-                "{},{},{},{},{:.6},{:.3},{n},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.3},{:.6},{:.6},{:.6},{:.3},{:.6}",
+                "{},{},{},{},{:.6},{:.3},{n},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.3},{:.6},{:.6},{:.6},{:.3},{:.6}",
                 c.radius,
                 c.cant * 1e3,
                 kmh(c.speed),
                 if c.left { "left" } else { "right" },
                 r.uncompensated,
                 r.cant_deficiency * 1e3,
+                r.wheelset_names.get(n).map_or("", String::as_str),
                 w.lateral * 1e3,
                 w.angle_of_attack * 1e3,
                 w.sum_y * 1e-3,

@@ -414,9 +414,12 @@ fn curving_tabulates_a_case_and_rejects_bad_settings() {
     for (n, r) in rows.iter().enumerate() {
         assert_eq!(r.len(), head.len());
         assert_eq!((r[0], r[3], r[6]), ("400", "right", n.to_string().as_str()));
+        // the vehicle file's name of the wheelset numbered n from the front
+        assert_eq!(r[7], format!("ws{}", n + 1));
     }
+    assert!(out.contains("  0 ws1  "), "{out}");
     // a right curve: the leading wheelset runs out to the left (+y)
-    let lateral: f64 = rows[0][7].parse().unwrap();
+    let lateral: f64 = rows[0][8].parse().unwrap();
     assert!(lateral > 3.0, "{lateral}");
     for (args, want) in [
         (

@@ -116,6 +116,8 @@ pub struct SteadyCurving {
     pub cant_deficiency: f64,
     /// Per wheelset, numbered from the front.
     pub wheelsets: Vec<WheelsetMeans>,
+    /// The wheelsets' names in the vehicle file, in the same order.
+    pub wheelset_names: Vec<String>,
     /// \[m/s²\] mean lateral reading of an accelerometer at the carbody's centre (carbody axes,
     /// positive to the left); `None` for a vehicle without rigid bodies.
     pub carbody_lateral: Option<f64>,
@@ -356,6 +358,12 @@ impl Means {
             uncompensated,
             cant_deficiency: uncompensated * study.track.cant_base() / g,
             wheelsets: self.sums,
+            wheelset_names: study
+                .vehicle
+                .wheelsets_from_front()
+                .into_iter()
+                .map(|i| study.vehicle.wheelsets()[i].name.clone())
+                .collect(),
             carbody_lateral: carbody.then_some(self.carbody * k),
             samples: self.n,
             solution,

@@ -230,10 +230,7 @@ impl SimModel {
         }
         let nb = members.len();
         // Wheelsets numbered from the front (largest x) as in the logs.
-        let mut order: Vec<usize> = (0..v.wheelsets().len()).collect();
-        order.sort_by(|&a, &b| {
-            v.wheelsets()[b].position[0].total_cmp(&v.wheelsets()[a].position[0])
-        });
+        let order = v.wheelsets_from_front();
         let mut number = vec![0u32; order.len()];
         for (k, &i) in order.iter().enumerate() {
             number[i] = k as u32;

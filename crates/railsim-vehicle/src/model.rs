@@ -833,6 +833,15 @@ impl VehicleModel {
     pub fn wheelsets(&self) -> &[Wheelset] {
         &self.wheelsets
     }
+    /// The wheelsets' indices from the front (largest x first): the numbering of the
+    /// simulator's logs and summaries.
+    pub fn wheelsets_from_front(&self) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.wheelsets.len()).collect();
+        order.sort_by(|&a, &b| {
+            self.wheelsets[b].position[0].total_cmp(&self.wheelsets[a].position[0])
+        });
+        order
+    }
     /// Removes every wheel's out-of-roundness (for the studies of steady states and of
     /// linearisations, which remove the track's irregularities too).
     pub fn make_wheels_round(&mut self) {
