@@ -282,6 +282,16 @@ fn print_case(r: &SteadyCurving) -> Result<()> {
     Ok(())
 }
 
+/// A text field of a CSV row: quoted (quotes doubled) where it holds a comma, a quote or a line
+/// break (RFC 4180), as it is otherwise.
+fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\"")).into()
+    } else {
+        text.into()
+    }
+}
+
 fn csv(results: &[SteadyCurving]) -> Result<String> {
     let mut text = String::from(
         "radius_m,cant_mm,speed_kmh,direction,uncompensated_m_s2,cant_deficiency_mm,wheelset,\
@@ -301,7 +311,7 @@ fn csv(results: &[SteadyCurving]) -> Result<String> {
                 if c.left { "left" } else { "right" },
                 r.uncompensated,
                 r.cant_deficiency * 1e3,
-                r.wheelset_names.get(n).map_or("", String::as_str),
+                csv_field(r.wheelset_names.get(n).map_or("", String::as_str)),
                 w.lateral * 1e3,
                 w.angle_of_attack * 1e3,
                 w.sum_y * 1e-3,
@@ -324,4 +334,16 @@ fn csv(results: &[SteadyCurving]) -> Result<String> {
 /// 120.00000000000001).
 fn kmh(v: f64) -> f64 {
     (v * 3.6 * 1e9).round() / 1e9
+}
+
+#[cfg(test)]
+mod tests {
+    use super::csv_field;
+
+    #[test]
+    fn a_csv_field_is_quoted_only_where_it_must_be() {
+        assert_eq!(csv_field("ws1"), "ws1");
+        assert_eq!(csv_field("front, left"), "\"front, left\"");
+        assert_eq!(csv_field("the \"lead\""), "\"the \"\"lead\"\"\"");
+    }
 }
