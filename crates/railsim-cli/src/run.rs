@@ -350,6 +350,19 @@ fn print_wheels(a: &Assessment, names: &[String]) -> Result<()> {
                 flag(p, w.q_limit)
             ));
         }
+        if let Some(m) = w.q_min {
+            parts.push(format!(
+                "Q min {:.1} kN at {:.1} m (ΔQ/Q0 {:.2})",
+                m.value * 1e-3,
+                m.at,
+                1.0 - m.value / w.static_load
+            ));
+        }
+        if let (lifted, Some(from)) = w.lifted {
+            parts.push(format!(
+                "WHEEL LIFTED over {lifted:.2} m, first at {from:.1} m"
+            ));
+        }
         outln!(
             "  {} {}: {}",
             wheelset(names, w.wheelset),

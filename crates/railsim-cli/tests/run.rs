@@ -345,6 +345,7 @@ fn threads_do_not_change_the_run() {
         for key in [
             "running safety and vertical force per wheel (EN 14363",
             "wheelset 0 (ws1) left: (Y/Q)2m",
+            "; Q min ",
             "bogie frames, simplified stability method",
             // (no peak: a record under 2 s has no instability frequency to band-pass around)
             "bogie_front above ws1: no peak (no band)",

@@ -425,6 +425,13 @@ pub struct WheelAssessment {
     pub q_max: Option<f64>,
     /// \[N\] the limit of Q.
     pub q_limit: f64,
+    /// \[N\] the smallest low-passed Q and where (the largest unloading, ΔQ/Q0 = 1 − Q/Q0);
+    /// `None` without samples.
+    pub q_min: Option<Extreme>,
+    /// \[m\] distance run while the wheel was lifted (its unfiltered Q at or below zero: no
+    /// contact force), and where the first lift began; 0 and `None` when it never lifted.
+    /// (Y/Q)2m cannot show a lift (an unloaded wheel has no Y/Q), so it is reported here.
+    pub lifted: (f64, Option<f64>),
     /// Per circular curve it ran in.
     pub quasi_static: Vec<QuasiStaticForces>,
 }
@@ -737,6 +744,25 @@ fn assess_wheel(
         percentile(&v, PERCENTILES.1)
     });
     let q_max = q.iter().copied().reduce(f64::max);
+    let q_min = q
+        .iter()
+        .zip(d)
+        .map(|(&value, &at)| Extreme { value, at })
+        .reduce(|a, b| if b.value < a.value { b } else { a });
+    // lifted: the distance between samples whose unfiltered Q is at or below zero, each sample
+    // standing for the distance to the next (the last for the one before it)
+    let mut lifted = (0.0, None);
+    for (i, &qi) in w.q.iter().enumerate().take(d.len()) {
+        if qi <= 0.0 {
+            let step = match (d.get(i + 1), i.checked_sub(1).and_then(|j| d.get(j))) {
+                (Some(next), _) => next - d[i],
+                (None, Some(prev)) => d[i] - prev,
+                (None, None) => 0.0,
+            };
+            lifted.0 += step;
+            lifted.1.get_or_insert(d[i]);
+        }
+    }
     let mut quasi_static = Vec::new();
     for (k, c) in series.curves.iter().enumerate() {
         let inside: Vec<usize> = (0..q.len())
@@ -766,6 +792,8 @@ fn assess_wheel(
         y_over_q,
         q_percentile,
         q_max,
+        q_min,
+        lifted,
         q_limit: limits.q_limit(w.static_load, top_speed),
         quasi_static,
     }

@@ -5,7 +5,7 @@
 //! the contact crate called online at every right-hand side).
 
 use railsim_sim::stability::bisect_growth;
-use railsim_sim::{RunOptions, Sample, SimError, Simulation};
+use railsim_sim::{RunOptions, RunSummary, Sample, SimError, Simulation};
 
 mod common;
 use common::{
@@ -615,10 +615,12 @@ fn out_of_round_wheelset(
     duration_s: f64,
 ) -> (Simulation, Vec<Sample>) {
     let held = r#"["ws.x", "ws.y", "ws.yaw"]"#;
-    out_of_round_wheelset_held(track, tag, defect, contact, (speed_kmh, duration_s), held)
+    let (sim, samples, _) =
+        out_of_round_wheelset_held(track, tag, defect, contact, (speed_kmh, duration_s), held);
+    (sim, samples)
 }
 
-/// [`out_of_round_wheelset`] with the scene's `freeze` list `held`.
+/// [`out_of_round_wheelset`] with the scene's `freeze` list `held`, and the run's summary.
 fn out_of_round_wheelset_held(
     track: &str,
     tag: &str,
@@ -626,7 +628,7 @@ fn out_of_round_wheelset_held(
     contact: &str,
     (speed_kmh, duration_s): (f64, f64),
     held: &str,
-) -> (Simulation, Vec<Sample>) {
+) -> (Simulation, Vec<Sample>, RunSummary) {
     let dir = std::env::temp_dir().join(format!("railsim-oor-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let text = std::fs::read_to_string(common::root().join("vehicles/wheelset_free.toml")).unwrap();
@@ -642,9 +644,9 @@ fn out_of_round_wheelset_held(
          [contact]\n{contact}\n[log]\nrate_hz = 2000\n",
         vehicle.display()
     ));
-    let (sim, samples, _) = run(&s);
+    let (sim, samples, summary) = run(&s);
     std::fs::remove_dir_all(&dir).ok();
-    (sim, samples)
+    (sim, samples, summary)
 }
 
 /// The amplitude of `value` at frequency `f` \[Hz\] over the whole periods of `f` that fit
@@ -985,13 +987,13 @@ fn a_wheel_flat_unloads_its_wheel_and_above_a_critical_speed_lifts_it_off_the_ra
     let leading_end = r0 * 0.25 * tau - 0.5 * len;
     for (factor, loses_contact) in [(0.4, false), (2.0, true)] {
         let v = factor * v_c;
-        let (_, samples) = out_of_round_wheelset(
+        let (_, samples, summary) = out_of_round_wheelset_held(
             STRAIGHT,
             "flat",
             flat,
             "model = \"polach\"",
-            v * 3.6,
-            (leading_end + len) / v + 0.1,
+            (v * 3.6, (leading_end + len) / v + 0.1),
+            r#"["ws.x", "ws.y", "ws.yaw"]"#,
         );
         let q0 = samples[0].wheelsets[0].q_left_n;
         let q_min = samples
@@ -1013,6 +1015,26 @@ fn a_wheel_flat_unloads_its_wheel_and_above_a_critical_speed_lifts_it_off_the_ra
         );
         assert_eq!(q_min <= 0.0, loses_contact, "{q_min}");
         assert!(q_min >= 0.0);
+        // the assessment reports the lift, which (Y/Q)2m cannot show, and the unloading
+        let left = summary
+            .assessment
+            .wheels
+            .iter()
+            .find(|w| w.wheelset == 0 && w.side == railsim_contact::Side::Left)
+            .unwrap();
+        let unloaded = left.q_min.unwrap();
+        eprintln!(
+            "  assessment: lifted {:?}, least low-passed Q {:.0} N at {:.4} m",
+            left.lifted, unloaded.value, unloaded.at
+        );
+        match left.lifted {
+            (d, Some(from)) => {
+                assert!(loses_contact && d > 0.0, "{d} m");
+                assert!(from >= leading_end && from <= leading_end + len, "{from}");
+            }
+            (d, None) => assert!(!loses_contact && d == 0.0, "{d} m"),
+        }
+        assert!(unloaded.value < 0.9 * q0, "{unloaded:?}");
         let s = first.t * v;
         assert!(s >= leading_end && s <= leading_end + 0.1 * len, "{s}");
         assert!(right_before < 0.01 * q0, "{right_before}");
@@ -1144,7 +1166,7 @@ fn an_out_of_round_wheels_support_moves_with_the_wheels_material_point() {
 fn a_wheel_rolling_into_a_flat_gains_the_energy_its_axle_loses_in_height() {
     let (v, r0, m, i_spin, depth, g) = (0.1, 0.46, 1813.0, 112.0, 0.2e-3, 9.81);
     let position = 10f64.to_radians();
-    let (sim, samples) = out_of_round_wheelset_held(
+    let (sim, samples, _) = out_of_round_wheelset_held(
         STRAIGHT,
         "flat-energy",
         "type = \"flat\"\nside = \"both\"\nlength_mm = 50\ndepth_mm = 0.2\nposition_deg = 10",
