@@ -802,7 +802,7 @@ fn assess_wheel(
 /// \[s\] the windows of EN 12299's r.m.s. values.
 pub const COMFORT_WINDOW: f64 = 5.0;
 
-/// The magnitude of a frequency weighting of ISO 2631-1 / EN 12299 at `f` \[Hz\]: the product
+/// The magnitude of a frequency weighting of ISO 2631 / EN 12299 at `f` \[Hz\]: the product
 /// of a band-limiting high-pass at `f1` and low-pass at `f2` (2nd-order Butterworth), the
 /// acceleration–velocity transition `(1 + s/ω3) / (1 + s/(Q4 ω4) + (s/ω4)²)` and, where given,
 /// the upward step `K (1 + s/(Q5 ω5) + (s/ω5)²) / (1 + s/(Q6 ω6) + (s/ω6)²)`, s = i 2π f.
@@ -830,6 +830,8 @@ pub const W_D: IsoWeighting = IsoWeighting {
 /// W_b, vertical (EN 12299): f1 0.4 Hz, f2 100 Hz, f3 = f4 = 16 Hz, Q4 0.63, step K 0.4,
 /// f5 2.5 Hz, Q5 0.8, f6 4 Hz, Q6 0.8 (the same three implementations; with the step written
 /// as above, K = 0.4 is its low-frequency gain and 0.4 (f6/f5)² = 1.024 its high-frequency one).
+/// ISO 8041's table (ISO 2631-4's W_b) has Q4 0.55, Q5 0.9, Q6 0.95: which of the two EN 12299
+/// lists is open (docs/models/dynamics.md, "Carbody accelerations and ride index").
 pub const W_B: IsoWeighting = IsoWeighting {
     band: (0.4, 100.0),
     transition: (16.0, 16.0, 0.63),
