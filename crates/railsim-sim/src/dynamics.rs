@@ -828,18 +828,38 @@ impl Dynamics<'_> {
         }
         let force = mul(&q1, mul(e, f));
         let moment = mul(&q1, mul(e, mo));
+        // A wheelset's elements act on its axle boxes, which sit on bearings: their moment
+        // about the axle does not reach the spin (the boxes' pitch is taken as held by the
+        // frame, as in multibody models without axle-box bodies); the rest does.
+        let on_member = |k: &MemberKin, mo: V3, is_wheelset: bool| {
+            if is_wheelset {
+                let axle = [k.frame[0][1], k.frame[1][1], k.frame[2][1]];
+                sub(mo, scale(dot(mo, axle), axle))
+            } else {
+                mo
+            }
+        };
         if let End::Member(i) = el.ends[1] {
             let k = &mut self.ws.kin[i.0];
             k.force = add(k.force, force);
-            k.moment = add(add(k.moment, cross(sub(p2, k.cog), force)), moment);
+            let mo = add(cross(sub(p2, k.cog), force), moment);
+            k.moment = add(
+                k.moment,
+                on_member(k, mo, self.model.members[i.0].is_wheelset()),
+            );
         }
         // The reaction on body 1 acts at the same point, P2: the massless element passes force
         // and moment through unchanged, so the pair conserves momentum and angular momentum
-        // and the element's power above is the work done on the two bodies.
+        // (but for a wheelset's moment about its axle, above) and the element's power above is
+        // the work done on the two bodies.
         if let End::Member(i) = el.ends[0] {
             let k = &mut self.ws.kin[i.0];
             k.force = sub(k.force, force);
-            k.moment = sub(sub(k.moment, cross(sub(p2, k.cog), force)), moment);
+            let mo = add(cross(sub(p2, k.cog), force), moment);
+            k.moment = sub(
+                k.moment,
+                on_member(k, mo, self.model.members[i.0].is_wheelset()),
+            );
         }
     }
 

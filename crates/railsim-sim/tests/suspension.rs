@@ -732,3 +732,50 @@ fn the_elements_work_balances_the_mechanical_energy() {
     assert_eq!(wb[rubbing], [wf.work, wf.dissipated]);
     assert_eq!(wb[spring], [ws.work, ws.dissipated]);
 }
+
+/// A wheelset's elements act on its axle boxes, which sit on bearings: an element attached off
+/// the axle line makes no torque about the axle (docs/models/vehicle.md). The Wickens wheelset
+/// (`vehicles/wheelset_springs.toml`, two bushings to the track with the Manchester primary
+/// k_x, k_y) moved 1 mm forward, with its bushings on the axle line and raised 0.1 m above it:
+/// the same spin acceleration, where the lever of the raised bushings' 62.8 kN would have turned
+/// the spin at 0.1 m × 62.8 kN / 112 kg·m² = 56 rad/s². Their moment about the other axes still
+/// acts: the raised bushings' lateral forces roll the wheelset once it is moved sideways.
+#[test]
+fn elements_on_a_wheelset_make_no_torque_about_its_axle() {
+    use railsim_ode::OdeSystem;
+    use railsim_sim::dynamics::Dynamics;
+    let text = std::fs::read_to_string(root().join("vehicles/wheelset_springs.toml")).unwrap();
+    let raised = text.replace("1.0, 0.46]", "1.0, 0.56]");
+    assert_eq!(raised.matches("0.56]").count(), 2);
+    let rates = |tag: &str, text: &str, shift: (f64, f64)| {
+        let s = vehicle_scene(tag, text, 0.01, "rate_hz = 1000");
+        let sim = Simulation::new(&s).unwrap();
+        let names = &sim.model().state_names;
+        let at = |n: &str| names.iter().position(|x| x == n).unwrap();
+        let mut x = sim.initial_state().to_vec();
+        x[at("ws.x")] += shift.0;
+        x[at("ws.y")] += shift.1;
+        let mut dx = vec![0.0; x.len()];
+        Dynamics::new(sim.model()).rhs(0.0, &x, &mut dx).unwrap();
+        (dx[at("d/dt ws.spin")], dx[at("d/dt ws.roll")])
+    };
+    let (spin_on, _) = rates("axle-line", &text, (1e-3, 0.0));
+    let (spin_raised, _) = rates("raised", &raised, (1e-3, 0.0));
+    println!(
+        "spin acceleration: bushings on the axle line {spin_on:.6e}, raised {spin_raised:.6e} rad/s²"
+    );
+    assert!(
+        (spin_raised - spin_on).abs() < 1e-6 * (1.0 + spin_on.abs()),
+        "{spin_raised} against {spin_on}"
+    );
+    // moved 1 mm sideways, the raised bushings' lateral force (2 × 3.884 kN) rolls the
+    // wheelset about x by 0.1 m × 7.768 kN / 1120 kg·m² = 0.694 rad/s² more
+    let (_, roll_on) = rates("axle-line-y", &text, (0.0, 1e-3));
+    let (_, roll_raised) = rates("raised-y", &raised, (0.0, 1e-3));
+    println!("roll acceleration: on the axle line {roll_on:.4}, raised {roll_raised:.4} rad/s²");
+    let lever = 0.1 * 2.0 * 3.884e6 * 1e-3 / 1120.0;
+    assert!(
+        ((roll_raised - roll_on).abs() - lever).abs() < 0.02 * lever,
+        "{roll_raised} against {roll_on}"
+    );
+}
