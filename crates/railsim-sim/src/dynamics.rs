@@ -828,38 +828,41 @@ impl Dynamics<'_> {
         }
         let force = mul(&q1, mul(e, f));
         let moment = mul(&q1, mul(e, mo));
-        // A wheelset's elements act on its axle boxes, which sit on bearings: their moment
-        // about the axle does not reach the spin (the boxes' pitch is taken as held by the
-        // frame, as in multibody models without axle-box bodies); the rest does.
-        let on_member = |k: &MemberKin, mo: V3, is_wheelset: bool| {
-            if is_wheelset {
-                let axle = [k.frame[0][1], k.frame[1][1], k.frame[2][1]];
-                sub(mo, scale(dot(mo, axle), axle))
-            } else {
-                mo
+        // Each end's moment about its centre of gravity: body 2's own, body 1's the reaction at
+        // the same point, P2 (the massless element passes force and moment through unchanged,
+        // so the pair conserves momentum and angular momentum and the element's power above is
+        // the work done on the two bodies).
+        let end_moment = |k: &MemberKin, sign: f64| {
+            scale(sign, add(cross(sub(p2, k.cog), force), moment))
+        };
+        // A wheelset's elements act on its axle boxes, which sit on bearings: the moment about
+        // its axle does not reach its spin. The boxes' pitch is taken as held by the other body
+        // (as in multibody models without axle-box bodies), so that body takes it back, as a
+        // couple, and the pair still conserves angular momentum.
+        let axial = |i: Option<MemberIx>, sign: f64| -> V3 {
+            match i {
+                Some(i) if self.model.members[i.0].is_wheelset() => {
+                    let k = &self.ws.kin[i.0];
+                    let axle = [k.frame[0][1], k.frame[1][1], k.frame[2][1]];
+                    scale(dot(end_moment(k, sign), axle), axle)
+                }
+                _ => [0.0; 3],
             }
         };
+        let member = |e: End| match e {
+            End::Member(i) => Some(i),
+            _ => None,
+        };
+        let (a2, a1) = (axial(member(el.ends[1]), 1.0), axial(member(el.ends[0]), -1.0));
         if let End::Member(i) = el.ends[1] {
             let k = &mut self.ws.kin[i.0];
             k.force = add(k.force, force);
-            let mo = add(cross(sub(p2, k.cog), force), moment);
-            k.moment = add(
-                k.moment,
-                on_member(k, mo, self.model.members[i.0].is_wheelset()),
-            );
+            k.moment = add(k.moment, sub(add(end_moment(k, 1.0), a1), a2));
         }
-        // The reaction on body 1 acts at the same point, P2: the massless element passes force
-        // and moment through unchanged, so the pair conserves momentum and angular momentum
-        // (but for a wheelset's moment about its axle, above) and the element's power above is
-        // the work done on the two bodies.
         if let End::Member(i) = el.ends[0] {
             let k = &mut self.ws.kin[i.0];
             k.force = sub(k.force, force);
-            let mo = add(cross(sub(p2, k.cog), force), moment);
-            k.moment = sub(
-                k.moment,
-                on_member(k, mo, self.model.members[i.0].is_wheelset()),
-            );
+            k.moment = add(k.moment, sub(add(end_moment(k, -1.0), a2), a1));
         }
     }
 
