@@ -832,9 +832,8 @@ impl Dynamics<'_> {
         // the same point, P2 (the massless element passes force and moment through unchanged,
         // so the pair conserves momentum and angular momentum and the element's power above is
         // the work done on the two bodies).
-        let end_moment = |k: &MemberKin, sign: f64| {
-            scale(sign, add(cross(sub(p2, k.cog), force), moment))
-        };
+        let end_moment =
+            |k: &MemberKin, sign: f64| scale(sign, add(cross(sub(p2, k.cog), force), moment));
         // A wheelset's elements act on its axle boxes, which sit on bearings: the moment about
         // its axle does not reach its spin. The boxes' pitch is taken as held by the other body
         // (as in multibody models without axle-box bodies), so that body takes it back, as a
@@ -853,7 +852,10 @@ impl Dynamics<'_> {
             End::Member(i) => Some(i),
             _ => None,
         };
-        let (a2, a1) = (axial(member(el.ends[1]), 1.0), axial(member(el.ends[0]), -1.0));
+        let (a2, a1) = (
+            axial(member(el.ends[1]), 1.0),
+            axial(member(el.ends[0]), -1.0),
+        );
         if let End::Member(i) = el.ends[1] {
             let k = &mut self.ws.kin[i.0];
             k.force = add(k.force, force);
@@ -883,11 +885,20 @@ impl Dynamics<'_> {
             };
             let k = &self.ws.kin[mi];
             // Frame components: axle centre, its absolute velocity and the carrier's angular
-            // velocity (the spin separately).
+            // velocity (the spin separately), less the frame's roll rate (the cant's rate along
+            // a transition, V φ′) and its share ω_x e_x × r: the rails' cross-section rolls with
+            // the frame as the wheel runs along it, and the contact takes the rail as prismatic,
+            // so the wheel's velocity is taken relative to that rolling section, as the
+            // irregularities' cross level is (`rail_frame`). Left in, the rails' own rise,
+            // ±V φ′ b at the wheels, reached the patches as a lateral slip φ′ b sin δ (up to 8e-4
+            // at a flange in the R = 150 m curve's transition; stop 38's review). The frame's
+            // yaw and pitch rates stay: the curve's yaw makes real slip (the outer rail is
+            // longer).
             let omega_l = mul_t(&k.frame, k.omega_frame);
             let r = k.r_local;
+            let twist = [omega_l[0], 0.0, 0.0];
             let v_l = add(
-                add([v + k.qd[0], 0.0, 0.0], cross(omega_l, r)),
+                add([v + k.qd[0], 0.0, 0.0], cross(sub(omega_l, twist), r)),
                 [0.0, k.qd[1], k.qd[2]],
             );
             let mut pose = WheelsetPose {
@@ -900,7 +911,7 @@ impl Dynamics<'_> {
                 vx: v_l[0],
                 vy: v_l[1],
                 vz: v_l[2],
-                roll_rate: omega_l[0] + k.qd[3],
+                roll_rate: k.qd[3],
                 yaw_rate: omega_l[2] + k.qd[5],
                 spin: omega_l[1] + k.qd[4],
             };

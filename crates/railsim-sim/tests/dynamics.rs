@@ -1801,3 +1801,38 @@ fn the_wheelsets_start_in_free_rolling() {
         }
     }
 }
+
+/// In a cant transition the rails' cross-section rolls as the wheel runs along it (at V φ′),
+/// and the contact takes the rail as prismatic: a wheelset that follows the track exactly
+/// (centred, no relative motion, spinning at V / r0) has no lateral slip there. The free
+/// wheelset on `tracks/curve_r150.toml` at 36 km/h, its initial state evaluated with the vehicle
+/// in the middle of the 60 m clothoid (the cant rising at 1.1e-3 rad/m): every patch's lateral
+/// creepage is that of the tangent (zero to round-off), where the frame's roll rate handed to
+/// the contact gave φ′ b sin δ (5.3e-5 here; up to 8e-4 at a flange) before stop 38.
+#[test]
+fn a_wheelset_following_a_cant_transition_does_not_slip_laterally() {
+    use railsim_ode::OdeSystem;
+    use railsim_sim::dynamics::Dynamics;
+    let s = scene(
+        "vehicle = \"vehicles/wheelset_free.toml\"\ntrack = \"tracks/curve_r150.toml\"\n\
+         speed_kmh = 36\nduration_s = 10\n[contact]\nmodel = \"polach\"\n",
+    );
+    let sim = Simulation::new(&s).unwrap();
+    let x = sim.initial_state().to_vec();
+    let mut d = Dynamics::new(sim.model());
+    d.ws.record = true;
+    let mut dx = vec![0.0; x.len()];
+    let mut lateral = |t: f64| {
+        d.rhs(t, &x, &mut dx).unwrap();
+        assert!(d.ws.patches.len() >= 2, "{} patches", d.ws.patches.len());
+        d.ws.patches
+            .iter()
+            .map(|p| p.result.creepages.eta.abs())
+            .fold(0.0, f64::max)
+    };
+    // the wheelset at s ≈ 20 m (tangent) and s ≈ 80 m (the clothoid's middle)
+    let (tangent, transition) = (lateral(2.0), lateral(8.0));
+    println!("largest lateral creepage: tangent {tangent:.3e}, cant transition {transition:.3e}");
+    assert!(tangent < 1e-9, "{tangent}");
+    assert!(transition < 1e-9, "{transition}");
+}
