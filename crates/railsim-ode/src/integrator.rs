@@ -271,6 +271,36 @@ impl Integrator {
         self.finished
     }
 
+    /// Replaces the state at the current time by `x`: a jump of the state at an event (e.g.
+    /// where the system's coordinates are redefined). The method goes on from there as from a
+    /// start, keeping its next step size and its statistics; the dense output of the steps
+    /// before is no longer available (take what is needed of it first). An error for a state
+    /// of the wrong length or with a non-finite value, which leaves the integrator as it was.
+    pub fn jump(&mut self, x: &[f64]) -> Result<(), OdeError> {
+        if x.len() != self.n {
+            return Err(OdeError::DimensionMismatch {
+                what: "state",
+                expected: self.n,
+                found: x.len(),
+            });
+        }
+        if let Some(index) = x.iter().position(|v| !v.is_finite()) {
+            return Err(OdeError::NonFiniteInitialState {
+                index,
+                value: x[index],
+            });
+        }
+        self.x.copy_from_slice(x);
+        self.t_prev = self.t;
+        self.f_valid = false;
+        self.has_step = false;
+        match &mut self.work {
+            Work::Erk(w) => w.reset(),
+            Work::Radau(w) => w.reset(self.rtol),
+        }
+        Ok(())
+    }
+
     /// Declares the times at which the right-hand side is not smooth in time (a kink or a
     /// jump of `f`, e.g. where a prescribed input changes its slope): from then on no step
     /// spans one; each ends a step, as `t_end` does (stretching a step by up to 1 % to land

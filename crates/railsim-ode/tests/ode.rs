@@ -1365,3 +1365,51 @@ fn a_pattern_of_the_wrong_dimension_is_refused() {
     );
     assert!(jacobian(&mut Wrong, 0.0, &x, &[1e-6; 2]).is_err());
 }
+
+/// `Integrator::jump` replaces the state where the step loop stands and the method goes on from
+/// there: the oscillator x = cos t stepped to a breakpoint t1, its velocity reversed there, then
+/// stepped to t = π, ends where the reversed motion's closed form puts it, x = cos(2 t1 − t).
+/// DOPRI5 and Radau IIA; the statistics are kept across the jump.
+#[test]
+fn a_jump_of_the_state_restarts_the_method_where_it_stands() {
+    for method in [
+        Method::DormandPrince {
+            rtol: 1e-10,
+            atol: 1e-12,
+            h0: None,
+            h_max: 1.0,
+        },
+        Method::Radau5 {
+            rtol: 1e-10,
+            atol: 1e-12,
+            h0: None,
+            h_max: 1.0,
+            jacobian_reuse: 0.001,
+        },
+    ] {
+        let mut sys = Oscillator { w: 1.0 };
+        let mut integ = Integrator::new(method, 2).unwrap();
+        let t1 = 0.5 * PI - 0.3;
+        integ.set_breakpoints(&[t1]).unwrap();
+        integ.start(&sys, 0.0, &[1.0, 0.0], PI).unwrap();
+        while integ.t() < t1 {
+            assert!(matches!(integ.step(&mut sys), StepOutcome::Accepted { .. }));
+        }
+        assert_eq!(integ.t(), t1);
+        let steps = integ.stats().steps;
+        let mut x = integ.x().to_vec();
+        x[1] = -x[1];
+        assert!(integ.jump(&[f64::NAN, 0.0]).is_err());
+        assert!(integ.jump(&[1.0]).is_err());
+        integ.jump(&x).unwrap();
+        assert_eq!(integ.x(), x.as_slice());
+        while !integ.is_finished() {
+            assert!(matches!(integ.step(&mut sys), StepOutcome::Accepted { .. }));
+        }
+        let exact = (2.0 * t1 - PI).cos();
+        let err = (integ.x()[0] - exact).abs();
+        println!("{method:?}: x(π) {:.12} against {exact:.12}", integ.x()[0]);
+        assert!(err < 1e-8, "{err}");
+        assert!(integ.stats().steps > steps);
+    }
+}

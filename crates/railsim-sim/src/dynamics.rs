@@ -841,8 +841,9 @@ impl Dynamics<'_> {
         let axial = |i: Option<MemberIx>, sign: f64| -> V3 {
             match i {
                 Some(i) if self.model.members[i.0].is_wheelset() => {
+                    // (its own axle: the non-spinning axle frame's y, rolled and yawed with it)
                     let k = &self.ws.kin[i.0];
-                    let axle = [k.frame[0][1], k.frame[1][1], k.frame[2][1]];
+                    let axle = [k.orient[0][1], k.orient[1][1], k.orient[2][1]];
                     scale(dot(end_moment(k, sign), axle), axle)
                 }
                 _ => [0.0; 3],

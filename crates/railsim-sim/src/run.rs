@@ -18,9 +18,11 @@ use railsim_track::SegmentKind;
 use crate::assess::{
     Assessment, BogieSeries, ComfortSeries, CurveSection, Series, WheelSeries, assess,
 };
-use crate::dynamics::{CostSplit, Dynamics, ElementRecord, MemberKin, Workspace, rail_frame};
+use crate::dynamics::{
+    CostSplit, Dynamics, ElementRecord, MemberKin, Workspace, frame_motion, rail_frame,
+};
 use crate::error::SimError;
-use crate::math::{V3, add, cross, mul, mul_t, quaternion, rotation_rpy, scale};
+use crate::math::{V3, add, cross, mul, mul_t, quaternion, rotation_rpy, scale, sub};
 use crate::model::{MemberKind, MemberModel, SimModel};
 use crate::scene::{InitialState, Scene, Topic};
 
@@ -473,6 +475,8 @@ impl Simulation {
         // the next sample, counted on the assessment's grid
         let mut next = first * per_log;
         let mut logged = 0u64;
+        let mut kinks_checked = self.t0;
+        let mut kink_state = vec![0.0; n];
         let result: Result<(), SimError> = (|| {
             self.integ
                 .set_breakpoints(&self.model.breakpoints(self.t0, t_end))?;
@@ -511,6 +515,17 @@ impl Simulation {
                 }
                 if self.integ.is_finished() {
                     return Ok(());
+                }
+                // where a body's frame has crossed a kink of the track in the last step, its
+                // rates jump so that its absolute velocity does not (the samples up to here
+                // have been taken from the step's dense output)
+                let t_int = self.integ.t();
+                if t_int > kinks_checked {
+                    kink_state.copy_from_slice(self.integ.x());
+                    if frame_kinks(&self.model, (kinks_checked, t_int), &mut kink_state) {
+                        self.integ.jump(&kink_state)?;
+                    }
+                    kinks_checked = t_int;
                 }
                 match self.integ.step(&mut dynamics) {
                     StepOutcome::Accepted { t } => progress(t, t_end),
@@ -881,6 +896,59 @@ fn settle(
         "no equilibrium on the rails within 50 iterations (load {:.1} kN)",
         load * 1e-3
     ))
+}
+
+/// The rigid bodies' rate jumps at the kinks of the track (docs/models/dynamics.md, "Frame
+/// kinematics"): where a body's frame, at `start + distance + p0` along the track (its own
+/// millimetres of longitudinal motion left out, as in [`SimModel::breakpoints`], whose times end
+/// the steps there), crosses the start of a segment in the time span `(t_a, t_b]`, the frame's
+/// angular velocity V·D jumps with the Darboux vector D (the ends of a linear cant ramp, where
+/// φ′ steps; a curve joined without a transition, where κ steps; the ends of a vertical
+/// curve). The states are rates relative to the frame, so left alone the body's absolute angular
+/// velocity and velocity would jump with it, an impulse no force gives: its free relative rates
+/// are lowered by the jump Δ (frame components) and its free translational rates by Δ × r, r its
+/// centre of gravity from the frame's origin, so that its motion is continuous and its suspension
+/// makes it follow. Wheelsets keep their rates: the stiff contact makes them follow the rails'
+/// kink at once (an ideal kink of rigid rails would give a short, unrealistically large contact
+/// impulse; a real one is rounded). Returns whether `x` was changed.
+fn frame_kinks(model: &SimModel, (t_a, t_b): (f64, f64), x: &mut [f64]) -> bool {
+    let (d_a, _, _) = model.motion(t_a);
+    let (d_b, v, vdot) = model.motion(t_b);
+    let mut changed = false;
+    for (i, mm) in model.members.iter().enumerate() {
+        if mm.is_wheelset() {
+            continue;
+        }
+        let (s_a, s_b) = (model.start + d_a + mm.p0[0], model.start + d_b + mm.p0[0]);
+        for seg in model.track.segments().iter().skip(1) {
+            let sj = seg.s_start;
+            if !(sj > s_a + 1e-9 && sj <= s_b + 1e-9) {
+                continue;
+            }
+            let at = |s: f64| frame_motion(&model.track.frame_at(s), v, vdot);
+            let (before, after) = (at(sj - 1e-7), at(sj + 1e-7));
+            // the jump in the frame's components (the frame itself is continuous there)
+            let jump = mul_t(&after.frame, sub(after.omega, before.omega));
+            if jump.iter().all(|j| j.abs() < 1e-12) {
+                continue;
+            }
+            let r = [
+                0.0,
+                mm.p0[1] + model.coord(i, 1, x),
+                mm.p0[2] + model.coord(i, 2, x),
+            ];
+            let dv = cross(jump, r);
+            for k in 0..3 {
+                for (slot, delta) in [(mm.rate[k], dv[k]), (mm.rate[k + 3], jump[k])] {
+                    if let Some(ix) = slot {
+                        x[ix] -= delta;
+                        changed = true;
+                    }
+                }
+            }
+        }
+    }
+    changed
 }
 
 /// Set each wheelset's lateral, vertical and roll rates to those of its rails at its position at
