@@ -419,13 +419,16 @@ fn a_scene_places_its_own_measuring_points() {
 /// Transition shapes as the carbody feels them: the Manchester vehicle at 100 km/h from a
 /// tangent through a 50 m transition into R = 500 m with 100 mm cant (0.69 m/s² uncompensated
 /// in the curve), once over a clothoid and once over a Bloss curve. Both reach the same steady
-/// curve (the leading outer wheel's Y_qst agrees within 1 %); the clothoid's kinks in curvature
-/// and cant slope at its ends (a step in the lateral jerk) set the carbody swaying, the Bloss
-/// curve's smooth ends do not: EN 14363's band-passed (0.4–10 Hz) lateral carbody acceleration
-/// peaks at 0.22 m/s² over the clothoid and 0.05 m/s² over the Bloss curve (measured at the
-/// first run; the test asks for less than half).
+/// curve (the leading outer wheel's Y_qst agrees within 1 %). At the clothoid's ends the cant's
+/// slope steps, so the frame's roll rate does (V φ′ = 0.037 rad/s here): since stop 38 the bodies
+/// keep their absolute motion there (`run::frame_kinks`) and their suspensions make them follow,
+/// and EN 14363's band-passed (0.4–10 Hz) lateral acceleration at the carbody's centre peaks at
+/// 0.057 m/s² over the clothoid against 0.056 over the Bloss curve, whose smooth ends still ride
+/// a little better (Sperling's Wz 1.19 against 1.11). Before, each body took the frame's new
+/// rate at once, a kick no force gave, and the clothoid's peak was 0.222 m/s² (Wz 1.95): the
+/// criterion (below 0.1 m/s²) fails without the kink handling.
 #[test]
-fn a_bloss_transition_sways_the_carbody_less_than_a_clothoid() {
+fn over_a_clothoid_the_carbody_takes_no_kick_at_the_kinks() {
     let dir = std::env::temp_dir().join(format!("railsim_transition_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mut runs = Vec::new();
@@ -462,13 +465,15 @@ fn a_bloss_transition_sways_the_carbody_less_than_a_clothoid() {
             centre.wz[0].unwrap(),
             y_qst * 1e-3
         );
-        runs.push((peak, y_qst));
+        runs.push((peak, y_qst, centre.wz[0].unwrap()));
     }
     std::fs::remove_dir_all(&dir).ok();
-    let ((clothoid, y_c), (bloss, y_b)) = (runs[0], runs[1]);
+    let ((clothoid, y_c, wz_c), (bloss, y_b, wz_b)) = (runs[0], runs[1]);
     assert!((y_b / y_c - 1.0).abs() < 0.01, "{y_b} against {y_c}");
     assert!(y_c > 15e3, "the outer wheel carries the curve: {y_c}");
-    assert!(bloss < 0.5 * clothoid, "{bloss} against {clothoid} m/s²");
+    assert!(clothoid < 0.1, "{clothoid} m/s²");
+    assert!(bloss < 1.05 * clothoid, "{bloss} against {clothoid} m/s²");
+    assert!(wz_b < wz_c, "Wz {wz_b} against {wz_c}");
 }
 
 /// `[assessment] rate_hz` (docs/models/dynamics.md, "Aliasing"): the assessment's samples
