@@ -489,7 +489,7 @@ impl Axis {
 pub struct ForceTable {
     /// \[m\] deflections, strictly increasing.
     pub deflection: Vec<f64>,
-    /// \[N\] restoring force magnitude at each deflection.
+    /// \[N\] the force T(d) at each deflection, signed (body 2 receives −T(d)).
     pub force: Vec<f64>,
     /// The table is given for d ≥ 0 and mirrored: F(−d) = −F(d).
     pub symmetric: bool,
