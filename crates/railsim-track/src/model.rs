@@ -132,6 +132,9 @@ impl TrackModel {
     /// type = "tangent"
     /// length_m = 100
     /// [[segment]]
+    /// type = "clothoid"
+    /// length_m = 60
+    /// [[segment]]
     /// type = "curve"
     /// radius_m = 1200
     /// cant_mm = 100
@@ -140,8 +143,8 @@ impl TrackModel {
     /// "#;
     /// let spec = TrackSpec::from_toml_str(text, "doc.toml").unwrap();
     /// let track = TrackModel::compile(&spec, "doc.toml").unwrap();
-    /// assert_eq!(track.length(), 300.0);
-    /// let f = track.frame_at(250.0);
+    /// assert_eq!(track.length(), 360.0);
+    /// let f = track.frame_at(300.0);
     /// assert!((f.curvature - 1.0 / 1200.0).abs() < 1e-15);
     /// ```
     pub fn compile(spec: &TrackSpec, source_name: &str) -> Result<TrackModel, TrackErrors> {
@@ -244,6 +247,27 @@ impl TrackModel {
             let c1 = next.map_or(0.0, |p| p.cant.0);
             inputs[i].curvature = (k0, k1);
             inputs[i].cant = (c0, c1);
+        }
+        // The cant must not step at a join: a step rolls the track, and every body as its frame
+        // passes, at once (the frame's orientation jumps; docs/models/dynamics.md, "Kinks").
+        for i in 1..n {
+            let (before, after) = (inputs[i - 1].cant.1, inputs[i].cant.0);
+            if (after - before).abs() > 1e-9 {
+                let seg = spec.segment[i].get_ref();
+                let span = seg
+                    .cant_mm
+                    .as_ref()
+                    .map_or_else(|| span_of(&seg.kind), span_of);
+                sink.invalid(
+                    &span,
+                    "cant_mm",
+                    format!(
+                        "segment {}: the cant steps by {:.1} mm where it starts (a step rolls the track, and every vehicle body on it, at once); put a transition (clothoid, bloss or cosine) before it",
+                        i + 1,
+                        (after - before).abs() * 1e3
+                    ),
+                );
+            }
         }
         // Vertical curves must fit: each rounding takes at most half of either segment.
         if let Some(rv) = vertical_radius {

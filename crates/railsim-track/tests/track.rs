@@ -1244,3 +1244,36 @@ fn absurd_segment_lengths_are_located() {
         "{e:#?}"
     );
 }
+
+/// A cant that steps at a join (a canted curve right after a tangent, or two curves of different
+/// cant) is refused at the second segment's `cant_mm`: the step would roll the track, and every
+/// vehicle body as its frame passes, at once (docs/models/dynamics.md, "Kinks"). With a
+/// transition between, or with the same cant on both sides, the track compiles.
+#[test]
+fn a_cant_step_at_a_join_is_refused() {
+    let text = format!(
+        "{HEAD}[[segment]]\n\
+type = \"tangent\"\n\
+length_m = 50\n\
+[[segment]]\n\
+type = \"curve\"\n\
+radius_m = 600\n\
+cant_mm = 100\n\
+direction = \"left\"\n\
+length_m = 100\n"
+    );
+    let msgs = errors(&text);
+    has(
+        &msgs,
+        "mem.toml:10:11:",
+        "segment 2: the cant steps by 100.0 mm where it starts",
+    );
+    assert_eq!(msgs.len(), 1, "{msgs:#?}");
+    let eased = text.replace(
+        "[[segment]]\ntype = \"curve\"",
+        "[[segment]]\ntype = \"clothoid\"\nlength_m = 40\n[[segment]]\ntype = \"curve\"",
+    );
+    assert!(compile(&eased).is_ok());
+    let same = text.replace("cant_mm = 100\n", "");
+    assert!(compile(&same).is_ok());
+}
