@@ -320,7 +320,11 @@ fn print_modes(r: &ModalAnalysis, a: &ModesArgs) -> Result<()> {
             m.damping_ratio,
             m.re,
             shape_text(m),
-            if m.re >= 0.0 { "  UNSTABLE" } else { "" }
+            match m.growth() {
+                g if g > 0.0 => "  UNSTABLE",
+                0.0 => "  neutral",
+                _ => "",
+            }
         );
     }
     Ok(())

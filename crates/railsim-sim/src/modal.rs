@@ -95,7 +95,25 @@ impl Mode {
     pub fn is_oscillatory(&self) -> bool {
         self.frequency >= MIN_FREQUENCY
     }
+
+    /// \[1/s\] its growth rate for the stability decision: Re λ, or 0 for a neutral mode, whose
+    /// |Re λ| is within [`NEUTRAL`] of |λ| (an undamped mode of the model's own physics, such as
+    /// a dry-friction element linearised as stuck with nothing else to damp its mass: its real
+    /// part is round-off of either sign, which would decide the search by chance).
+    pub fn growth(&self) -> f64 {
+        if self.re.abs() <= NEUTRAL * self.re.hypot(self.im) {
+            0.0
+        } else {
+            self.re
+        }
+    }
 }
+
+/// \[-\] a mode whose |Re λ| is at most this fraction of |λ| is neutral ([`Mode::growth`]): far
+/// above the round-off of the difference Jacobian's eigenvalues (about 1e-12 of |λ| for the stuck
+/// friction of docs/validation.md §12), far below the damping ratios the search resolves (its
+/// bisection ends at a relative speed tolerance, where the hunting mode's ratio is some 1e-4).
+pub const NEUTRAL: f64 = 1e-8;
 
 /// The modes of a scene's vehicle at one speed.
 #[derive(Debug, Clone)]
@@ -439,12 +457,19 @@ pub fn linear_critical_speed_about(
     let mut eval = |v: f64, scan: &mut Vec<(f64, f64)>| -> Result<(f64, Vec<Mode>), SimError> {
         let a = about.modes(scene, v, opts)?;
         progress(&a);
-        let g = a.least_stable().map(|m| m.re).ok_or_else(|| {
-            bad(format!(
-                "the vehicle has no oscillatory mode at {:.2} km/h",
-                v * 3.6
-            ))
-        })?;
+        // the largest growth rate of the oscillatory modes, neutral ones counting 0 (stable)
+        let g = a
+            .modes
+            .iter()
+            .filter(|m| m.is_oscillatory())
+            .map(Mode::growth)
+            .reduce(f64::max)
+            .ok_or_else(|| {
+                bad(format!(
+                    "the vehicle has no oscillatory mode at {:.2} km/h",
+                    v * 3.6
+                ))
+            })?;
         scan.push((v, g));
         Ok((
             g,
@@ -452,7 +477,7 @@ pub fn linear_critical_speed_about(
         ))
     };
     let (mut a, (mut ga, mut modes_a)) = (lo, eval(lo, &mut scan)?);
-    if ga >= 0.0 {
+    if ga > 0.0 {
         return Err(bad(format!(
             "an oscillatory mode is already unstable at {:.2} km/h (Re λ = {ga:.4}/s): start lower",
             lo * 3.6
@@ -462,7 +487,7 @@ pub fn linear_critical_speed_about(
     for k in 1..=n_scan {
         let v = lo + (hi - lo) * k as f64 / n_scan as f64;
         let (g, modes) = eval(v, &mut scan)?;
-        if g >= 0.0 {
+        if g > 0.0 {
             upper = Some((v, modes));
             break;
         }
@@ -477,7 +502,7 @@ pub fn linear_critical_speed_about(
     while b - a > rel_tol * b {
         let v = 0.5 * (a + b);
         let (g, modes) = eval(v, &mut scan)?;
-        if g < 0.0 {
+        if g <= 0.0 {
             (a, modes_a) = (v, modes);
         } else {
             (b, modes_b) = (v, modes);
@@ -485,7 +510,11 @@ pub fn linear_critical_speed_about(
     }
     // The mode that is unstable at b, and the same mode at a (the nearest eigenvalue): its
     // real part crosses zero in between (the least stable mode at a may be another one).
-    let mode = modes_b[0].clone();
+    let mode = modes_b
+        .iter()
+        .max_by(|p, q| p.growth().total_cmp(&q.growth()))
+        .expect("an unstable oscillatory mode at b")
+        .clone();
     let (gb, ga) = (
         mode.re,
         modes_a

@@ -651,3 +651,74 @@ fn the_modes_are_those_of_round_wheels() {
         );
     }
 }
+
+/// A neutral mode does not decide the linear critical speed: the Wickens wheelset with a mass on
+/// a spring and a dry-friction element to the track beside it (linearised as stuck: an undamped
+/// 16.7 Hz mode whose real part is round-off of either sign) finds the wheelset's critical speed
+/// as without the mass (to 0.1 %); before stop 38 the search stopped at its lower end, "already
+/// unstable", or could have returned a spurious speed (`Mode::growth`, docs/models/dynamics.md).
+#[test]
+fn a_neutral_mode_does_not_decide_the_linear_critical_speed() {
+    let dir = std::env::temp_dir().join(format!("railsim-neutral-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(common::root().join("vehicles/wheelset_springs.toml"))
+        .unwrap()
+        + r#"
+[[body]]
+name = "mass"
+mass_kg = 1000
+inertia_kgm2 = [100, 100, 100]
+position_m = [0.0, 0.0, 1.0]
+frozen = ["x", "y", "roll", "pitch", "yaw"]
+
+[[force]]
+name = "spring"
+type = "bushing"
+body1 = "track"
+body2 = "mass"
+point_m = [0.0, 0.0, 1.0]
+stiffness_n_per_m = [0, 0, 1e6]
+
+[[force]]
+name = "rubbing"
+type = "friction"
+body1 = "track"
+body2 = "mass"
+point_m = [0.0, 0.0, 1.0]
+direction = "z"
+stiffness_n_per_m = 1e7
+friction_force_n = 500
+"#;
+    let vehicle = dir.join("wickens_friction.toml");
+    std::fs::write(&vehicle, text).unwrap();
+    let with_mass = scene(&format!(
+        "vehicle = \"{}\"\ntrack = \"tracks/straight.toml\"\nspeed_kmh = 1000\nduration_s = 1\n\
+         [contact]\nmodel = \"linear\"\ncreep_coefficient_n = 1e8\n",
+        vehicle.display()
+    ));
+    let opts = ModalOptions::default();
+    let a = modes_at(&with_mass, 250.0, &opts).unwrap();
+    let neutral = a
+        .modes
+        .iter()
+        .find(|m| m.is_oscillatory() && m.shape.first().is_some_and(|s| s.0 == "mass.z"))
+        .expect("the stuck mass's mode");
+    println!(
+        "stuck mass: {:.2} Hz, Re λ {:.3e}/s, growth {}",
+        neutral.frequency,
+        neutral.re,
+        neutral.growth()
+    );
+    assert_eq!(neutral.growth(), 0.0);
+    let search = |s: &railsim_sim::Scene| {
+        linear_critical_speed(s, &opts, (250.0, 350.0), 4, 1e-3, &mut |_| {})
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let (vc, vc_mass) = (
+        search(&wickens_scene()).critical_speed,
+        search(&with_mass).critical_speed,
+    );
+    println!("critical speed {vc:.2} m/s without the mass, {vc_mass:.2} with it");
+    assert!((vc_mass / vc - 1.0).abs() < 1e-3, "{vc_mass} against {vc}");
+    std::fs::remove_dir_all(&dir).ok();
+}
