@@ -994,3 +994,63 @@ fn negative_numbers_reach_the_range_checks() {
         );
     }
 }
+
+/// `critical-speed --method linear` prints each analysis' residual and notes a state that is no
+/// equilibrium: the Manchester vehicle with 5 kN·m of traction on every axle, whose creep forces
+/// the suspension does not carry in the state linearised about (6.0 m/s² on an axle's x), against
+/// the vehicle without (no note).
+#[test]
+fn the_linear_critical_speed_notes_a_state_that_is_no_equilibrium() {
+    let dir = common::temp_dir("cli", "residual");
+    let vehicle = std::fs::read_to_string(common::root().join("vehicles/manchester_vehicle1.toml"))
+        .unwrap()
+        .replace("[[wheelset]]\n", "[[wheelset]]\ntorque_nm = 5000\n");
+    assert_eq!(vehicle.matches("torque_nm = 5000").count(), 4);
+    let driven = dir.join("driven.toml");
+    std::fs::write(
+        &driven,
+        vehicle.replace(
+            "\"profiles/",
+            &format!("\"{}/vehicles/profiles/", common::root().display()),
+        ),
+    )
+    .unwrap();
+    let plain = common::polach_copy(&dir, "manchester_hunting.toml");
+    let text = std::fs::read_to_string(&plain).unwrap();
+    let vehicle_line = text
+        .lines()
+        .find(|l| l.starts_with("vehicle = "))
+        .unwrap()
+        .to_owned();
+    let scene = dir.join("driven_scene.toml");
+    std::fs::write(
+        &scene,
+        text.replace(
+            &vehicle_line,
+            &format!("vehicle = \"{}\"", driven.display()),
+        ),
+    )
+    .unwrap();
+    let args = |s: &std::path::Path| {
+        vec![
+            "critical-speed".to_owned(),
+            s.to_str().unwrap().to_owned(),
+            "--method".to_owned(),
+            "linear".to_owned(),
+            "--from-kmh".to_owned(),
+            "300".to_owned(),
+            "--to-kmh".to_owned(),
+            "200".to_owned(),
+        ]
+    };
+    let run = |a: Vec<String>| railsim(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let (_, _, err) = run(args(&scene));
+    assert!(
+        err.contains("note: at 200.00 km/h the state linearised about is not an equilibrium")
+            && err.contains("(d/dt ws1.x)"),
+        "{err}"
+    );
+    let (_, _, err) = run(args(&plain));
+    assert!(err.contains("; residual "), "{err}");
+    assert!(!err.contains("is not an equilibrium"), "{err}");
+}
