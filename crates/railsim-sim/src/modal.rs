@@ -109,10 +109,11 @@ impl Mode {
     }
 }
 
-/// \[-\] a mode whose |Re λ| is at most this fraction of |λ| is neutral ([`Mode::growth`]): far
-/// above the round-off of the difference Jacobian's eigenvalues (about 1e-12 of |λ| for the stuck
-/// friction of docs/validation.md §12), far below the damping ratios the search resolves (its
-/// bisection ends at a relative speed tolerance, where the hunting mode's ratio is some 1e-4).
+/// \[-\] a mode whose |Re λ| is at most this fraction of |λ| is neutral ([`Mode::growth`]): above
+/// the round-off of the difference Jacobian's eigenvalues (the stuck friction of
+/// docs/validation.md §12 beside the Wickens wheelset gives Re λ = 0 to the digits printed),
+/// far below the damping ratios the search resolves (its bisection ends at a relative speed
+/// tolerance, where the hunting mode's ratio is some 1e-4).
 pub const NEUTRAL: f64 = 1e-8;
 
 /// The modes of a scene's vehicle at one speed.
