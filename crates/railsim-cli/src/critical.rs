@@ -227,10 +227,7 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
             .iter()
             .enumerate()
             .map(|(n, b)| Series {
-                name: match res.summary.wheelset_names.get(n) {
-                    Some(name) => format!("wheelset {n} ({name})"),
-                    None => format!("wheelset {n}"),
-                },
+                name: crate::run::wheelset(&res.summary.wheelset_names, n as u64),
                 points: b
                     .iter()
                     .filter(|p| p.t >= res.ramp_start)

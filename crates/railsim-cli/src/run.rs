@@ -281,7 +281,7 @@ fn stability_note(method: &Method, rail_mass: Option<f64>) -> Option<String> {
 /// Per wheel: (Y/Q)2m, Q, and the quasi-static forces in the curves.
 /// "wheelset N (name)": a wheelset by its number from the front (the logs' `/wheelsets/N`)
 /// and its name in the vehicle file.
-fn wheelset(names: &[String], n: impl Into<u64>) -> String {
+pub(crate) fn wheelset(names: &[String], n: impl Into<u64>) -> String {
     let n = n.into();
     match names.get(n as usize) {
         Some(name) => format!("wheelset {n} ({name})"),

@@ -850,40 +850,40 @@ impl Dynamics<'_> {
         // the same point, P2 (the massless element passes force and moment through unchanged,
         // so the pair conserves momentum and angular momentum and the element's power above is
         // the work done on the two bodies).
-        let end_moment =
-            |k: &MemberKin, sign: f64| scale(sign, add(cross(sub(p2, k.cog), force), moment));
+        let end = |e: End, sign: f64| match e {
+            End::Member(i) => {
+                let k = &self.ws.kin[i.0];
+                let mo = scale(sign, add(cross(sub(p2, k.cog), force), moment));
+                Some((i, mo))
+            }
+            _ => None,
+        };
+        let (m2, m1) = (end(el.ends[1], 1.0), end(el.ends[0], -1.0));
         // A wheelset's elements act on its axle boxes, which sit on bearings: the moment about
-        // its axle does not reach its spin. The boxes' pitch is taken as held by the other body
-        // (as in multibody models without axle-box bodies), so that body takes it back, as a
-        // couple, and the pair still conserves angular momentum.
-        let axial = |i: Option<MemberIx>, sign: f64| -> V3 {
-            match i {
-                Some(i) if self.model.members[i.0].is_wheelset() => {
-                    // (its own axle: the non-spinning axle frame's y, rolled and yawed with it)
-                    let k = &self.ws.kin[i.0];
-                    let axle = [k.orient[0][1], k.orient[1][1], k.orient[2][1]];
-                    scale(dot(end_moment(k, sign), axle), axle)
+        // its own axle (the non-spinning axle frame's y, rolled and yawed with it) does not
+        // reach its spin. The boxes' pitch is taken as held by the other body (as in multibody
+        // models without axle-box bodies), so that body takes it back, as a couple, and the
+        // pair still conserves angular momentum.
+        let axial = |m: Option<(MemberIx, V3)>| -> V3 {
+            match m {
+                Some((i, mo)) if self.model.members[i.0].is_wheelset() => {
+                    let o = &self.ws.kin[i.0].orient;
+                    let axle = [o[0][1], o[1][1], o[2][1]];
+                    scale(dot(mo, axle), axle)
                 }
                 _ => [0.0; 3],
             }
         };
-        let member = |e: End| match e {
-            End::Member(i) => Some(i),
-            _ => None,
-        };
-        let (a2, a1) = (
-            axial(member(el.ends[1]), 1.0),
-            axial(member(el.ends[0]), -1.0),
-        );
-        if let End::Member(i) = el.ends[1] {
+        let (a2, a1) = (axial(m2), axial(m1));
+        if let Some((i, mo)) = m2 {
             let k = &mut self.ws.kin[i.0];
             k.force = add(k.force, force);
-            k.moment = add(k.moment, sub(add(end_moment(k, 1.0), a1), a2));
+            k.moment = add(k.moment, sub(add(mo, a1), a2));
         }
-        if let End::Member(i) = el.ends[0] {
+        if let Some((i, mo)) = m1 {
             let k = &mut self.ws.kin[i.0];
             k.force = sub(k.force, force);
-            k.moment = add(k.moment, sub(add(end_moment(k, -1.0), a2), a1));
+            k.moment = add(k.moment, sub(add(mo, a2), a1));
         }
     }
 

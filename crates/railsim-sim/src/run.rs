@@ -521,8 +521,8 @@ impl Simulation {
                 // have been taken from the step's dense output)
                 let t_int = self.integ.t();
                 if t_int > kinks_checked {
-                    kink_state.copy_from_slice(self.integ.x());
-                    if frame_kinks(&self.model, (kinks_checked, t_int), &mut kink_state) {
+                    let span = (kinks_checked, t_int);
+                    if frame_kinks(&self.model, span, self.integ.x(), &mut kink_state) {
                         self.integ.jump(&kink_state)?;
                     }
                     kinks_checked = t_int;
@@ -910,8 +910,9 @@ fn settle(
 /// centre of gravity from the frame's origin, so that its motion is continuous and its suspension
 /// makes it follow. Wheelsets keep their rates: the stiff contact makes them follow the rails'
 /// kink at once (an ideal kink of rigid rails would give a short, unrealistically large contact
-/// impulse; a real one is rounded). Returns whether `x` was changed.
-fn frame_kinks(model: &SimModel, (t_a, t_b): (f64, f64), x: &mut [f64]) -> bool {
+/// impulse; a real one is rounded). Where a body crosses one, the state `x` with the jumps is
+/// written to `out` and `true` returned; elsewhere `out` is left alone (no copy in the step loop).
+fn frame_kinks(model: &SimModel, (t_a, t_b): (f64, f64), x: &[f64], out: &mut [f64]) -> bool {
     let (d_a, _, _) = model.motion(t_a);
     let (d_b, v, vdot) = model.motion(t_b);
     let mut changed = false;
@@ -938,11 +939,14 @@ fn frame_kinks(model: &SimModel, (t_a, t_b): (f64, f64), x: &mut [f64]) -> bool 
                 mm.p0[2] + model.coord(i, 2, x),
             ];
             let dv = cross(jump, r);
+            if !changed {
+                out.copy_from_slice(x);
+                changed = true;
+            }
             for k in 0..3 {
                 for (slot, delta) in [(mm.rate[k], dv[k]), (mm.rate[k + 3], jump[k])] {
                     if let Some(ix) = slot {
-                        x[ix] -= delta;
-                        changed = true;
+                        out[ix] -= delta;
                     }
                 }
             }

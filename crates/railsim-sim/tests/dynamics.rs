@@ -1802,6 +1802,21 @@ fn the_wheelsets_start_in_free_rolling() {
     }
 }
 
+/// The largest lateral creepage of the patches of `sim`'s model at time `t` and state `x`, from
+/// one recording evaluation of the right-hand side (at least two patches asserted).
+fn largest_lateral_creepage(sim: &Simulation, t: f64, x: &[f64]) -> f64 {
+    use railsim_ode::OdeSystem;
+    let mut d = railsim_sim::dynamics::Dynamics::new(sim.model());
+    d.ws.record = true;
+    let mut dx = vec![0.0; x.len()];
+    d.rhs(t, x, &mut dx).unwrap();
+    assert!(d.ws.patches.len() >= 2, "{} patches", d.ws.patches.len());
+    d.ws.patches
+        .iter()
+        .map(|p| p.result.creepages.eta.abs())
+        .fold(0.0, f64::max)
+}
+
 /// In a cant transition the rails' cross-section rolls as the wheel runs along it (at V φ′),
 /// and the contact takes the rail as prismatic: a wheelset that follows the track exactly
 /// (centred, no relative motion, spinning at V / r0) has no lateral slip there. The free
@@ -1811,25 +1826,13 @@ fn the_wheelsets_start_in_free_rolling() {
 /// the contact gave φ′ b sin δ (5.3e-5 here; up to 8e-4 at a flange) before stop 38.
 #[test]
 fn a_wheelset_following_a_cant_transition_does_not_slip_laterally() {
-    use railsim_ode::OdeSystem;
-    use railsim_sim::dynamics::Dynamics;
     let s = scene(
         "vehicle = \"vehicles/wheelset_free.toml\"\ntrack = \"tracks/curve_r150.toml\"\n\
          speed_kmh = 36\nduration_s = 10\n[contact]\nmodel = \"polach\"\n",
     );
     let sim = Simulation::new(&s).unwrap();
     let x = sim.initial_state().to_vec();
-    let mut d = Dynamics::new(sim.model());
-    d.ws.record = true;
-    let mut dx = vec![0.0; x.len()];
-    let mut lateral = |t: f64| {
-        d.rhs(t, &x, &mut dx).unwrap();
-        assert!(d.ws.patches.len() >= 2, "{} patches", d.ws.patches.len());
-        d.ws.patches
-            .iter()
-            .map(|p| p.result.creepages.eta.abs())
-            .fold(0.0, f64::max)
-    };
+    let lateral = |t: f64| largest_lateral_creepage(&sim, t, &x);
     // the wheelset at s ≈ 20 m (tangent) and s ≈ 80 m (the clothoid's middle)
     let (tangent, transition) = (lateral(2.0), lateral(8.0));
     println!("largest lateral creepage: tangent {tangent:.3e}, cant transition {transition:.3e}");
@@ -1897,8 +1900,6 @@ fn a_body_crossing_a_kink_of_the_track_keeps_its_absolute_motion() {
 /// 1e-9; before stop 38 the contact saw the yaw against the unturned rail, −2e-4.
 #[test]
 fn a_wheelset_following_a_skewed_rail_does_not_slip_laterally() {
-    use railsim_ode::OdeSystem;
-    use railsim_sim::dynamics::Dynamics;
     let dir = std::env::temp_dir().join(format!("railsim-skew-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let slope = 2e-4;
@@ -1934,16 +1935,7 @@ fn a_wheelset_following_a_skewed_rail_does_not_slip_laterally() {
     x[at("d/dt ws.y")] = v * slope;
     x[at("d/dt ws.yaw")] = 0.0;
     let t = (50.0 - m.start - m.members[0].p0[0]) / v;
-    let mut d = Dynamics::new(m);
-    d.ws.record = true;
-    let mut dx = vec![0.0; x.len()];
-    d.rhs(t, &x, &mut dx).unwrap();
-    assert!(d.ws.patches.len() >= 2, "{} patches", d.ws.patches.len());
-    let eta =
-        d.ws.patches
-            .iter()
-            .map(|p| p.result.creepages.eta.abs())
-            .fold(0.0, f64::max);
+    let eta = largest_lateral_creepage(&sim, t, &x);
     println!("largest lateral creepage following the skewed rail: {eta:.3e}");
     assert!(eta < 1e-9, "{eta}");
     std::fs::remove_dir_all(&dir).ok();

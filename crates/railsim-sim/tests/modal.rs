@@ -661,34 +661,23 @@ fn the_modes_are_those_of_round_wheels() {
 fn a_neutral_mode_does_not_decide_the_linear_critical_speed() {
     let dir = std::env::temp_dir().join(format!("railsim-neutral-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
+    // the suspension tests' friction-damped mass (its body, spring and friction element, the
+    // friction last) beside the Wickens wheelset
+    let mass = std::fs::read_to_string(
+        common::root().join("crates/railsim-sim/tests/vehicles/friction_mass.toml"),
+    )
+    .unwrap();
+    let tables: String = mass
+        .split("\n[[")
+        .skip(1)
+        .filter(|t| !t.starts_with("wheelset]]"))
+        .map(|t| format!("\n[[{t}"))
+        .collect();
+    assert!(tables.trim_end().ends_with("stiffness_n_per_m = 1e7"));
     let text = std::fs::read_to_string(common::root().join("vehicles/wheelset_springs.toml"))
         .unwrap()
-        + r#"
-[[body]]
-name = "mass"
-mass_kg = 1000
-inertia_kgm2 = [100, 100, 100]
-position_m = [0.0, 0.0, 1.0]
-frozen = ["x", "y", "roll", "pitch", "yaw"]
-
-[[force]]
-name = "spring"
-type = "bushing"
-body1 = "track"
-body2 = "mass"
-point_m = [0.0, 0.0, 1.0]
-stiffness_n_per_m = [0, 0, 1e6]
-
-[[force]]
-name = "rubbing"
-type = "friction"
-body1 = "track"
-body2 = "mass"
-point_m = [0.0, 0.0, 1.0]
-direction = "z"
-stiffness_n_per_m = 1e7
-friction_force_n = 500
-"#;
+        + &tables
+        + "friction_force_n = 500\n";
     let vehicle = dir.join("wickens_friction.toml");
     std::fs::write(&vehicle, text).unwrap();
     let with_mass = scene(&format!(

@@ -90,6 +90,11 @@ fn span_of<T>(v: &Spanned<T>) -> Range<usize> {
     v.span()
 }
 
+/// The span of a segment's `key` where it is given, else of its `type` (the segment's place).
+fn key_or_kind<T, U>(key: &Option<Spanned<T>>, kind: &Spanned<U>) -> Range<usize> {
+    key.as_ref().map_or_else(|| kind.span(), span_of)
+}
+
 /// Parse `"1:N"` (or `"none"`) into an angle.
 fn parse_inclination(text: &str) -> Option<f64> {
     let t = text.trim();
@@ -254,10 +259,7 @@ impl TrackModel {
             let (before, after) = (inputs[i - 1].cant.1, inputs[i].cant.0);
             if (after - before).abs() > 1e-9 {
                 let seg = spec.segment[i].get_ref();
-                let span = seg
-                    .cant_mm
-                    .as_ref()
-                    .map_or_else(|| span_of(&seg.kind), span_of);
+                let span = key_or_kind(&seg.cant_mm, &seg.kind);
                 sink.invalid(
                     &span,
                     "cant_mm",
@@ -276,10 +278,7 @@ impl TrackModel {
                 let half = 0.5 * rv * dg.abs();
                 if half > 0.5 * inputs[i].length.min(inputs[i - 1].length) {
                     let seg = spec.segment[i].get_ref();
-                    let span = seg
-                        .gradient_permille
-                        .as_ref()
-                        .map_or_else(|| span_of(&seg.kind), span_of);
+                    let span = key_or_kind(&seg.gradient_permille, &seg.kind);
                     sink.invalid(
                         &span,
                         "gradient_permille",
