@@ -311,6 +311,48 @@ fn halfspace_with_exact_tangential_matches_contacts_creep_forces() {
     check_halfspace_creep_forces(Tangential::Exact, "halfspace_exact");
 }
 
+/// The creepages of CONTACT's format on CONTACT's reference speed: with `halfspace` and the exact
+/// tangential solution, whose reference point is CONTACT's, `ceta` and `cphi` of every
+/// single-region case within 0.5 % of the reference (where they exceed 1e-4 and 1e-6 rad/mm).
+/// Found 0.32 % and 0.13 %; 1.27 % and 1.30 % with railsim's forward speed (before stop 39).
+#[test]
+fn contact_format_creepages_are_on_contacts_reference_speed() {
+    let tol = tolerances("mbench_a22", "halfspace_exact")["creepage_rel"];
+    let reference = Table::read("tests/reference/mbench_a22/reference.csv");
+    let mut contact = mbench_contact(
+        ContactModelKind::Halfspace,
+        ContactOptions::default().travel.step,
+    );
+    contact.opts.tangential = Tangential::Exact;
+    let (mut failures, mut worst) = (Vec::new(), [0.0f64; 2]);
+    for (r, rows) in &run_all_with(&contact) {
+        let (side, y) = (reference.s(*r, "side"), reference.f(*r, "y_ws_mm"));
+        if side == "right" && y == 5.0 {
+            continue;
+        }
+        let m = main_patch(rows);
+        for (k, name, got, floor) in [
+            (0, "ceta", m.ceta, 1e-4),
+            (1, "cphi_rad_mm", m.cphi_rad_mm, 1e-6),
+        ] {
+            let want = reference.f(*r, name);
+            if want.abs() < floor {
+                continue;
+            }
+            let rel = (got / want - 1.0).abs();
+            worst[k] = worst[k].max(rel);
+            if rel > tol * crate::common::tol_scale() {
+                failures.push(format!("{side} y={y}: {name} {got:.5e} against {want:.5e}"));
+            }
+        }
+    }
+    eprintln!(
+        "largest relative differences: ceta {:.4}, cphi {:.4}",
+        worst[0], worst[1]
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
 /// `halfspace` at its defaults: FaStrip per grid row, each row with the Kalker coefficients and
 /// flexibilities of its own ellipse and its spin split about CONTACT's reference point (since
 /// stop 37). Its creep forces within 0.02 Fn (Fx) and 0.006 Fn (Fs) of CONTACT's on every

@@ -74,7 +74,8 @@ pub struct ContactRow {
     pub length_x_mm: f64,
     /// \[mm\] patch width along s
     pub width_s_mm: f64,
-    /// \[-\] longitudinal creepage of the rail relative to the wheel
+    /// \[-\] longitudinal creepage of the rail relative to the wheel (on CONTACT's reference
+    /// speed, the mean of the forward and the circumferential speed, as the next two)
     pub cksi: f64,
     /// \[-\] lateral creepage of the rail relative to the wheel
     pub ceta: f64,
@@ -102,8 +103,14 @@ pub fn to_contact(side: Side, p: &PatchResult) -> ContactRow {
     // Spin moment on the rail about n_c = -n: (-mz) * (-1) = mz on both sides in the side
     // frame; the mirror of the right side flips the sense of rotation.
     let mz_c = sg * f.mz;
-    // Creepages of the rail relative to the wheel, CONTACT axes.
+    // Creepages of the rail relative to the wheel, CONTACT axes, and on CONTACT's reference
+    // speed: it divides the slip by the rolling velocity, the mean of the forward and the
+    // circumferential speed (Kalker 1990; CONTACT's `wr_creep_cref`; the reference files'
+    // `veloc_mm_s` = V (1 + cksi/2) in every row), railsim by the forward speed V. The ratio
+    // V / veloc = 1 / (1 + ξ_c/2), ξ_c railsim's longitudinal creepage in CONTACT's sign
+    // (second-order in it: 1.3 % in ceta and cphi on the benchmark's flange cases).
     let c = &p.creepages;
+    let scale = 1.0 / (1.0 - 0.5 * c.xi);
     ContactRow {
         ycp_r_mm: lat * p.y_rail_profile * 1e3,
         delttr_rad: sg * p.contact_angle,
@@ -115,9 +122,9 @@ pub fn to_contact(side: Side, p: &PatchResult) -> ContactRow {
         pmax_n_mm2: f.p_max * 1e-6,
         length_x_mm: f.length * 1e3,
         width_s_mm: f.width * 1e3,
-        cksi: -c.xi,
-        ceta: -lat * c.eta,
-        cphi_rad_mm: sg * c.phi * 1e-3,
+        cksi: -c.xi * scale,
+        ceta: -lat * c.eta * scale,
+        cphi_rad_mm: sg * c.phi * 1e-3 * scale,
         ycp_w_mm: lat * p.y_wheel_profile * 1e3,
     }
 }

@@ -1167,10 +1167,7 @@ fn solve_halfspace(
         };
         (*j, f)
     };
-    let d_of = |i: usize| {
-        let p = &pairs[i];
-        -p.gap * (p.n[0] * fr.n[0] + p.n[1] * fr.n[1])
-    };
+    let d_of = |i: usize| fr.normal_interpenetration(&pairs[i]);
     // The interpenetration at lateral coordinate l between pairs j and j + 1: the mean of the
     // parabolas through (j - 1, j, j + 1) and (j, j + 1, j + 2), the third-order scheme of the
     // STRIPES strips (linear where neither exists). Linear interpolation inscribed a roof with a

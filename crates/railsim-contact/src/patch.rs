@@ -60,6 +60,18 @@ impl PatchFrame {
         let (m, m0) = (mid(p), self.midpoint());
         (m[0] - m0[0]) * self.t[0] + (m[1] - m0[1]) * self.t[1]
     }
+
+    /// \[m\] a pair's interpenetration measured along the patch normal: `-gap / cos Δγ`, `Δγ`
+    /// the angle between the pair's normal and the patch's (cosine floored at 0.5). Two
+    /// surfaces that are locally parallel, `d` apart along their common normal and tilted by
+    /// `Δγ` from the plane, are `d / cos Δγ` apart along the plane's normal at one lateral
+    /// coordinate (the lateral offset of the two ends of the chord `d n` adds `d sin²Δγ / cos Δγ`
+    /// to its component `d cos Δγ`). It is the undeformed distance a planar half-space problem
+    /// takes (`contact-theory.md` §4, the gap along the normal of the contact plane).
+    pub fn normal_interpenetration(&self, p: &IsoPair) -> f64 {
+        let c = p.n[0] * self.n[0] + p.n[1] * self.n[1];
+        -p.gap / c.max(0.5)
+    }
 }
 
 /// Longitudinal relative curvature of a wheel point (Meusnier: the normal section along the
@@ -333,7 +345,44 @@ pub fn spin_moment_moved(mz: f64, fx: f64, fs: f64, dx: f64, dl: f64) -> f64 {
 
 #[cfg(test)]
 mod moved_tests {
-    use super::{from_plane_to_frame, spin_moment_moved};
+    use super::{PatchFrame, from_plane_to_frame, mid, spin_moment_moved};
+    use crate::geometry::IsoPair;
+
+    /// Two parallel surfaces (lines in the cross-section) `d` apart along their normal, tilted
+    /// by `γ` from a patch plane: the interpenetration a planar half-space problem takes at the
+    /// lateral coordinate of a pair's midpoint is their distance along the plane's normal
+    /// there, `d / cos γ` (the old `d cos γ` was 1.5 % low in force on a conformal flange root).
+    #[test]
+    fn a_tilted_pair_interpenetrates_by_the_distance_along_the_plane_normal() {
+        let frame = PatchFrame {
+            n: [0.0, 1.0],
+            t: [1.0, 0.0],
+            ..Default::default()
+        };
+        for (gamma, d) in [(0.3f64, 50e-6), (-0.2, 20e-6), (0.0, 10e-6)] {
+            let (sg, cg) = gamma.sin_cos();
+            let (n, t) = ([-sg, cg], [cg, sg]);
+            // rail line through b with normal n; the wheel's line d further *into* the rail
+            let b = [1e-3 + 2e-3 * t[0], 2e-3 * t[1]];
+            let a = [b[0] - d * n[0], b[1] - d * n[1]];
+            let pair = IsoPair {
+                a,
+                b,
+                n,
+                gap: -d,
+                ..Default::default()
+            };
+            // the two lines' heights at the midpoint's lateral coordinate
+            let l = mid(&pair)[0];
+            let height = |p: [f64; 2]| p[1] + (l - p[0]) * t[1] / t[0];
+            let along_normal = height(b) - height(a);
+            let got = frame.normal_interpenetration(&pair);
+            assert!(
+                (got - along_normal).abs() < 1e-12 * d.max(1.0),
+                "γ {gamma}: {got} against {along_normal}"
+            );
+        }
+    }
 
     /// The force given along one plane's normal and tangent is the same vector along the
     /// frame's (n = (−sin δ, cos δ), t = (cos δ, sin δ) in the cross-section, as the patch
