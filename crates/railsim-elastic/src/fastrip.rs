@@ -59,8 +59,9 @@ pub enum StripMethod {
 
 /// One FaStrip strip: the line at lateral coordinate `y` \[m\], width `dy` \[m\], semi-elliptic
 /// pressure with peak `p_peak` \[Pa\] on `[xc - hl, xc + hl]` \[m\], creepages `creep`, FASTSIM
-/// flexibilities `flex` (for the slip directions and the fallback), `nx` cells. Moment about the
-/// origin (x = 0, y = 0). Invalid input gives a zero result with `n_cells = 0`.
+/// flexibilities `flex` (for the slip directions and the fallback), `nx` cells. The creepages are
+/// those at x = 0 (the strip's lateral creepage at its centre is `eta + phi xc`). Moment about
+/// the origin (x = 0, y = 0). Invalid input gives a zero result with `n_cells = 0`.
 pub fn fastrip_strip(
     y: f64,
     dy: f64,
@@ -93,7 +94,12 @@ pub fn fastrip_strip(
     let k = mu * p_peak / hl;
     let (g, nu) = (patch.g, patch.nu);
     let pi2 = std::f64::consts::PI * std::f64::consts::PI;
-    let yy = -2.0 * g * (1.0 - nu) * patch.c22 * creep.eta / (pi2 * k);
+    // strip theory is about the strip's centre: its lateral creepage there, eta + phi xc (the
+    // creepages are given at x = 0; before stop 39 `eta` was taken as the centre's, so a
+    // half-space row off x = 0 lost the spin's share of it: 5 % of Fy at xc = 0.25 mm on an
+    // 8 × 4 mm ellipse with phi = 0.3 1/m)
+    let eta_c = creep.eta + creep.phi * xc;
+    let yy = -2.0 * g * (1.0 - nu) * patch.c22 * eta_c / (pi2 * k);
     let pp = -3.0 * g * (patch.a * patch.b).sqrt() * patch.c23 * creep.phi
         / (2.0 * std::f64::consts::PI * patch.a * k);
     // the strip's longitudinal creepage xi - phi y, its spin share scaled with C23 as in CONTACT
@@ -379,6 +385,39 @@ mod tests {
     /// The strip's force is continuous in the creepages: where the stick/slip boundary
     /// crosses a cell, the cell is split between the two tractions (before, whole cells were
     /// classified by their middles and the force jumped there).
+    /// A strip off x = 0 takes the lateral creepage at its centre: the same strip with the
+    /// creepages given at its centre (`xc` = 0, `eta + phi xc`) has the same Fy. Before stop 39
+    /// Fy did not move with `xc` (−261.55 N against −275.52 N at xc = 0.25 mm).
+    #[test]
+    fn a_strip_off_the_origin_takes_the_lateral_creepage_at_its_centre() {
+        let (a, b, n, mu) = (0.008, 0.004, 82e3, 0.3);
+        let (patch, flex) = steel_patch(a, b);
+        let p0 = 1.5 * n / (std::f64::consts::PI * a * b);
+        for xc in [0.1e-3, 0.25e-3, -0.5e-3] {
+            let hl = a;
+            let at_origin = Creepages {
+                xi: 0.0,
+                eta: 2e-4,
+                phi: 0.3,
+            };
+            let at_centre = Creepages {
+                eta: at_origin.eta + at_origin.phi * xc,
+                ..at_origin
+            };
+            let (off, m1) =
+                fastrip_strip(0.0, 0.0005, xc, hl, p0, &at_origin, &flex, &patch, mu, 400);
+            let (centred, m2) =
+                fastrip_strip(0.0, 0.0005, 0.0, hl, p0, &at_centre, &flex, &patch, mu, 400);
+            assert_eq!((m1, m2), (StripMethod::Fastrip, StripMethod::Fastrip));
+            assert!(
+                (off.fy - centred.fy).abs() < 0.005 * centred.fy.abs(),
+                "xc {xc}: Fy {} against {}",
+                off.fy,
+                centred.fy
+            );
+        }
+    }
+
     #[test]
     fn the_force_is_continuous_where_the_slip_zone_crosses_a_cell() {
         let (a, b, mu) = (0.005, 0.004, 0.3);
