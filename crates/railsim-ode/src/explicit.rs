@@ -16,9 +16,12 @@ const FAC_MAX: f64 = 10.0;
 /// Integral-part exponent of the PI controller (Gustafsson; Hairer uses 0.04 for DOPRI5).
 const BETA: f64 = 0.04;
 
-/// Consecutive stability-limited steps after which a run is reported stiff (Hairer's DOPRI5
-/// code: 15).
+/// Stability-limited steps after which a run is reported stiff (Hairer's DOPRI5 code: 15) ...
 const STIFF_RUN: usize = 15;
+/// ... counted until this many consecutive steps are not limited (Hairer's code: 6; at the
+/// stability boundary the controller switches between limited and not limited steps, which a
+/// count of consecutive limited steps alone never reaches 15 over).
+const NON_STIFF_RESET: usize = 6;
 
 /// Whether the accepted step with stage derivatives `k` was limited by stability:
 /// the last two stages are both at t + h, at the states x_{s−1} and x_s, so
@@ -58,8 +61,11 @@ pub(crate) struct ErkWork {
     /// Controller memory: error norm of the last accepted step.
     facold: f64,
     reject: bool,
-    /// Consecutive accepted steps limited by stability (see [`crate::Stats::stiff_from`]).
+    /// Accepted steps limited by stability since the last [`NON_STIFF_RESET`] consecutive
+    /// steps that were not (see [`crate::Stats::stiff_from`]).
     stiff_run: usize,
+    /// Consecutive accepted steps not limited by stability.
+    non_stiff_run: usize,
 }
 
 impl ErkWork {
@@ -77,6 +83,7 @@ impl ErkWork {
             facold: 1e-4,
             reject: false,
             stiff_run: 0,
+            non_stiff_run: 0,
         }
     }
 
@@ -98,6 +105,7 @@ impl ErkWork {
         self.facold = 1e-4;
         self.reject = false;
         self.stiff_run = 0;
+        self.non_stiff_run = 0;
     }
 
     pub(crate) fn dense(
@@ -268,11 +276,15 @@ impl Integrator {
                 if stability_limited(tab, &w.k, limit) {
                     self.stats.stability_limited += 1;
                     w.stiff_run += 1;
+                    w.non_stiff_run = 0;
                     if w.stiff_run == STIFF_RUN && self.stats.stiff_from.is_none() {
                         self.stats.stiff_from = Some(t + h);
                     }
                 } else {
-                    w.stiff_run = 0;
+                    w.non_stiff_run += 1;
+                    if w.non_stiff_run == NON_STIFF_RESET {
+                        w.stiff_run = 0;
+                    }
                 }
             }
             self.t_prev = t;

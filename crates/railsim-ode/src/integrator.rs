@@ -245,6 +245,11 @@ impl Integrator {
         self.max_steps = max_steps;
     }
 
+    /// The limit of accepted steps per run ([`Integrator::set_max_steps`]).
+    pub fn max_steps(&self) -> usize {
+        self.max_steps
+    }
+
     /// \[s\] current time (end of the last accepted step).
     pub fn t(&self) -> f64 {
         self.t

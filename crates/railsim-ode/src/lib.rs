@@ -153,7 +153,7 @@ pub enum Method {
         /// \[-\] relative tolerance; finite, ≥ 0.
         rtol: f64,
         /// \[units of x\] absolute tolerance, multiplied per component by
-        /// [`OdeSystem::abs_tol_scale`]; finite, ≥ 0, and `rtol + atol > 0`.
+        /// [`OdeSystem::abs_tol_scale`]; finite and positive.
         atol: f64,
         /// \[s\] initial step; `None` picks one from the problem (Hairer's HINIT).
         h0: Option<f64>,
@@ -264,9 +264,10 @@ pub struct Stats {
     /// component on the edge of the stability region, where a weakly damped mode can hold an
     /// oscillation of the order of the absolute tolerance.
     pub stability_limited: usize,
-    /// \[s\] time at the end of the 15th consecutive stability-limited step, the first time
-    /// this happened in the run (Hairer's criterion for "the problem seems to be stiff");
-    /// `None` if it never did.
+    /// \[s\] time at the end of the 15th stability-limited step without 6 consecutive steps
+    /// that were not limited between them, the first time this happened in the run (Hairer's
+    /// criterion for "the problem seems to be stiff", DOPRI5's IASTI/NONSTI counters); `None`
+    /// if it never did.
     pub stiff_from: Option<f64>,
 }
 

@@ -331,8 +331,14 @@ impl Integrator {
             }
             if w.need_jac {
                 self.stats.jacobians += 1;
-                // Forward differences (Hairer & Wanner's RADAU5 step sqrt(eps)·max(|x_j|,
-                // typical)); the columns of a group share no row and are perturbed together
+                // Forward differences with the step sqrt(eps)·max(|x_j|, atol_j/rtol): the
+                // component's own scale where it is at 0 (RADAU5 takes sqrt(eps·max(1e-5,
+                // |x_j|)) instead, an absolute floor of 4.7e-11 that, tried here in stop 39,
+                // took Robertson's problem, whose y2 is 1e-13 late, from 1 to 83 Newton
+                // failures). At a tolerance ratio atol/rtol far below the component's scale
+                // (1e-13 gives a step of 1.5e-21) the differences are round-off and the
+                // Newton iteration slows; the converged solution does not depend on the
+                // Jacobian. The columns of a group share no row and are perturbed together
                 // (Curtis, Powell & Reid 1974; crate::sparsity; without a pattern, one column
                 // per group).
                 for cols in &w.groups {
@@ -363,8 +369,13 @@ impl Integrator {
                     if w.nsing >= MAX_SINGULAR {
                         return Err(StopReason::SingularMatrix { t });
                     }
+                    // RADAU5 (label 78): halve the step, and take a new Jacobian unless it is
+                    // fresh (a stale one may be what made the matrix singular)
                     self.h *= 0.5;
                     w.reject = true;
+                    if !w.jac_fresh {
+                        w.need_jac = true;
+                    }
                     continue;
                 }
                 w.h_lu = h;

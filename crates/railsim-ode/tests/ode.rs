@@ -1043,6 +1043,46 @@ fn dopri5_counts_exactly_the_steps_beyond_its_stability_limit() {
     assert!(s.stability_limited > s.steps / 4, "{s:?}");
 }
 
+/// x'' + 2ζω x' + ω² x = sin t with ω = 2000 rad/s: a weakly damped stiff mode, as a wheel on
+/// its contact stiffness. DOPRI5 at tight tolerances sits on its stability boundary, where the
+/// controller switches between limited and not limited steps (the longest run of limited
+/// steps was 2 to 5): Hairer's counters, which forget the limited steps only after 6
+/// consecutive others, report it stiff within 0.1 s; the count of consecutive limited steps
+/// before stop 39 never did.
+#[test]
+fn a_weakly_damped_stiff_mode_is_reported_stiff() {
+    struct Oscillator {
+        omega: f64,
+        zeta: f64,
+    }
+    impl OdeSystem for Oscillator {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), RhsError> {
+            d[0] = x[1];
+            d[1] = -self.omega * self.omega * x[0] - 2.0 * self.zeta * self.omega * x[1] + t.sin();
+            Ok(())
+        }
+    }
+    for (zeta, tol) in [(0.05, 1e-8), (0.3, 1e-6), (0.01, 1e-4)] {
+        let (s, _) = steps_of(
+            Method::dormand_prince(tol, tol),
+            &mut Oscillator {
+                omega: 2000.0,
+                zeta,
+            },
+            &[0.0, 0.0],
+            1.0,
+        );
+        eprintln!("ζ {zeta}, tol {tol:e}: {s:?}");
+        let from = s
+            .stiff_from
+            .unwrap_or_else(|| panic!("not reported stiff: {s:?}"));
+        assert!(from < 0.1, "stiff from {from}");
+    }
+}
+
 #[test]
 fn non_stiff_runs_and_other_methods_report_no_stability_limit() {
     // the oscillator's steps are set by accuracy: h|λ| = 2h stays far below 3.25
