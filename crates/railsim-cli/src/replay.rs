@@ -589,69 +589,74 @@ fn read_signal(
     query.end_ns = range.1;
     let mut last_t: Option<u64> = None;
     let mut index = 0usize;
-    let mut fields_seen: Option<Vec<String>> = None;
+    // the fields of the messages without the signal's (a field a topic carries only at times,
+    // as a patch's `weight` in a rail transition, leaves a gap there); an error if no message
+    // has it
+    let mut fields_seen: Vec<String> = Vec::new();
+    let mut found = false;
     let path = reader.path().to_path_buf();
-    reader
-        .for_each(&query, |m| {
-            let fields = flatten_json(m.data).map_err(|e| LogError::Export {
-                path: path.clone(),
-                message: format!(
-                    "message on '{}' at t = {} ns is not JSON: {e}",
-                    signal.topic, m.log_time_ns
-                ),
-            })?;
-            index = if last_t == Some(m.log_time_ns) {
-                index + 1
-            } else {
-                0
-            };
-            last_t = Some(m.log_time_ns);
-            let patch = fields.iter().find_map(|(p, v)| match v {
-                Scalar::Number(x) if p == "patch" && *x >= 0.0 && x.fract() == 0.0 => {
-                    Some(*x as usize)
+    reader.for_each(&query, |m| {
+        let fields = flatten_json(m.data).map_err(|e| LogError::Export {
+            path: path.clone(),
+            message: format!(
+                "message on '{}' at t = {} ns is not JSON: {e}",
+                signal.topic, m.log_time_ns
+            ),
+        })?;
+        index = if last_t == Some(m.log_time_ns) {
+            index + 1
+        } else {
+            0
+        };
+        last_t = Some(m.log_time_ns);
+        let patch = fields.iter().find_map(|(p, v)| match v {
+            Scalar::Number(x) if p == "patch" && *x >= 0.0 && x.fract() == 0.0 => Some(*x as usize),
+            _ => None,
+        });
+        signal.by_patch |= patch.is_some();
+        let index = patch.unwrap_or(index);
+        let field = fields.iter().find(|(p, _)| *p == signal.field);
+        found |= field.is_some();
+        match field {
+            Some((_, Scalar::Number(y))) => {
+                if signal.series.len() <= index {
+                    signal.series.resize_with(index + 1, Vec::new);
                 }
-                _ => None,
-            });
-            signal.by_patch |= patch.is_some();
-            let index = patch.unwrap_or(index);
-            match fields.iter().find(|(p, _)| *p == signal.field) {
-                Some((_, Scalar::Number(y))) => {
-                    if signal.series.len() <= index {
-                        signal.series.resize_with(index + 1, Vec::new);
+                signal.series[index].push((ns_to_s(m.log_time_ns), *y));
+            }
+            // A non-finite value is logged as null: leave a gap rather than fail.
+            Some((_, Scalar::Null)) => {}
+            Some((_, other)) => {
+                return Err(LogError::Export {
+                    path: path.clone(),
+                    message: format!(
+                        "field '{}' of '{}' is not numeric (found \"{other}\")",
+                        signal.field, signal.topic
+                    ),
+                });
+            }
+            None => {
+                if !found {
+                    for (p, _) in fields {
+                        if !fields_seen.contains(&p) {
+                            fields_seen.push(p);
+                        }
                     }
-                    signal.series[index].push((ns_to_s(m.log_time_ns), *y));
-                }
-                // A non-finite value is logged as null: leave a gap rather than fail.
-                Some((_, Scalar::Null)) => {}
-                Some((_, other)) => {
-                    return Err(LogError::Export {
-                        path: path.clone(),
-                        message: format!(
-                            "field '{}' of '{}' is not numeric (found \"{other}\")",
-                            signal.field, signal.topic
-                        ),
-                    });
-                }
-                None => {
-                    fields_seen = Some(fields.into_iter().map(|(p, _)| p).collect());
-                    return Err(LogError::Export {
-                        path: path.clone(),
-                        message: String::new(),
-                    });
                 }
             }
-            Ok(())
-        })
-        .map_err(|e| match &fields_seen {
-            Some(fields) => anyhow!(
-                "{}: unknown field '{}' on topic '{}'; its fields are: {}",
-                reader.path().display(),
-                signal.field,
-                signal.topic,
-                fields.join(", ")
-            ),
-            None => e.into(),
-        })
+        }
+        Ok(())
+    })?;
+    if !found && !fields_seen.is_empty() {
+        bail!(
+            "{}: unknown field '{}' on topic '{}'; its fields are: {}",
+            reader.path().display(),
+            signal.field,
+            signal.topic,
+            fields_seen.join(", ")
+        );
+    }
+    Ok(())
 }
 
 fn plot(

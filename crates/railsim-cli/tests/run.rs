@@ -182,6 +182,33 @@ fn a_run_killed_with_sigkill_leaves_a_readable_log() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A run whose log cannot be written (here a file-size limit of 300 kB) stops with the cause,
+/// and the log keeps what was written: before stop 39 the writer's refusal to close the
+/// failed log ("attempted another write after a write method failed") replaced the cause.
+#[cfg(unix)]
+#[test]
+fn a_failed_log_write_reports_its_cause() {
+    let dir = temp_dir("file_limit");
+    let log = dir.join("limited.mcap");
+    let script = format!(
+        "trap '' XFSZ; ulimit -f 600; exec '{}' run --quiet --duration-s 3 --out '{}'",
+        env!("CARGO_BIN_EXE_railsim"),
+        log.display()
+    );
+    let out = Command::new("sh")
+        .args(["-c", &script])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("File too large"), "{err}");
+    assert!(!err.contains("attempted another write"), "{err}");
+    let reader = railsim_log::LogReader::open(&log).unwrap();
+    assert!(reader.message_count() > 100, "{}", reader.message_count());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn bad_scenes_exit_2_with_located_messages() {
     let dir = temp_dir("bad");

@@ -241,7 +241,9 @@ pub struct CsvExport {
 
 /// Writes the messages of `topic` (within the inclusive range `range_ns`, if given) as CSV to
 /// `out`: a header line, then one row per message with its log time in ns and its flattened
-/// fields. Every message must flatten to the same columns.
+/// fields. The columns are every field of any message, in the order they first appear; a
+/// message without one (a patch's `weight` exists only in a rail transition) leaves its cell
+/// empty. Two passes over the topic: the columns, then the rows.
 pub fn export_csv(
     reader: &LogReader,
     topic: &str,
@@ -258,58 +260,57 @@ pub fn export_csv(
         path: reader.path().to_path_buf(),
         message: format!("writing the CSV of '{topic}': {e}"),
     };
-    let mut paths: Option<Vec<String>> = None;
-    let mut columns = Vec::new();
-    let mut rows = 0u64;
     let mut query = Query::topics([topic]);
     if let Some((start, end)) = range_ns {
         query = query.between(start, end);
     }
+    let not_json = |t_ns: u64, e: serde_json::Error| LogError::Export {
+        path: reader.path().to_path_buf(),
+        message: format!("message on '{topic}' at t = {t_ns} ns is not JSON: {e}"),
+    };
+    // first pass: the union of the fields, each new one after the field before it
+    let mut paths: Vec<String> = Vec::new();
     reader.for_each(&query, |m| {
-        let fields = flatten_json(m.data).map_err(|e| LogError::Export {
-            path: reader.path().to_path_buf(),
-            message: format!(
-                "message on '{topic}' at t = {} ns is not JSON: {e}",
-                m.log_time_ns
-            ),
-        })?;
-        let expected = paths.get_or_insert_with(|| {
-            columns.push("log_time_ns".to_owned());
-            columns.extend(fields.iter().map(|(p, _)| header_of(p, &units)));
-            fields.iter().map(|(p, _)| p.clone()).collect()
-        });
-        if rows == 0 {
-            writeln!(out, "{}", columns.join(",")).map_err(write_err)?;
-        }
-        if fields.len() != expected.len()
-            || fields.iter().zip(expected.iter()).any(|((p, _), e)| p != e)
-        {
-            return Err(LogError::Export {
-                path: reader.path().to_path_buf(),
-                message: format!(
-                    "message on '{topic}' at t = {} ns has fields [{}], the first had [{}]",
-                    m.log_time_ns,
-                    fields
-                        .iter()
-                        .map(|(p, _)| p.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                    expected.join(", ")
-                ),
+        let fields = flatten_json(m.data).map_err(|e| not_json(m.log_time_ns, e))?;
+        let mut after: Option<usize> = None;
+        for (p, _) in &fields {
+            after = Some(match paths.iter().position(|q| q == p) {
+                Some(k) => k,
+                None => {
+                    let k = after.map_or(0, |a| a + 1);
+                    paths.insert(k, p.clone());
+                    k
+                }
             });
         }
+        Ok(())
+    })?;
+    let mut columns = vec!["log_time_ns".to_owned()];
+    columns.extend(paths.iter().map(|p| header_of(p, &units)));
+    writeln!(out, "{}", columns.join(",")).map_err(write_err)?;
+    // second pass: the rows
+    let mut rows = 0u64;
+    let mut cells: Vec<Option<String>> = vec![None; paths.len()];
+    reader.for_each(&query, |m| {
+        let fields = flatten_json(m.data).map_err(|e| not_json(m.log_time_ns, e))?;
+        cells.iter_mut().for_each(|c| *c = None);
+        let mut k = 0;
+        for (p, value) in fields {
+            // (the fields come in the union's order, so the search moves forward)
+            k = match paths[k..].iter().position(|q| *q == p) {
+                Some(d) => k + d,
+                None => paths.iter().position(|q| *q == p).unwrap_or(k),
+            };
+            cells[k] = Some(value.to_string());
+        }
         write!(out, "{}", m.log_time_ns).map_err(write_err)?;
-        for (_, value) in &fields {
-            write!(out, ",{value}").map_err(write_err)?;
+        for c in &cells {
+            write!(out, ",{}", c.as_deref().unwrap_or("")).map_err(write_err)?;
         }
         writeln!(out).map_err(write_err)?;
         rows += 1;
         Ok(())
     })?;
-    if rows == 0 {
-        writeln!(out, "log_time_ns").map_err(write_err)?;
-        columns.push("log_time_ns".to_owned());
-    }
     out.flush().map_err(write_err)?;
     Ok(CsvExport { columns, rows })
 }

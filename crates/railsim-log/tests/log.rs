@@ -335,6 +335,55 @@ fn two_writes_of_the_same_data_are_identical_bytes() {
     assert!(a == b, "two logs of the same data differ");
 }
 
+/// A topic whose messages carry a field only at times (a patch's `weight`, written only while
+/// its wheel is in a rail transition) exports with the field's column and empty cells where
+/// it is missing: the export before stop 39 stopped at the first message with a new field.
+#[test]
+fn csv_export_of_a_field_present_only_at_times() {
+    let path = temp_path("csv_weight.mcap");
+    let mut log = LogWriter::create(&path, &header(), WriterOptions::default()).unwrap();
+    let left = log
+        .channel::<PatchMessage>(&topics::contact(1, Side::Left))
+        .unwrap();
+    for step in 0..6u64 {
+        let mut p = patch(step, Side::Left, 0);
+        if (2..4).contains(&step) {
+            p.weight = Some(0.25 * step as f64);
+        }
+        log.write(&left, step_time_ns(step, DT_NS).unwrap(), &p)
+            .unwrap();
+    }
+    log.finish().unwrap();
+    let reader = LogReader::open(&path).unwrap();
+    let mut out = Vec::new();
+    let export = export_csv(&reader, "/contact/1/left", None, &mut out).unwrap();
+    assert_eq!(export.rows, 6);
+    let text = String::from_utf8(out).unwrap();
+    let lines: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    let k = lines[0]
+        .iter()
+        .position(|c| c.starts_with("weight"))
+        .unwrap_or_else(|| panic!("no weight column: {:?}", lines[0]));
+    assert_eq!(
+        lines[0].iter().filter(|c| c.starts_with("weight")).count(),
+        1
+    );
+    for (step, row) in lines[1..].iter().enumerate() {
+        assert_eq!(row.len(), lines[0].len(), "row {step}: {row:?}");
+        let want = if (2..4).contains(&step) {
+            format!("{}", 0.25 * step as f64)
+        } else {
+            String::new()
+        };
+        assert_eq!(row[k], want, "row {step}");
+        // the other columns keep their values
+        assert_eq!(
+            row[0],
+            step_time_ns(step as u64, DT_NS).unwrap().to_string()
+        );
+    }
+}
+
 #[test]
 fn csv_export_columns_values_and_statistics() {
     let path = temp_path("csv.mcap");

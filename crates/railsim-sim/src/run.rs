@@ -203,7 +203,11 @@ impl Simulation {
     pub fn new(scene: &Scene) -> Result<Simulation, SimError> {
         let mut model = SimModel::new(scene)?;
         let method = with_step_defaults(scene.integrator);
-        let integ = Integrator::new(method, model.dim())?;
+        let mut integ = Integrator::new(method, model.dim())?;
+        // No step limit: the scene's duration bounds the run (a day at most) and a step that
+        // collapses stops it (`StopReason::StepTooSmall`); the integrator's default of 10
+        // million steps stopped an `rk4` run at 1 µs steps after 10 s.
+        integ.set_max_steps(usize::MAX);
         let stat = scene
             .vehicle
             .static_equilibrium()
@@ -401,8 +405,10 @@ impl Simulation {
             Ok(())
         })();
         self.ws = Some(dynamics.ws);
-        let stats = rec.finish(state.digest, t_end, result.as_ref().err())?;
-        result.map(|()| stats)
+        // the run's own error (a failed write, whose writer then refuses the closing too)
+        // before the closing's
+        let finished = rec.finish(state.digest, t_end, result.as_ref().err());
+        result.and(finished)
     }
 
     /// \[N\] static wheel loads per wheelset (file order), `[left, right]`.
@@ -548,7 +554,13 @@ impl Simulation {
         let contact_searches = (searches1.0 - searches0.0, searches1.1 - searches0.1);
         self.ws = Some(dynamics.ws);
         let log = match recorder {
-            Some(rec) => Some(rec.finish(state.digest, self.integ.t(), result.as_ref().err())?),
+            // A run that failed keeps its own error (a stop names time, body and quantity;
+            // a failed write its cause, which the writer's refusal to close would replace).
+            Some(rec) => match rec.finish(state.digest, self.integ.t(), result.as_ref().err()) {
+                Ok(stats) => Some(stats),
+                Err(_) if result.is_err() => None,
+                Err(e) => return Err(e),
+            },
             None => None,
         };
         let summarize = |log: Option<LogStats>, t_end: f64| {
@@ -1825,4 +1837,33 @@ fn body_angular_velocity(mm: &MemberModel, k: &MemberKin) -> V3 {
     }
     let axle = [k.orient[0][1], k.orient[1][1], k.orient[2][1]];
     add(k.omega, scale(k.qd[4], axle))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scene the format accepts, `rk4` at 1 µs for 11 s, is not cut short by a step limit:
+    /// the integrator's default (10 million steps) would stop it at 10 s.
+    #[test]
+    fn a_long_run_of_small_steps_has_no_step_limit() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let scene = Scene::from_toml_str(
+            r#"
+            vehicle = "vehicles/wheelset_free.toml"
+            track = "tracks/straight.toml"
+            speed_kmh = 50
+            duration_s = 11
+            [integrator]
+            method = "rk4"
+            step_s = 1e-6
+            "#,
+            "test.toml",
+            &root,
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        let sim = Simulation::new(&scene).unwrap_or_else(|e| panic!("{e}"));
+        let steps = (scene.duration() / 1e-6).ceil() as usize;
+        assert!(sim.integ.max_steps() > steps, "{}", sim.integ.max_steps());
+    }
 }
