@@ -66,9 +66,15 @@ pub struct CriticalArgs {
     /// reach the large limit cycle) and 0.5 mm for the bisection (a small disturbance).
     #[arg(long, allow_hyphen_values = true)]
     pub offset_mm: Option<f64>,
-    /// Ramp: hunting amplitude (mm) below which a wheelset counts as running stably.
-    #[arg(long, default_value_t = 0.5)]
+    /// Ramp: hunting amplitude (mm) below which a wheelset counts as running stably (the
+    /// nonlinear critical speed's; below the smallest limit cycle of interest: the Manchester
+    /// vehicle has a 0.2–0.37 mm tread-contact cycle below its flange-contact cycle's fold).
+    #[arg(long, default_value_t = 0.1)]
     pub threshold_mm: f64,
+    /// Ramp: a larger amplitude (mm) whose branch is reported by itself: where the large
+    /// (flange-contact) hunting ends.
+    #[arg(long, default_value_t = 0.5)]
+    pub large_threshold_mm: f64,
     /// Bisect: simulated time of each constant-speed run (s); the growth rate is taken over its
     /// second half.
     #[arg(long, default_value_t = 8.0)]
@@ -121,6 +127,7 @@ pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
         ("--settle-m", a.settle_m),
         ("--ramp-m", a.ramp_m),
         ("--threshold-mm", a.threshold_mm),
+        ("--large-threshold-mm", a.large_threshold_mm),
         ("--duration-s", a.duration_s),
     ] {
         if !(v.is_finite() && v > 0.0) {
@@ -177,6 +184,7 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
         ramp: a.ramp_m,
         offset: a.offset_mm.unwrap_or(5.0) * 1e-3,
         threshold: a.threshold_mm * 1e-3,
+        large_threshold: a.large_threshold_mm * 1e-3,
     };
     // v dv/dx is largest at the start of the ramp
     let decel = r.v_start * (r.v_start - r.v_end) / r.ramp;
@@ -235,10 +243,15 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
                     .collect(),
             })
             .collect();
-        lines.push(Series {
-            name: format!("threshold {thr} mm", thr = a.threshold_mm),
-            points: vec![(a.to_kmh, a.threshold_mm), (a.from_kmh, a.threshold_mm)],
-        });
+        for (what, v) in [
+            ("threshold", a.threshold_mm),
+            ("large", a.large_threshold_mm),
+        ] {
+            lines.push(Series {
+                name: format!("{what} {v} mm"),
+                points: vec![(a.to_kmh, v), (a.from_kmh, v)],
+            });
+        }
         let title = format!(
             "{} ({}): ramp-down {} -> {} km/h",
             scene.name,
@@ -264,10 +277,35 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
         res.summary.stats.rhs_evals
     );
     let thr = a.threshold_mm;
+    match res.large_cycle_to {
+        Some(v) => outln!(
+            "large hunting ({} mm or more) down to {:.1} km/h",
+            a.large_threshold_mm,
+            v * 3.6
+        ),
+        None => outln!(
+            "no half wave of the ramp reached {} mm (large hunting)",
+            a.large_threshold_mm
+        ),
+    }
     match res.critical_speed {
         None => {
+            let why = if res.amplitude_at_start < r.threshold {
+                format!(
+                    "its amplitude before the ramp was {:.3} mm, below {thr} mm",
+                    res.amplitude_at_start * 1e3
+                )
+            } else {
+                format!(
+                    "its amplitude before the ramp ({:.3} mm) was decaying ({}; a limit cycle decays no faster than {}/s)",
+                    res.amplitude_at_start * 1e3,
+                    res.rate_at_start
+                        .map_or("fewer than four half waves".into(), |g| format!("{g:.3}/s")),
+                    railsim_sim::stability::SUSTAINED_RATE
+                )
+            };
             outln!(
-                "no wheelset hunted with an amplitude of {thr} mm or more during the ramp: the vehicle does not hunt at {} km/h from this disturbance; start faster (--from-kmh) or disturb more (--offset-mm)",
+                "the vehicle does not hunt at {} km/h from this disturbance ({why}): no critical speed; start faster (--from-kmh), settle longer (--settle-m) or disturb more (--offset-mm)",
                 a.from_kmh
             );
             Ok(ExitCode::from(1))
@@ -293,9 +331,13 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
 /// The branch as a table: per 10 km/h band of the ramp, the largest amplitude of each wheelset.
 fn print_branch(res: &RampResult, r: &RampDown) -> Result<()> {
     outln!(
-        "limit cycle before the ramp at {:.1} km/h: largest amplitude {:.2} mm",
+        "before the ramp at {:.1} km/h: largest amplitude {:.3} mm, growth rate {}",
         r.v_start * 3.6,
-        res.amplitude_at_start * 1e3
+        res.amplitude_at_start * 1e3,
+        res.rate_at_start
+            .map_or("unknown (fewer than four half waves)".into(), |g| format!(
+                "{g:.3}/s"
+            ))
     );
     let band = 10.0 / 3.6;
     let n_bands = ((r.v_start - r.v_end) / band).ceil() as usize;

@@ -323,6 +323,10 @@ fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_setting
     ]);
     assert_eq!(code, 1, "{out}\n{err}");
     assert!(out.contains("still hunting"), "{out}");
+    assert!(
+        out.contains("large hunting (0.5 mm or more) down to"),
+        "{out}"
+    );
     assert!(out.contains("bifurcation diagram drawn to"), "{out}");
     // the columns carry the vehicle file's wheelset names, from the front
     assert!(

@@ -10,7 +10,12 @@
 //!   subcritical, so the orbit survives below the speed at which small disturbances start to
 //!   grow (True, *Multiple attractors and critical parameters and how to find them
 //!   numerically*, Vehicle System Dynamics 51(3), 2013; Polach, *On non-linear methods of bogie
-//!   stability assessment using computer simulations*, Proc. IMechE F 220, 2006).
+//!   stability assessment using computer simulations*, Proc. IMechE F 220, 2006). The
+//!   threshold must lie below the smallest cycle: where the conicity falls with the amplitude a
+//!   small tread cycle can outlive the large flange-contact one (the Manchester vehicle with
+//!   `stripes`: 0.2–0.37 mm down to 216 km/h, the large cycle's fold at 258 km/h), so the end
+//!   of a second, larger threshold's branch is reported beside it. The motion before the ramp
+//!   must be a limit cycle, not a decaying transient ([`SUSTAINED_RATE`]).
 //! - **Bisection on the growth rate** ([`bisect_growth`]): runs at constant speed from a small
 //!   disturbance; the growth rate of the oscillation's amplitude ([`growth_rate`]) changes sign
 //!   at the speed where this disturbance neither grows nor decays (for a small disturbance and a
@@ -196,9 +201,25 @@ pub struct RampDown {
     pub ramp: f64,
     /// \[m\] lateral offset of the leading wheelset at t = 0.
     pub offset: f64,
-    /// \[m\] hunting amplitude below which a wheelset counts as not hunting.
+    /// \[m\] hunting amplitude below which a wheelset counts as not hunting: the nonlinear
+    /// critical speed's. It should be below the smallest limit cycle of interest: on the
+    /// Manchester vehicle with `stripes` a tread-contact cycle of 0.2–0.37 mm exists some 40 km/h
+    /// below the fold of the flange-contact cycle (docs/validation.md §8).
     pub threshold: f64,
+    /// \[m\] a second, larger amplitude whose branch is reported by itself
+    /// ([`RampResult::large_cycle_to`]): where the large (flange-contact) cycle ends. At least
+    /// `threshold`.
+    pub large_threshold: f64,
 }
+
+/// \[1/s\] the slowest decay of the amplitude before the ramp that still counts as a limit cycle
+/// at the start speed ([`RampResult::rate_at_start`]): a decaying transient ramped down would
+/// otherwise be reported as a critical speed. Near the critical speed a small disturbance
+/// decays at some 0.5/s (the Manchester vehicle 5 km/h below it).
+pub const SUSTAINED_RATE: f64 = -0.25;
+
+/// Half cycles before the ramp over which [`RampResult::rate_at_start`] is taken.
+const START_CYCLES: usize = 8;
 
 /// One half cycle of one wheelset during a study, with the speed at its time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -222,10 +243,19 @@ pub struct RampResult {
     /// \[m\] largest amplitude of any wheelset in the last whole cycle before the ramp: the
     /// limit cycle at `v_start` (0 when it has none).
     pub amplitude_at_start: f64,
+    /// \[1/s\] the growth rate ([`growth_rate`]) of the last half cycles before the ramp of the
+    /// wheelset with the largest amplitude there; `None` with fewer than four.
+    pub rate_at_start: Option<f64>,
+    /// Whether the vehicle hunts at `v_start`: a wheelset's amplitude before the ramp reaches
+    /// the threshold and does not decay faster than [`SUSTAINED_RATE`].
+    pub hunting_at_start: bool,
     /// \[m/s\] the nonlinear critical speed: the speed of the last half cycle of the ramp in
-    /// which some wheelset's amplitude reaches the threshold. `None` when no wheelset reaches it
-    /// during the ramp (no hunting at `v_start`: start faster, or disturb more).
+    /// which some wheelset's amplitude reaches the threshold. `None` when the vehicle does not
+    /// hunt at `v_start` ([`RampResult::hunting_at_start`]; start faster, or disturb more).
     pub critical_speed: Option<f64>,
+    /// \[m/s\] the same for [`RampDown::large_threshold`]: where the large cycle ends (`None`
+    /// when no half cycle of the ramp reaches it).
+    pub large_cycle_to: Option<f64>,
     /// Whether a wheelset still reached the threshold in the last cycle of the ramp (the
     /// critical speed is then at or below `v_end`).
     pub hunting_at_end: bool,
@@ -273,6 +303,12 @@ pub fn ramp_down(
             ramp.settle, ramp.ramp, ramp.threshold
         )));
     }
+    if !(ramp.large_threshold >= ramp.threshold && ramp.large_threshold.is_finite()) {
+        return Err(bad(format!(
+            "the large cycle's threshold ({} m) must be at least the threshold ({} m)",
+            ramp.large_threshold, ramp.threshold
+        )));
+    }
     let speed = SpeedProfile::from_points(
         vec![0.0, ramp.settle, ramp.settle + ramp.ramp],
         vec![ramp.v_start, ramp.v_start, ramp.v_end],
@@ -301,19 +337,63 @@ pub fn ramp_down(
             })
             .collect();
     // the limit cycle at the start: the last two half cycles before the ramp, per wheelset
+    let last_before = |b: &[BranchPoint], k: usize| -> Vec<BranchPoint> {
+        let mut v: Vec<BranchPoint> = b
+            .iter()
+            .rev()
+            .filter(|p| p.t < ramp_start)
+            .take(k)
+            .copied()
+            .collect();
+        v.reverse();
+        v
+    };
+    let start_amplitude = |b: &[BranchPoint]| {
+        last_before(b, 2)
+            .iter()
+            .map(|p| p.amplitude)
+            .fold(0.0, f64::max)
+    };
     let amplitude_at_start = branch
         .iter()
-        .flat_map(|b| b.iter().rev().filter(|p| p.t < ramp_start).take(2))
-        .map(|p| p.amplitude)
+        .map(|b| start_amplitude(b))
         .fold(0.0, f64::max);
-    let hunting = |p: &&BranchPoint| p.t >= ramp_start && p.amplitude >= ramp.threshold;
-    let critical_speed = branch
+    // ... and whether it is one: the wheelset with the largest amplitude there does not decay
+    let rate_at_start = branch
         .iter()
-        .filter_map(|b| b.iter().filter(hunting).map(|p| p.speed).reduce(f64::min))
-        .reduce(f64::min);
-    let hunting_at_end = branch
-        .iter()
-        .any(|b| b.iter().rev().take(2).any(|p| hunting(&p)));
+        .max_by(|a, b| start_amplitude(a).total_cmp(&start_amplitude(b)))
+        .and_then(|b| {
+            let c: Vec<HalfCycle> = last_before(b, START_CYCLES)
+                .iter()
+                .map(|p| HalfCycle {
+                    t: p.t,
+                    amplitude: p.amplitude,
+                })
+                .collect();
+            growth_rate(&c, f64::NEG_INFINITY)
+        });
+    let hunting_at_start =
+        amplitude_at_start >= ramp.threshold && rate_at_start.is_some_and(|r| r >= SUSTAINED_RATE);
+    let last_at = |level: f64| {
+        branch
+            .iter()
+            .filter_map(|b| {
+                b.iter()
+                    .filter(|p| p.t >= ramp_start && p.amplitude >= level)
+                    .map(|p| p.speed)
+                    .reduce(f64::min)
+            })
+            .reduce(f64::min)
+    };
+    let critical_speed = last_at(ramp.threshold).filter(|_| hunting_at_start);
+    let large_cycle_to = last_at(ramp.large_threshold);
+    let hunting_at_end = hunting_at_start
+        && branch.iter().any(|b| {
+            b.iter()
+                .rev()
+                .take(2)
+                .any(|p| p.t >= ramp_start && p.amplitude >= ramp.threshold)
+        });
     // EN 14363's criterion per window (the windows of all axles end at the same distances)
     let axles = &summary.assessment.axles;
     let sum_y_rms: Vec<SpeedRatio> = axles.first().map_or(Vec::new(), |first| {
@@ -336,7 +416,10 @@ pub fn ramp_down(
         branch,
         ramp_start,
         amplitude_at_start,
+        rate_at_start,
+        hunting_at_start,
         critical_speed,
+        large_cycle_to,
         hunting_at_end,
         sum_y_rms,
         sum_y_rms_exceeded_to,
@@ -444,9 +527,15 @@ pub fn bisect_growth(
         let g = growth_at(scene, v, duration, offset)?;
         progress(&g);
         runs.push(g);
-        let rate = g.late_rate.ok_or_else(|| {
+        // A disturbance that died out before the second half (fewer than four half cycles
+        // there, the last below the offset) decays: its rate over the whole run.
+        let decayed = || {
+            g.rate
+                .filter(|r| *r < 0.0 && g.last_amplitude < offset.abs())
+        };
+        let rate = g.late_rate.or_else(decayed).ok_or_else(|| {
             bad(format!(
-                "the run at {v:.2} m/s has fewer than four half cycles in its second half: run longer"
+                "the run at {v:.2} m/s measured no growth rate (fewer than four half cycles after its first tenth, or in its second half without having decayed): run longer"
             ))
         })?;
         // A disturbance that has grown fourfold is unstable, whatever the sign of the rate of
