@@ -279,7 +279,7 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
     let thr = a.threshold_mm;
     match res.large_cycle_to {
         Some(v) => outln!(
-            "large hunting ({} mm or more) down to {:.1} km/h",
+            "large hunting (half waves of {} mm or more) during the ramp down to {:.1} km/h",
             a.large_threshold_mm,
             v * 3.6
         ),

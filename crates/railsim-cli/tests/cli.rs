@@ -324,7 +324,7 @@ fn critical_speed_reports_a_ramp_that_ends_while_hunting_and_rejects_bad_setting
     assert_eq!(code, 1, "{out}\n{err}");
     assert!(out.contains("still hunting"), "{out}");
     assert!(
-        out.contains("large hunting (0.5 mm or more) down to"),
+        out.contains("large hunting (half waves of 0.5 mm or more) during the ramp down to"),
         "{out}"
     );
     assert!(out.contains("bifurcation diagram drawn to"), "{out}");
