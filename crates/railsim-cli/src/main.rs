@@ -18,7 +18,7 @@ use railsim_contact::{geometry, pair, pose};
 use railsim_elastic::Material;
 use railsim_profile::conicity::{
     WheelsetTrackSetup, delta_r_interp, equivalent_conicity_harmonic,
-    equivalent_conicity_kinematic, rolling_radius_difference,
+    equivalent_conicity_kinematic, rolling_radius_difference_with_jumps,
 };
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
 
@@ -899,7 +899,7 @@ fn run_batch(
     for (label, case) in &list {
         let solved = solve_case(contact, case, ws, &mut rows).with_context(|| {
             format!(
-                "{name}: case {label} ({} wheel, y_ws = {} mm)",
+                "{name}: case {label} ({} wheel, y_ws = {} mm; the quantities named below are in railsim's conventions, SI, y to the left and z up, which mirror CONTACT's y and yaw: docs/conventions.md)",
                 case.side.name(),
                 case.y_ws_mm
             )
@@ -981,7 +981,8 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
         amplitudes.push((amp, amp_m));
     }
     let ys: Vec<f64> = (-400..=400).map(|i| i as f64 * 25e-6).collect();
-    let samples = rolling_radius_difference(&wheel, &rail, &setup, &ys)?;
+    // (the contact-point jumps located, so that λe does not depend on the grid near them)
+    let samples = rolling_radius_difference_with_jumps(&wheel, &rail, &setup, &ys, 1e-3)?;
     outln!(
         "{:>8} {:>10} {:>12} {:>12} {:>10} {:>10}",
         "y[mm]",

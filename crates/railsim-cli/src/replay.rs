@@ -444,8 +444,8 @@ fn list(reader: &LogReader, query: &Query) -> Result<()> {
     Ok(())
 }
 
-/// How the run that wrote the log ended, from its `railsim_result` record (a scene's
-/// `duration_s`, listed with the scene, is where the run was to end, not where it did).
+/// How the run that wrote the log ended, from its `railsim_result` record (the scene's
+/// `run_to_s`, listed with the scene, is where the run was to end, not where it did).
 fn outcome(reader: &LogReader) -> String {
     let Some(result) = reader.metadata().get("railsim_result") else {
         return "run: no result recorded (the run did not close its log)".to_owned();

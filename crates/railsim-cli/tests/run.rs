@@ -99,6 +99,12 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
         out.contains("\nrun: ended at t = 0.5 s, state digest "),
         "{out}"
     );
+    // ... and, with the scene, where it was to end (a killed run has no result to say it)
+    let run_to = out.lines().find(|l| l.contains("run_to_s"));
+    assert!(
+        run_to.is_some_and(|l| l.trim_end().ends_with("0.5")),
+        "{out}"
+    );
     let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("agrees"), "{out}");

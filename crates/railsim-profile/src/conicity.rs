@@ -292,6 +292,55 @@ pub fn rolling_radius_difference(
     y_ws.iter().map(|&y| g.contact(y)).collect()
 }
 
+/// [`rolling_radius_difference`] with the contact-point jumps located: between two neighbours of
+/// `y_ws` (sorted) where a wheel's contact point moves by more than `jump` \[m\], the jump is
+/// bracketed by bisection to 1 nm and both ends are added to the table. Linear interpolation
+/// in the table ([`delta_r_interp`]) then has a step at the jump instead of a ramp over the
+/// sampling interval, which moved it by up to half the interval and biased the equivalent
+/// conicity at amplitudes just above a jump (S1002 on UIC60 1:20 at 6 mm: 0.062 on a 25 µm
+/// grid against 0.054 with the jump located). Where the contact point only moves fast, the
+/// added samples are merely two more points of the smooth curve.
+pub fn rolling_radius_difference_with_jumps(
+    wheel: &Profile,
+    rail: &Profile,
+    setup: &WheelsetTrackSetup,
+    y_ws: &[f64],
+    jump: f64,
+) -> Result<Vec<DeltaRSample>, ProfileError> {
+    let g = WheelsetTrack::new(wheel, rail, setup)?;
+    let coarse: Vec<DeltaRSample> = y_ws
+        .iter()
+        .map(|&y| g.contact(y))
+        .collect::<Result<_, _>>()?;
+    let moved = |a: &DeltaRSample, b: &DeltaRSample| {
+        (b.y_contact_wheel_left - a.y_contact_wheel_left)
+            .abs()
+            .max((b.y_contact_wheel_right - a.y_contact_wheel_right).abs())
+    };
+    let mut out = Vec::with_capacity(coarse.len() + 8);
+    for (k, s) in coarse.iter().enumerate() {
+        if k > 0 && moved(&coarse[k - 1], s) > jump {
+            let (mut lo, mut hi) = (coarse[k - 1], *s);
+            while hi.y_ws - lo.y_ws > 1e-9 {
+                let m = g.contact(0.5 * (lo.y_ws + hi.y_ws))?;
+                if moved(&lo, &m) >= moved(&m, &hi) {
+                    hi = m;
+                } else {
+                    lo = m;
+                }
+            }
+            if lo.y_ws > coarse[k - 1].y_ws {
+                out.push(lo);
+            }
+            if hi.y_ws < s.y_ws {
+                out.push(hi);
+            }
+        }
+        out.push(*s);
+    }
+    Ok(out)
+}
+
 /// Linear interpolation in a Δr table (samples sorted by `y_ws`); clamps outside.
 pub fn delta_r_interp(samples: &[DeltaRSample], y: f64) -> f64 {
     let n = samples.len();

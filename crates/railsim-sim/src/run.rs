@@ -387,7 +387,8 @@ impl Simulation {
         t_rhs: f64,
         frames: &mut dyn Iterator<Item = (f64, Vec<f64>)>,
     ) -> Result<LogStats, SimError> {
-        let mut rec = Recorder::create(path, scene, &self.model, &BTreeMap::new())?;
+        let mut rec =
+            Recorder::create(path, scene, &self.model, &BTreeMap::new(), scene.duration())?;
         let mut dynamics = Dynamics {
             model: &self.model,
             ws: self.ws.take().expect("workspace present"),
@@ -447,6 +448,7 @@ impl Simulation {
                 scene,
                 &self.model,
                 &opts.sources,
+                t_end,
             )?)
         };
         let mut dynamics = Dynamics {
@@ -1591,6 +1593,7 @@ impl Recorder {
         scene: &Scene,
         model: &SimModel,
         sources: &BTreeMap<String, String>,
+        run_to: f64,
     ) -> Result<Recorder, SimError> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|e| SimError::Model {
@@ -1604,6 +1607,9 @@ impl Recorder {
             .scene_entry("track", scene.track_file.display().to_string())
             .scene_entry("speed_m_s", format!("{}", scene.speed.speed_at(0.0)))
             .scene_entry("duration_s", format!("{}", scene.duration()))
+            // where this run was to end: `duration_s` or an earlier end asked for
+            // (`RunOptions::t_end`, `railsim run --duration-s`)
+            .scene_entry("run_to_s", format!("{run_to}"))
             .scene_entry("contact_model", scene.contact.model.name())
             .scene_entry(
                 "integrator",

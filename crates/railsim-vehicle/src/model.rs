@@ -802,8 +802,19 @@ impl VehicleModel {
         let mut c = Compiler {
             sink: Sink::new(source_name, &spec.source),
             dropped: &spec.dropped_keys,
+            last_frozen: None,
         };
         let model = c.compile(spec, base_dir);
+        if c.sink.problems.is_empty()
+            && model.dofs().is_empty()
+            && let Some(span) = c.last_frozen.clone()
+        {
+            c.err(
+                &span,
+                "frozen",
+                "every degree of freedom of every body and wheelset is frozen, so nothing would move; expected at least one free".to_owned(),
+            );
+        }
         if c.sink.problems.is_empty() {
             Ok(model)
         } else {
@@ -1022,6 +1033,8 @@ struct TableSlopes<'a> {
 struct Compiler<'a> {
     sink: Sink<'a>,
     dropped: &'a [(usize, String)],
+    /// the last `frozen` list read (where a vehicle with nothing free is reported)
+    last_frozen: Option<Range<usize>>,
 }
 
 fn is_dropped(dropped: &[(usize, String)], table: &Range<usize>, key: &str) -> bool {
@@ -1293,6 +1306,7 @@ impl Compiler<'_> {
         }
         let mut fz = [false; 6];
         if let Some(list) = frozen {
+            self.last_frozen = Some(list.span());
             for item in list.get_ref() {
                 let s = item.get_ref().as_str();
                 match dof_names.iter().position(|d| *d == s) {

@@ -188,6 +188,24 @@ fn frozen_dofs_are_excluded() {
     assert!((eq.total_wheel_load() - 1813.0 * 9.81).abs() < 1e-6);
 }
 
+/// A vehicle file whose `frozen` lists leave nothing free is refused at its (last) `frozen`
+/// key; before stop 39 the simulation reported the integrator's "state dimension must be
+/// positive", naming neither file nor key.
+#[test]
+fn a_vehicle_with_nothing_free_is_refused_at_its_frozen_list() {
+    let text = format!(
+        "{}\nfrozen = [\"x\", \"y\", \"z\", \"roll\", \"yaw\", \"spin\"]\n",
+        WS.trim_end()
+    );
+    let p = problems(&text);
+    let line = text.lines().count();
+    expect(
+        &p,
+        line,
+        &["frozen", "every degree of freedom", "nothing would move"],
+    );
+}
+
 #[test]
 fn unsupported_body_is_reported_by_statics() {
     let text = format!(

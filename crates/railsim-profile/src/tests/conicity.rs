@@ -127,3 +127,40 @@ fn conicity_of_a_linear_cone() {
     let klingel = 2.0 * std::f64::consts::PI * (0.75f64 * 0.46 / 0.2).sqrt();
     assert!((l - klingel).abs() < 1e-3);
 }
+
+/// S1002 on UIC60 1:20 at 6 mm: the flange-root jump lies just below the amplitude (about
+/// 5.97 mm), where the harmonic weight of a jump changes fastest. Linear interpolation over a
+/// 25 µm grid moves it to the middle of its interval, which gave λe 0.062 (contact-theory §6.2:
+/// 0.051); with the jumps located ([`rolling_radius_difference_with_jumps`]) the value no longer
+/// depends on the grid and lies near the step model's 0.054.
+#[test]
+fn located_contact_jumps_make_the_conicity_independent_of_the_grid() {
+    let setup = WheelsetTrackSetup {
+        inclination_rad: (1.0f64 / 20.0).atan(),
+        ..Default::default()
+    };
+    let (wheel, rail) = (s1002(), uic60());
+    let grid = |step: f64| -> Vec<f64> {
+        let n = (10e-3 / step).round() as i64;
+        (-n..=n).map(|i| i as f64 * step).collect()
+    };
+    let lambda = |samples: &[DeltaRSample]| {
+        equivalent_conicity_harmonic(|y| delta_r_interp(samples, y), 6e-3)
+    };
+    let plain = lambda(&rolling_radius_difference(&wheel, &rail, &setup, &grid(25e-6)).unwrap());
+    let located: Vec<f64> = [25e-6, 40e-6, 100e-6]
+        .iter()
+        .map(|&h| {
+            lambda(
+                &rolling_radius_difference_with_jumps(&wheel, &rail, &setup, &grid(h), 1e-3)
+                    .unwrap(),
+            )
+        })
+        .collect();
+    eprintln!("λe(6 mm), 1:20: {plain:.4} on 25 µm, located {located:.4?} on 25, 40, 100 µm");
+    for l in &located {
+        assert!((l / located[0] - 1.0).abs() < 0.01, "{located:?}");
+    }
+    assert!((0.050..0.057).contains(&located[0]), "{}", located[0]);
+    assert!(plain > 1.1 * located[0], "{plain} against {}", located[0]);
+}
