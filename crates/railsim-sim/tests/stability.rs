@@ -17,6 +17,15 @@ fn polach_scene() -> Scene {
     )
 }
 
+/// `ramp` on `scene`, without a log.
+fn run_ramp(scene: &Scene, ramp: &RampDown) -> railsim_sim::stability::RampResult {
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    ramp_down(scene, ramp, &opts, &mut |_, _| {}).unwrap_or_else(|e| panic!("{e}"))
+}
+
 /// The ramp-down method's premise: the speed at which the slowly decelerated vehicle stops
 /// hunting is the lowest speed at which a hunting orbit exists. So at constant speed 6 % above
 /// it, a disturbance settles into hunting of about the amplitude the ramp saw there, and 6 %
@@ -35,11 +44,7 @@ fn the_ramp_down_critical_speed_separates_hunting_from_stable_running() {
         threshold: 0.5e-3,
         large_threshold: 1e-3,
     };
-    let opts = RunOptions {
-        no_log: true,
-        ..Default::default()
-    };
-    let res = ramp_down(&scene, &ramp, &opts, &mut |_, _| {}).unwrap_or_else(|e| panic!("{e}"));
+    let res = run_ramp(&scene, &ramp);
     let vc = res
         .critical_speed
         .expect("the vehicle hunts at 230 km/h from a 3 mm offset");
@@ -111,11 +116,7 @@ fn the_ramp_follows_the_small_tread_cycle_below_the_flange_cycles_fold() {
         threshold: 0.1e-3,
         large_threshold: 0.5e-3,
     };
-    let opts = RunOptions {
-        no_log: true,
-        ..Default::default()
-    };
-    let res = ramp_down(&scene, &ramp, &opts, &mut |_, _| {}).unwrap_or_else(|e| panic!("{e}"));
+    let res = run_ramp(&scene, &ramp);
     eprintln!(
         "ramp 250 -> 195 km/h: {:.3} mm at the start (rate {:?}), critical speed {:?} km/h, large cycle to {:?} km/h",
         res.amplitude_at_start * 1e3,
@@ -149,11 +150,7 @@ fn a_decaying_disturbance_is_not_reported_as_a_critical_speed() {
         threshold: 0.1e-3,
         large_threshold: 0.5e-3,
     };
-    let opts = RunOptions {
-        no_log: true,
-        ..Default::default()
-    };
-    let res = ramp_down(&scene, &ramp, &opts, &mut |_, _| {}).unwrap_or_else(|e| panic!("{e}"));
+    let res = run_ramp(&scene, &ramp);
     eprintln!(
         "ramp 185 -> 150 km/h after 30 m: {:.3} mm at the start, rate {:?}, critical speed {:?}, large cycle to {:?} km/h",
         res.amplitude_at_start * 1e3,
