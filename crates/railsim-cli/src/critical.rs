@@ -117,6 +117,9 @@ pub fn run_critical(a: &CriticalArgs) -> Result<ExitCode> {
     if let Some(png) = &a.png {
         crate::chart::check_png_name("--png", png)?;
     }
+    if let Some(csv) = &a.csv {
+        crate::check_extension("--csv", csv, &["csv"])?;
+    }
     let path = a
         .scene
         .clone()

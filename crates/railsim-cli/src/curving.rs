@@ -80,6 +80,10 @@ pub struct CurvingArgs {
 }
 
 pub fn run_curving(a: &CurvingArgs) -> Result<ExitCode> {
+    // (before the study, which takes minutes)
+    if let Some(csv) = &a.csv {
+        crate::check_extension("--csv", csv, &["csv"])?;
+    }
     let path = a
         .scene
         .clone()

@@ -194,6 +194,18 @@ fn out_of_range_options_are_refused_before_any_work() {
             "--png branch.jpg: expected a file name ending in .png, found extension \"jpg\"",
         ),
         (
+            &["modes", "--csv", "modes.png"][..],
+            "--csv modes.png: expected a file name ending in .csv, found extension \"png\"",
+        ),
+        (
+            &["critical-speed", "--csv", "branch"][..],
+            "--csv branch: expected a file name ending in .csv, found no extension",
+        ),
+        (
+            &["curving", "--csv", "table.txt"][..],
+            "--csv table.txt: expected a file name ending in .csv, found extension \"txt\"",
+        ),
+        (
             &["modes", "--speed-kmh", "1e-9"][..],
             "--speed-kmh: expected a number from 0.01 to 1500",
         ),
