@@ -302,8 +302,7 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
                 format!(
                     "its amplitude before the ramp ({:.3} mm) was decaying ({}; a limit cycle decays no faster than {}/s)",
                     res.amplitude_at_start * 1e3,
-                    res.rate_at_start
-                        .map_or("fewer than four half waves".into(), |g| format!("{g:.3}/s")),
+                    rate_text(res.rate_at_start),
                     railsim_sim::stability::SUSTAINED_RATE
                 )
             };
@@ -331,16 +330,20 @@ fn ramp(a: &CriticalArgs, path: &std::path::Path, scene: &Scene) -> Result<ExitC
     }
 }
 
+/// A growth rate before the ramp, or why there is none.
+fn rate_text(rate: Option<f64>) -> String {
+    rate.map_or("unknown (fewer than four half waves)".into(), |g| {
+        format!("{g:.3}/s")
+    })
+}
+
 /// The branch as a table: per 10 km/h band of the ramp, the largest amplitude of each wheelset.
 fn print_branch(res: &RampResult, r: &RampDown) -> Result<()> {
     outln!(
         "before the ramp at {:.1} km/h: largest amplitude {:.3} mm, growth rate {}",
         r.v_start * 3.6,
         res.amplitude_at_start * 1e3,
-        res.rate_at_start
-            .map_or("unknown (fewer than four half waves)".into(), |g| format!(
-                "{g:.3}/s"
-            ))
+        rate_text(res.rate_at_start)
     );
     let band = 10.0 / 3.6;
     let n_bands = ((r.v_start - r.v_end) / band).ceil() as usize;

@@ -336,42 +336,41 @@ pub fn ramp_down(
                     .collect()
             })
             .collect();
-    // the limit cycle at the start: the last two half cycles before the ramp, per wheelset
-    let last_before = |b: &[BranchPoint], k: usize| -> Vec<BranchPoint> {
-        let mut v: Vec<BranchPoint> = b
-            .iter()
-            .rev()
-            .filter(|p| p.t < ramp_start)
-            .take(k)
-            .copied()
-            .collect();
-        v.reverse();
-        v
-    };
-    let start_amplitude = |b: &[BranchPoint]| {
-        last_before(b, 2)
-            .iter()
-            .map(|p| p.amplitude)
-            .fold(0.0, f64::max)
-    };
-    let amplitude_at_start = branch
+    // the limit cycle at the start, per wheelset: its last half cycles before the ramp (the
+    // last two give the amplitude, all of them the growth rate)
+    let before: Vec<Vec<HalfCycle>> = branch
         .iter()
-        .map(|b| start_amplitude(b))
-        .fold(0.0, f64::max);
-    // ... and whether it is one: the wheelset with the largest amplitude there does not decay
-    let rate_at_start = branch
-        .iter()
-        .max_by(|a, b| start_amplitude(a).total_cmp(&start_amplitude(b)))
-        .and_then(|b| {
-            let c: Vec<HalfCycle> = last_before(b, START_CYCLES)
+        .map(|b| {
+            let mut v: Vec<HalfCycle> = b
                 .iter()
+                .rev()
+                .filter(|p| p.t < ramp_start)
+                .take(START_CYCLES)
                 .map(|p| HalfCycle {
                     t: p.t,
                     amplitude: p.amplitude,
                 })
                 .collect();
-            growth_rate(&c, f64::NEG_INFINITY)
-        });
+            v.reverse();
+            v
+        })
+        .collect();
+    let start_amplitude = |c: &[HalfCycle]| {
+        c.iter()
+            .rev()
+            .take(2)
+            .map(|p| p.amplitude)
+            .fold(0.0, f64::max)
+    };
+    let amplitude_at_start = before
+        .iter()
+        .map(|c| start_amplitude(c))
+        .fold(0.0, f64::max);
+    // ... and whether it is one: the wheelset with the largest amplitude there does not decay
+    let rate_at_start = before
+        .iter()
+        .max_by(|a, b| start_amplitude(a).total_cmp(&start_amplitude(b)))
+        .and_then(|c| growth_rate(c, f64::NEG_INFINITY));
     let hunting_at_start =
         amplitude_at_start >= ramp.threshold && rate_at_start.is_some_and(|r| r >= SUSTAINED_RATE);
     let last_at = |level: f64| {
