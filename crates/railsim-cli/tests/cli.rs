@@ -1,6 +1,6 @@
 //! The `railsim` command line: the README's main job, batch mode and exit codes.
 
-mod common;
+use crate::common;
 use common::railsim;
 
 #[test]

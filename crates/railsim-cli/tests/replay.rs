@@ -1,7 +1,7 @@
 //! `railsim replay`: listing, CSV export, PNG plots, truncated logs and bad input, on a log
 //! written here with `railsim_log`'s own writer.
 
-mod common;
+use crate::common;
 use common::railsim;
 
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! `railsim run`: a scene end to end through the binary, its log read back, re-run from the log,
 //! a run killed with SIGKILL, and bad scenes.
 
-mod common;
+use crate::common;
 use common::railsim;
 use common::root;
 

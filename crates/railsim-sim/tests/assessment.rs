@@ -3,7 +3,7 @@
 //! lateral acceleration; hunting exceeds Prud'homme's limit where stable running stays far
 //! below it.
 
-mod common;
+use crate::common;
 
 use common::run;
 

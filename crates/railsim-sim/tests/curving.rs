@@ -3,7 +3,7 @@
 //! each bogie runs out toward the outer rail with a positive angle of attack and the flange
 //! force, the trailing one nearer the centre; a right curve mirrors a left one.
 
-mod common;
+use crate::common;
 
 use railsim_sim::RunOptions;
 use railsim_sim::curving::{

@@ -7,7 +7,7 @@
 use railsim_sim::stability::bisect_growth;
 use railsim_sim::{RunOptions, RunSummary, Sample, SimError, Simulation};
 
-mod common;
+use crate::common;
 use common::{
     centred_contact, cone_effective_conicity, root, run, scene, wickens_reference, wickens_scene,
 };

@@ -3,7 +3,7 @@
 //! (elastic rails in two-point flange contact, a traction torque's reaction, a friction element
 //! loaded by an element between other members), every entry the pattern leaves out is zero in
 //! the dense Jacobian, and the grouped Jacobian equals the dense one.
-mod common;
+use crate::common;
 
 use common::{root, scene};
 use railsim_ode::linear::jacobian;

@@ -6,7 +6,7 @@ use railsim_sim::modal::{ModalOptions, Mode, linear_critical_speed, modes_at};
 use railsim_sim::stability::{growth_at, half_cycles};
 use railsim_sim::{RunOptions, Simulation};
 
-mod common;
+use crate::common;
 use common::{centred_contact, manchester_polach, scene, wickens_reference, wickens_scene};
 
 /// The oscillatory mode whose largest component is `coord`, least damped first.

@@ -4,7 +4,7 @@
 //! static start there is refused (the members placed on their own frames miss each other by
 //! the curve's versines), so without it a run in a curve must begin on the tangent before it.
 
-mod common;
+use crate::common;
 
 use railsim_contact::{ContactModelKind, TravelOptions};
 use railsim_sim::curving::{CurveCase, CurvingRun, QuasiStatic, quasi_static_curving};

@@ -1,7 +1,7 @@
 //! Rails that change along the track (`[[rail_section]]` in the track file): each wheel is
 //! evaluated on the rails under it, so a vehicle crossing a change of rail inclination takes
 //! it wheelset by wheelset, and runs on like a vehicle on the new rails throughout.
-mod common;
+use crate::common;
 
 use common::{manchester_polach, run, state_index};
 use railsim_sim::Sample;

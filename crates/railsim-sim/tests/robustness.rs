@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-mod common;
+use crate::common;
 
 use railsim_sim::{RunOptions, Scene, SimError, Simulation};
 

@@ -3,7 +3,7 @@
 //! runs on either side of it. (The bisection on the growth rate is checked against the Wickens
 //! formula in `dynamics.rs`.)
 
-mod common;
+use crate::common;
 
 use railsim_sim::stability::{RampDown, SUSTAINED_RATE, growth_at, ramp_down};
 use railsim_sim::{RunOptions, Scene};

@@ -2,7 +2,7 @@
 //! DOPRI5's step but stability, and a weakly damped stiff mode on the edge of the stability
 //! region then keeps an oscillation whose size is set by the tolerance, not by the physics
 //! (docs/models/ode.md, "Stiffness detection"; validation §14).
-mod common;
+use crate::common;
 
 use common::{run, scene, state_index};
 use railsim_sim::{RunSummary, Sample};

@@ -2,7 +2,7 @@
 //! oscillator (dry friction with a stick stiffness, constant or load-dependent sliding force)
 //! against its closed-form decrements, and a damper's table against the bushing's viscous
 //! damping.
-mod common;
+use crate::common;
 
 use common::{root, scene};
 use railsim_sim::{RunOptions, Simulation};
