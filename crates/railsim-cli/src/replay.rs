@@ -78,6 +78,26 @@ fn rerun(reader: &railsim_log::LogReader) -> Result<ExitCode> {
             );
         }
     }
+    // The data files (a log written before stop 40 lists none): each must read as it did.
+    let data = sources
+        .get(crate::run::DATA_FILES)
+        .map_or("", String::as_str);
+    for line in data.lines() {
+        let Some((logged, path)) = line.split_once(' ') else {
+            anyhow::bail!(
+                "the log's {} line {line:?} is not `<digest> <path>`",
+                crate::run::DATA_FILES
+            );
+        };
+        let bytes = std::fs::read(path)
+            .with_context(|| format!("reading the data file {path} named in the log"))?;
+        let now = crate::run::file_digest(&bytes);
+        if now != logged {
+            anyhow::bail!(
+                "the data file {path} changed since the log was written ({now}, logged {logged}); cannot re-run it as logged"
+            );
+        }
+    }
     let scene_path = PathBuf::from(&sources["scene_path"]);
     let mut scene = railsim_sim::Scene::from_file(&scene_path)?;
     if let Some(note) = assess_as_logged(reader.scene(), &mut scene) {

@@ -43,7 +43,9 @@ pub struct RunArgs {
 
 /// The texts a log stores so that it describes itself and can be re-run: the scene, vehicle
 /// and track files, with their absolute paths (relative ones were relative to the directory the
-/// run started in, so `replay --rerun` failed from any other).
+/// run started in, so `replay --rerun` failed from any other), and under [`DATA_FILES`] a digest
+/// and the absolute path of every data file the scene read (profiles, irregularities: they can
+/// be large, so only their digests).
 pub fn sources(scene_path: &Path, scene: &Scene) -> BTreeMap<String, String> {
     let mut m = BTreeMap::new();
     for (key, path) in [
@@ -52,12 +54,41 @@ pub fn sources(scene_path: &Path, scene: &Scene) -> BTreeMap<String, String> {
         ("track", scene.track_file.as_path()),
     ] {
         if let Ok(text) = std::fs::read_to_string(path) {
-            let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
             m.insert(key.to_owned(), text);
-            m.insert(format!("{key}_path"), absolute.display().to_string());
+            m.insert(format!("{key}_path"), absolute(path));
         }
     }
+    let mut lines = String::new();
+    for path in scene.data_files() {
+        if let Ok(bytes) = std::fs::read(path) {
+            lines += &format!("{} {}\n", file_digest(&bytes), absolute(path));
+        }
+    }
+    if !lines.is_empty() {
+        m.insert(DATA_FILES.to_owned(), lines);
+    }
     m
+}
+
+/// The key of [`sources`] under which the data files are listed, one per line:
+/// `fnv1a64:<16 hex digits> <absolute path>`.
+pub const DATA_FILES: &str = "data_files";
+
+fn absolute(path: &Path) -> String {
+    let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+    absolute.display().to_string()
+}
+
+/// A file's FNV-1a 64-bit digest, as written in [`DATA_FILES`] (Fowler, Noll and Vo; offset
+/// basis 0xcbf29ce484222325, prime 0x100000001b3, IETF draft-eastlake-fnv): enough to tell a
+/// changed file from its logged version, not meant to resist a forger.
+pub fn file_digest(bytes: &[u8]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("fnv1a64:{h:016x}")
 }
 
 pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {

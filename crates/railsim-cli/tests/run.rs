@@ -142,6 +142,81 @@ fn runs_a_scene_writes_a_readable_log_and_reruns_it_identically() {
 /// The README's first example runs to its end: the Klingel scene (a free conical wheelset,
 /// whose kinematic mode is slightly unstable) reached the 40 mm derailment limit at 9.7 s when it
 /// ran at 10 m/s from 3 mm; now 5 m/s from 1 mm, 100 m.
+/// A log records the digests of the data files its scene read (rail profile, measured
+/// irregularities), so that `replay --rerun` names the one that changed or went missing instead
+/// of reporting only that the states differ.
+#[test]
+fn a_rerun_names_the_data_file_that_changed_since_the_log() {
+    let dir = temp_dir("data-files");
+    std::fs::create_dir_all(dir.join("irregularities")).unwrap();
+    let csv = dir.join("irregularities/example_measured.csv");
+    std::fs::copy(
+        root().join("tracks/irregularities/example_measured.csv"),
+        &csv,
+    )
+    .unwrap();
+    let rail = dir.join("rail.prr");
+    std::fs::copy(root().join("tracks/profiles/MBench_UIC60_v3.prr"), &rail).unwrap();
+    let track = std::fs::read_to_string(root().join("tracks/straight_measured_example.toml"))
+        .unwrap()
+        .replace(
+            r#"rail_profile = { left = "uic60", right = "uic60" }"#,
+            r#"rail_profile = { left = "rail.prr", right = "rail.prr" }"#,
+        );
+    assert!(track.contains("rail.prr"));
+    std::fs::write(dir.join("track.toml"), track).unwrap();
+    let scene = dir.join("scene.toml");
+    let vehicle = root().join("scenes/vehicles/wheelset_free_cone.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "name = \"data files\"\nvehicle = {vehicle:?}\ntrack = \"track.toml\"\nspeed_kmh = 18\n\
+             distance_m = 1\n[contact]\nmodel = \"polach\"\n[log]\nrate_hz = 200\n"
+        ),
+    )
+    .unwrap();
+    let log = dir.join("d.mcap");
+    let (log_s, scene_s) = (log.to_str().unwrap(), scene.to_str().unwrap());
+    let (code, _, err) = railsim(&["run", scene_s, "--out", log_s, "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    // one line per file, the rail profile of both rails once
+    let reader = railsim_log::LogReader::open(&log).unwrap();
+    let listed = reader.metadata()["railsim_sources"]["data_files"].clone();
+    let abs = |p: &std::path::Path| std::fs::canonicalize(p).unwrap().display().to_string();
+    assert_eq!(listed.lines().count(), 2, "{listed}");
+    for (line, file) in listed.lines().zip([&rail, &csv]) {
+        assert!(
+            line.starts_with("fnv1a64:") && line.ends_with(&format!(" {}", abs(file))),
+            "{line}"
+        );
+    }
+    let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("agrees"), "{out}");
+    // one irregularity value changed by 1 µm: named, and no re-run
+    let text = std::fs::read_to_string(&csv).unwrap();
+    std::fs::write(&csv, text.replacen("0.5,0.030,", "0.5,0.031,", 1)).unwrap();
+    let (code, out, err) = railsim(&["replay", log_s, "--rerun"]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains(&format!(
+            "the data file {} changed since the log was written",
+            abs(&csv)
+        )) && !out.contains("re-ran"),
+        "{out}{err}"
+    );
+    // a data file gone: named
+    std::fs::write(&csv, text).unwrap();
+    std::fs::remove_file(&rail).unwrap();
+    let (code, _, err) = railsim(&["replay", log_s, "--rerun"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("rail.prr") && err.contains("named in the log"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn the_readmes_klingel_scene_runs_to_its_end() {
     let (code, out, err) = railsim(&[

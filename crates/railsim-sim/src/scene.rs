@@ -470,6 +470,18 @@ impl Scene {
         self.assessment.rate_hz = Some(self.log.rate_hz);
     }
 
+    /// The data files the scene read besides the scene, vehicle and track files: the vehicle's
+    /// wheel profile files, then the track's rail profile and irregularity files, each once.
+    pub fn data_files(&self) -> Vec<&Path> {
+        let mut files = self.vehicle.data_files();
+        for path in self.track.data_files() {
+            if !files.contains(&path) {
+                files.push(path);
+            }
+        }
+        files
+    }
+
     /// Read and compile a scene file; the vehicle and track paths are resolved from its
     /// directory.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {

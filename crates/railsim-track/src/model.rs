@@ -83,6 +83,8 @@ pub struct TrackModel {
     rail_sections: Vec<RailSection>,
     alignment: Alignment,
     irregularities: Option<IrregularitySeries>,
+    /// The CSV file of `measured` irregularities (resolved; it was read).
+    irregularity_file: Option<PathBuf>,
     rail_support: Option<RailSupport>,
 }
 
@@ -304,8 +306,12 @@ impl TrackModel {
 
         // Irregularities.
         let mut irregularities = None;
+        let mut irregularity_file = None;
         if let Some(irr) = &spec.irregularities {
             irregularities = check_irregularities(&mut sink, irr, &dir, track_length);
+            if let (Some(_), Some(file)) = (&irregularities, &irr.get_ref().file) {
+                irregularity_file = Some(dir.join(file.get_ref()));
+            }
         }
 
         let rail_sections = check_rail_sections(
@@ -341,6 +347,7 @@ impl TrackModel {
             rail_sections,
             alignment,
             irregularities,
+            irregularity_file,
             rail_support,
         })
     }
@@ -442,6 +449,24 @@ impl TrackModel {
     /// The irregularity series, `None` on ideal track.
     pub fn irregularities(&self) -> Option<&IrregularitySeries> {
         self.irregularities.as_ref()
+    }
+
+    /// The data files the track read besides its own: rail profile files of every section, then
+    /// the CSV of measured irregularities; each once, in that order (a log records them, so that
+    /// a re-run can tell when one has changed).
+    pub fn data_files(&self) -> Vec<&Path> {
+        let mut files: Vec<&Path> = Vec::new();
+        let profiles = self.rail_sections.iter().flat_map(|r| &r.profiles);
+        let paths = profiles.filter_map(|p| match p {
+            RailProfile::File(path) => Some(path.as_path()),
+            RailProfile::Uic60 => None,
+        });
+        for path in paths.chain(self.irregularity_file.as_deref()) {
+            if !files.contains(&path) {
+                files.push(path);
+            }
+        }
+        files
     }
 
     /// The elastic rail support, `None` for rigid rails.

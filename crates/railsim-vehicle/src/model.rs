@@ -743,6 +743,20 @@ impl VehicleModel {
         VehicleModel::from_toml_str(&text, &name, base)
     }
 
+    /// The wheel profile files the vehicle read (resolved), each once, in wheelset order (a log
+    /// records them, so that a re-run can tell when one has changed).
+    pub fn data_files(&self) -> Vec<&Path> {
+        let mut files: Vec<&Path> = Vec::new();
+        for p in self.wheelsets.iter().flat_map(|w| &w.profiles) {
+            if let WheelProfile::File(path) = p
+                && !files.contains(&path.as_path())
+            {
+                files.push(path);
+            }
+        }
+        files
+    }
+
     /// Read and compile vehicle TOML text. Every problem (syntax, unknown keys, wrong types,
     /// missing keys, ranges, references) is reported in one [`VehicleError::Invalid`], sorted by
     /// position.
