@@ -324,10 +324,21 @@ fn print_modes(r: &ModalAnalysis, a: &ModesArgs) -> Result<()> {
             m.re,
             shape_text(m),
             match m.growth() {
+                _ if m.is_divergent() => "  DIVERGENT",
                 g if g > 0.0 => "  UNSTABLE",
                 0.0 => "  neutral",
                 _ => "",
             }
+        );
+    }
+    // a growing real mode is an instability even where the list leaves real modes out
+    if !a.all
+        && let Some(m) = r.divergent()
+    {
+        outln!(
+            "  warning: a non-oscillatory mode diverges: Re λ {:+.4}/s ({}); --all lists it",
+            m.re,
+            shape_text(m)
         );
     }
     Ok(())
@@ -436,6 +447,14 @@ pub fn linear(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
         v,
         res.scan.len()
     );
+    if let Some((vd, m)) = &res.divergent {
+        outln!(
+            "warning: a non-oscillatory mode diverges at {:.2} km/h, the lowest speed analysed at which one does (Re λ {:+.4}/s, {}): an instability without oscillation, which this critical speed does not count",
+            vd * 3.6,
+            m.re,
+            shape_text(m)
+        );
+    }
     Ok(ExitCode::SUCCESS)
 }
 

@@ -96,6 +96,12 @@ impl Mode {
         self.frequency >= MIN_FREQUENCY
     }
 
+    /// Whether it is a divergent mode: not oscillatory, growing faster than [`DIVERGENT_RATE`]
+    /// (a static instability, which the linear critical speed of hunting does not count).
+    pub fn is_divergent(&self) -> bool {
+        !self.is_oscillatory() && self.re > DIVERGENT_RATE
+    }
+
     /// \[1/s\] its growth rate for the stability decision: Re λ, or 0 for a neutral mode, whose
     /// |Re λ| is within [`NEUTRAL`] of |λ| (an undamped mode of the model's own physics, such as
     /// a dry-friction element linearised as stuck with nothing else to damp its mass: its real
@@ -115,6 +121,13 @@ impl Mode {
 /// far below the damping ratios the search resolves (its bisection ends at a relative speed
 /// tolerance, where the hunting mode's ratio is some 1e-4).
 pub const NEUTRAL: f64 = 1e-8;
+
+/// \[1/s\] a non-oscillatory mode growing faster than this is divergent ([`Mode::is_divergent`]):
+/// an e-folding time of 1000 s, some 28 km at 100 km/h, longer than any run, and far above the
+/// round-off of a zero eigenvalue (the free wheelset's longitudinal rigid-body modes in the
+/// Klingel scene: |Re λ| below 1e-6/s at 18–300 km/h, `railsim modes --all --csv`). The
+/// Manchester vehicle's real modes are all damped, the slowest at −23.5/s.
+pub const DIVERGENT_RATE: f64 = 1e-3;
 
 /// The modes of a scene's vehicle at one speed.
 #[derive(Debug, Clone)]
@@ -140,6 +153,11 @@ impl ModalAnalysis {
     /// The least damped oscillatory mode (largest real part), if any.
     pub fn least_stable(&self) -> Option<&Mode> {
         self.modes.iter().find(|m| m.is_oscillatory())
+    }
+
+    /// The fastest-growing divergent mode ([`Mode::is_divergent`]), if any.
+    pub fn divergent(&self) -> Option<&Mode> {
+        self.modes.iter().find(|m| m.is_divergent())
     }
 }
 
@@ -372,6 +390,10 @@ pub struct LinearCritical {
     /// Every analysis made, in the order made: (speed, real part of the least damped
     /// oscillatory mode).
     pub scan: Vec<(f64, f64)>,
+    /// The lowest speed analysed \[m/s\] at which a mode diverges ([`Mode::is_divergent`]), with
+    /// its fastest-growing divergent mode there: an instability without oscillation, which the
+    /// critical speed above does not count; `None` when no analysis found one.
+    pub divergent: Option<(f64, Mode)>,
 }
 
 /// What a vehicle is linearised about.
@@ -435,7 +457,10 @@ pub fn linear_critical_speed(
 /// linearised about `about`, becomes unstable: `n_scan` equal intervals are scanned from `lo`
 /// for the first one over which the least damped mode's real part changes sign from negative
 /// to positive, and that interval is bisected until it is narrower than `rel_tol` of its upper
-/// end. Errors when the vehicle is already unstable at `lo` or stable up to `hi`.
+/// end. Errors when the vehicle is already unstable at `lo` or stable up to `hi`. A mode that
+/// diverges without oscillating ([`Mode::is_divergent`]) does not end the search; the lowest
+/// speed analysed at which one does is reported beside the result
+/// ([`LinearCritical::divergent`]) and in those errors.
 pub fn linear_critical_speed_about(
     scene: &Scene,
     about: &Linearisation,
@@ -445,19 +470,59 @@ pub fn linear_critical_speed_about(
     rel_tol: f64,
     progress: &mut dyn FnMut(&ModalAnalysis),
 ) -> Result<LinearCritical, SimError> {
-    let bad = |message: String| SimError::Study {
-        message: format!("linear critical speed of scene '{}': {message}", scene.name),
+    critical_speed_search(&scene.name, (lo, hi), n_scan, rel_tol, &mut |v| {
+        let a = about.modes(scene, v, opts)?;
+        progress(&a);
+        Ok(a)
+    })
+}
+
+/// The search of [`linear_critical_speed_about`] over the analyses that `analyse` makes at a
+/// speed (a scene's name for the messages).
+fn critical_speed_search(
+    name: &str,
+    (lo, hi): (f64, f64),
+    n_scan: usize,
+    rel_tol: f64,
+    analyse: &mut dyn FnMut(f64) -> Result<ModalAnalysis, SimError>,
+) -> Result<LinearCritical, SimError> {
+    let mut divergent: Option<(f64, Mode)> = None;
+    // what the search saw of divergent modes, for its result and its errors
+    let divergence_text = |d: &Option<(f64, Mode)>| match d {
+        Some((v, m)) => format!(
+            "; note: a non-oscillatory mode diverges at {:.2} km/h (Re λ = {:+.4}/s, {})",
+            v * 3.6,
+            m.re,
+            m.shape.first().map_or("", |s| s.0.as_str())
+        ),
+        None => String::new(),
+    };
+    let bad = |message: String, d: &Option<(f64, Mode)>| SimError::Study {
+        message: format!(
+            "linear critical speed of scene '{name}': {message}{}",
+            divergence_text(d)
+        ),
     };
     if !(lo > 0.0 && hi > lo && hi.is_finite() && rel_tol > 0.0 && n_scan >= 1) {
-        return Err(bad(format!(
-            "expected 0 < lo < hi (found {lo} and {hi} m/s), a positive tolerance ({rel_tol}) and at least one scan interval ({n_scan})"
-        )));
+        return Err(bad(
+            format!(
+                "expected 0 < lo < hi (found {lo} and {hi} m/s), a positive tolerance ({rel_tol}) and at least one scan interval ({n_scan})"
+            ),
+            &None,
+        ));
     }
     let mut scan = Vec::new();
     // each analysis: the least stable oscillatory mode's real part, and all oscillatory modes
-    let mut eval = |v: f64, scan: &mut Vec<(f64, f64)>| -> Result<(f64, Vec<Mode>), SimError> {
-        let a = about.modes(scene, v, opts)?;
-        progress(&a);
+    let mut eval = |v: f64,
+                    scan: &mut Vec<(f64, f64)>,
+                    divergent: &mut Option<(f64, Mode)>|
+     -> Result<(f64, Vec<Mode>), SimError> {
+        let a = analyse(v)?;
+        if let Some(m) = a.divergent()
+            && divergent.as_ref().is_none_or(|d| v < d.0)
+        {
+            *divergent = Some((v, m.clone()));
+        }
         // the largest growth rate of the oscillatory modes, neutral ones counting 0 (stable)
         let g = a
             .modes
@@ -466,10 +531,10 @@ pub fn linear_critical_speed_about(
             .map(Mode::growth)
             .reduce(f64::max)
             .ok_or_else(|| {
-                bad(format!(
-                    "the vehicle has no oscillatory mode at {:.2} km/h",
-                    v * 3.6
-                ))
+                bad(
+                    format!("the vehicle has no oscillatory mode at {:.2} km/h", v * 3.6),
+                    divergent,
+                )
             })?;
         scan.push((v, g));
         Ok((
@@ -477,17 +542,20 @@ pub fn linear_critical_speed_about(
             a.modes.into_iter().filter(Mode::is_oscillatory).collect(),
         ))
     };
-    let (mut a, (mut ga, mut modes_a)) = (lo, eval(lo, &mut scan)?);
+    let (mut a, (mut ga, mut modes_a)) = (lo, eval(lo, &mut scan, &mut divergent)?);
     if ga > 0.0 {
-        return Err(bad(format!(
-            "an oscillatory mode is already unstable at {:.2} km/h (Re λ = {ga:.4}/s): start lower",
-            lo * 3.6
-        )));
+        return Err(bad(
+            format!(
+                "an oscillatory mode is already unstable at {:.2} km/h (Re λ = {ga:.4}/s): start lower",
+                lo * 3.6
+            ),
+            &divergent,
+        ));
     }
     let mut upper = None;
     for k in 1..=n_scan {
         let v = lo + (hi - lo) * k as f64 / n_scan as f64;
-        let (g, modes) = eval(v, &mut scan)?;
+        let (g, modes) = eval(v, &mut scan, &mut divergent)?;
         if g > 0.0 {
             upper = Some((v, modes));
             break;
@@ -495,14 +563,17 @@ pub fn linear_critical_speed_about(
         (a, ga, modes_a) = (v, g, modes);
     }
     let Some((mut b, mut modes_b)) = upper else {
-        return Err(bad(format!(
-            "every oscillatory mode is damped up to {:.2} km/h (the least damped: Re λ = {ga:.4}/s): search higher",
-            hi * 3.6
-        )));
+        return Err(bad(
+            format!(
+                "every oscillatory mode is damped up to {:.2} km/h (the least damped: Re λ = {ga:.4}/s): search higher",
+                hi * 3.6
+            ),
+            &divergent,
+        ));
     };
     while b - a > rel_tol * b {
         let v = 0.5 * (a + b);
-        let (g, modes) = eval(v, &mut scan)?;
+        let (g, modes) = eval(v, &mut scan, &mut divergent)?;
         if g <= 0.0 {
             (a, modes_a) = (v, modes);
         } else {
@@ -535,6 +606,7 @@ pub fn linear_critical_speed_about(
         critical_speed: a + (b - a) * frac,
         mode,
         scan,
+        divergent,
     })
 }
 
@@ -606,4 +678,92 @@ pub fn animate_mode(
         (t, x)
     });
     sim.record_states(&study, path, 0.0, &mut frames)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mode(re: f64, frequency: f64, name: &str) -> Mode {
+        let im = 2.0 * std::f64::consts::PI * frequency;
+        Mode {
+            re,
+            im,
+            frequency,
+            damping_ratio: -re / re.hypot(im),
+            shape: vec![(name.to_owned(), 1.0)],
+            vector: Vec::new(),
+        }
+    }
+
+    /// A spectrum at speed v \[m/s\]: a hunting mode losing its damping at 50 m/s and, from
+    /// `diverges_from` on, a real mode growing at 0.01/s.
+    fn spectrum(v: f64, diverges_from: f64) -> ModalAnalysis {
+        let mut modes = vec![
+            mode(0.2 * (v - 50.0), 3.0, "ws1.y"),
+            mode(-30.0, 0.0, "ws1.x"),
+        ];
+        if v >= diverges_from {
+            modes.push(mode(0.01, 0.0, "ws2.yaw"));
+        }
+        modes.sort_by(|p, q| q.re.total_cmp(&p.re));
+        ModalAnalysis {
+            speed: v,
+            modes,
+            states: 4,
+            residual: (String::new(), 0.0),
+            equilibrium: Vec::new(),
+            time: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_divergent_mode_is_reported_beside_the_critical_speed_and_in_the_errors() {
+        let run = |range: (f64, f64), diverges_from: f64| {
+            critical_speed_search("t", range, 10, 1e-4, &mut |v| {
+                Ok(spectrum(v, diverges_from))
+            })
+        };
+        // hunting at 50 m/s; the real mode grows from 35 m/s: the scan sees it first at 36
+        let r = run((10.0, 100.0), 35.0).unwrap();
+        assert!(
+            (r.critical_speed - 50.0).abs() < 0.01,
+            "{}",
+            r.critical_speed
+        );
+        let (v, m) = r.divergent.expect("the divergent mode");
+        assert!(
+            v == 37.0 && m.re == 0.01 && m.shape[0].0 == "ws2.yaw",
+            "{v} {m:?}"
+        );
+        // none: none reported
+        assert!(
+            run((10.0, 100.0), f64::INFINITY)
+                .unwrap()
+                .divergent
+                .is_none()
+        );
+        // found on a bisection only: the lowest speed analysed at which it grows
+        let r = run((10.0, 100.0), 49.0).unwrap();
+        assert!(
+            r.divergent
+                .as_ref()
+                .is_some_and(|d| d.0 >= 49.0 && d.0 < 50.0),
+            "{:?}",
+            r.divergent
+        );
+        // a search that ends in an error says the vehicle diverges (first seen at 22 m/s)
+        let e = run((10.0, 40.0), 20.0).unwrap_err().to_string();
+        assert!(
+            e.contains("search higher")
+                && e.contains(
+                    "a non-oscillatory mode diverges at 79.20 km/h (Re λ = +0.0100/s, ws2.yaw)"
+                ),
+            "{e}"
+        );
+        // a real mode within round-off of zero, or decaying, is not divergent
+        assert!(!mode(0.5 * DIVERGENT_RATE, 0.0, "x").is_divergent());
+        assert!(!mode(0.5, 1.0, "x").is_divergent());
+        assert!(mode(2.0 * DIVERGENT_RATE, 0.0, "x").is_divergent());
+    }
 }
