@@ -461,6 +461,61 @@ fn curving_tabulates_a_case_and_rejects_bad_settings() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A divergent (growing, non-oscillatory) mode, made with a synthetic negative lateral stiffness
+/// of 200 MN/m (a force table) on the Wickens wheelset: `railsim modes` warns of it where its
+/// list leaves real modes out and marks it `DIVERGENT` with `--all`; the linear critical-speed
+/// search, which counts oscillatory modes only, says so in its error.
+#[test]
+fn a_divergent_mode_is_reported_by_modes_and_the_linear_search() {
+    let dir = common::temp_dir("cli", "divergent");
+    let root = common::root();
+    let vehicle = std::fs::read_to_string(root.join("vehicles/wheelset_springs.toml")).unwrap()
+        + "\n[[force]]\nname = \"negative\"\ntype = \"table\"\nbody1 = \"track\"\nbody2 = \"ws\"\n\
+           point_m = [0.0, 0.0, 0.46]\ndirection = \"y\"\ndeflection_mm = [0, 10]\n\
+           force_n = [0, -2000000]\n";
+    std::fs::write(dir.join("v.toml"), vehicle).unwrap();
+    let track = root.join("tracks/straight.toml");
+    let scene_text = std::fs::read_to_string(root.join("scenes/wheelset_springs_critical.toml"))
+        .unwrap()
+        .replace("\"../vehicles/wheelset_springs.toml\"", "\"v.toml\"")
+        .replace("\"../tracks/straight.toml\"", &format!("{:?}", track));
+    assert!(scene_text.contains("\"v.toml\""));
+    let scene = dir.join("s.toml");
+    std::fs::write(&scene, scene_text).unwrap();
+    let scene = scene.to_str().unwrap();
+    let (code, out, err) = railsim(&["modes", scene, "--speed-kmh", "100"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("warning: a non-oscillatory mode diverges: Re λ +")
+            && out.contains("(ws.y 1.00"),
+        "{out}"
+    );
+    let (code, out, err) = railsim(&["modes", scene, "--speed-kmh", "100", "--all"]);
+    assert_eq!(code, 0, "{err}");
+    let line = out.lines().find(|l| l.ends_with("DIVERGENT")).unwrap_or("");
+    assert!(line.contains("ws.y 1.00"), "{out}");
+    assert!(!out.contains("warning"), "{out}");
+    let (code, _, err) = railsim(&[
+        "critical-speed",
+        scene,
+        "--method",
+        "linear",
+        "--from-kmh",
+        "300",
+        "--to-kmh",
+        "100",
+        "--scan",
+        "2",
+        "--quiet",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("note: a non-oscillatory mode diverges at 100.00 km/h"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// `railsim modes` and `railsim critical-speed --method linear` on the Wickens wheelset
 /// (`scenes/wheelset_springs_critical.toml`, linear creep): the modes table marks the hunting
 /// mode unstable above the critical speed, the linear method finds it (301.7 m/s, as the
