@@ -79,15 +79,12 @@ fn absolute(path: &Path) -> String {
     absolute.display().to_string()
 }
 
-/// A file's FNV-1a 64-bit digest, as written in [`DATA_FILES`] (Fowler, Noll and Vo; offset
-/// basis 0xcbf29ce484222325, prime 0x100000001b3, IETF draft-eastlake-fnv): enough to tell a
-/// changed file from its logged version, not meant to resist a forger.
+/// A file's FNV-1a 64-bit digest ([`railsim_sim::run::fnv1a`], the state digest's hash), as
+/// written in [`DATA_FILES`]: enough to tell a changed file from its logged version, not meant
+/// to resist a forger.
 pub fn file_digest(bytes: &[u8]) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
+    let mut h = railsim_sim::run::FNV1A_OFFSET;
+    railsim_sim::run::fnv1a(&mut h, bytes);
     format!("fnv1a64:{h:016x}")
 }
 

@@ -188,8 +188,14 @@ pub struct RunOptions {
     pub sources: BTreeMap<String, String>,
 }
 
-fn fnv1a(h: &mut u64, x: f64) {
-    for b in x.to_bits().to_le_bytes() {
+/// The offset basis of the 64-bit FNV-1a hash (Fowler, Noll and Vo; IETF draft-eastlake-fnv):
+/// the start of [`fnv1a`].
+pub const FNV1A_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// Feed `bytes` into the 64-bit FNV-1a hash `h` (prime 0x100000001b3), which starts at
+/// [`FNV1A_OFFSET`]: the runs' state digest, and the digests of the data files a log lists.
+pub fn fnv1a(h: &mut u64, bytes: &[u8]) {
+    for &b in bytes {
         *h ^= u64::from(b);
         *h = h.wrapping_mul(0x0000_0100_0000_01b3);
     }
@@ -1371,7 +1377,7 @@ impl LoopState {
                 curves,
                 bogies,
             },
-            digest: 0xcbf2_9ce4_8422_2325,
+            digest: FNV1A_OFFSET,
             sample: Sample {
                 t: 0.0,
                 t_ns: 0,
@@ -1419,7 +1425,7 @@ impl LoopState {
     /// values per sample), fold it into the maxima and digest.
     fn sample(&mut self, model: &SimModel, ws: &Workspace, t: f64, t_ns: u64, x: &[f64]) {
         for &xi in x {
-            fnv1a(&mut self.digest, xi);
+            fnv1a(&mut self.digest, &xi.to_bits().to_le_bytes());
         }
         let dist = ws.track_position - model.start;
         let smp = &mut self.sample;
