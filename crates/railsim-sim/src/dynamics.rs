@@ -207,8 +207,9 @@ pub struct Workspace {
     /// with a series stiffness, friction; 0 for other elements): the states' values at which the
     /// element is relaxed.
     pub series_delta: Vec<[f64; 2]>,
-    /// \[N\] per element: the magnitude of its force (the normal load of friction elements).
-    pub element_force: Vec<f64>,
+    /// \[N\] per element: its force on its second end in its local axes, preload included
+    /// (the normal load of friction elements, `railsim_vehicle::NormalLoad`).
+    pub element_force: Vec<[f64; 3]>,
     /// Per element: deflections and forces, filled only when `record` is set (for outputs).
     pub elements: Vec<ElementRecord>,
     /// The wheel and the message of the last failed contact evaluation (for the stop error).
@@ -233,7 +234,7 @@ impl Workspace {
             timing: false,
             cost: CostSplit::default(),
             series_delta: vec![[0.0; 2]; model.elements.len()],
-            element_force: vec![0.0; model.elements.len()],
+            element_force: vec![[0.0; 3]; model.elements.len()],
             elements: vec![ElementRecord::default(); model.elements.len()],
             failure: None,
         }
@@ -773,7 +774,7 @@ impl Dynamics<'_> {
                 let k = axis.index();
                 let i = el.internal.expect("friction elements carry a state");
                 // (the normal element comes earlier in `element_order`)
-                let load = normal.map_or(0.0, |j| self.ws.element_force[j.index()]);
+                let load = normal.map_or(0.0, |n| n.load(self.ws.element_force[n.element.index()]));
                 let f0 = force + coefficient * load;
                 if *rotational {
                     (mo[k], dx[i]) = friction_law(*stiffness, f0, rot[k], rot_rate[k], x[i]);
@@ -796,7 +797,7 @@ impl Dynamics<'_> {
                 let i = el
                     .internal
                     .expect("planar friction elements carry two states");
-                let load = normal.map_or(0.0, |j| self.ws.element_force[j.index()]);
+                let load = normal.map_or(0.0, |n| n.load(self.ws.element_force[n.element.index()]));
                 let f0 = force + coefficient * load;
                 let (fo, rate) = planar_friction_law(
                     *stiffness,
@@ -816,7 +817,7 @@ impl Dynamics<'_> {
             f[k] += el.preload[k];
             mo[k] += el.preload[3 + k];
         }
-        self.ws.element_force[ei] = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+        self.ws.element_force[ei] = f;
         if self.ws.record {
             let states = el.law.internal_states();
             let mut state = [0.0; 2];

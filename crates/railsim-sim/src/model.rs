@@ -678,8 +678,8 @@ impl SimModel {
                 normal: Some(j), ..
             } = &el.law
             {
-                c.extend(ends(&self.elements[j.index()]));
-                c.push(element_block + j.index());
+                c.extend(ends(&self.elements[j.element.index()]));
+                c.push(element_block + j.element.index());
             }
             couplings.push(c);
         }

@@ -139,7 +139,8 @@ fn the_pattern_holds_for_torque_reactions_and_friction_loaded_by_another_element
     text.push_str(
         "\n[[force]]\nname = \"rubbing\"\ntype = \"friction\"\nbody1 = \"carbody\"\n\
          body2 = \"bogie_front\"\npoint_m = [9.5, 0.0, 0.8]\ndirection = \"y\"\n\
-         stiffness_n_per_m = 1e7\nfriction_coefficient = 0.1\nnormal_element = \"primary_ws1_l\"\n",
+         stiffness_n_per_m = 1e7\nfriction_coefficient = 0.1\nnormal_element = \"primary_ws1_l\"\n\
+         normal_direction = \"-z\"\n",
     );
     let vehicle = dir.join("coupled.toml");
     std::fs::write(&vehicle, &text).unwrap();

@@ -472,6 +472,43 @@ pub enum Axis {
     Z,
 }
 
+/// How a friction element's normal load N follows from the force of its normal element: the
+/// force that element exerts on its second end (`body2`), in its own local axes, preload
+/// included.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalLoad {
+    /// The element whose force presses the rubbing surfaces together (never a friction element).
+    pub element: ForceElementId,
+    /// How its force gives N.
+    pub rule: NormalRule,
+}
+
+/// The rule of a [`NormalLoad`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NormalRule {
+    /// N = max(0, sign·F_axis): the component of the force on `body2` along the signed local
+    /// axis, where it presses; when it turns the other way the surfaces part and N = 0.
+    Along {
+        /// The local axis.
+        axis: Axis,
+        /// +1 or −1.
+        sign: f64,
+    },
+    /// N = |F|, the magnitude of the whole force, whatever its direction.
+    Magnitude,
+}
+
+impl NormalLoad {
+    /// \[N\] the normal load from the normal element's force `f` (on its `body2`, local axes).
+    #[inline]
+    pub fn load(&self, f: [f64; 3]) -> f64 {
+        match self.rule {
+            NormalRule::Along { axis, sign } => (sign * f[axis.index()]).max(0.0),
+            NormalRule::Magnitude => (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt(),
+        }
+    }
+}
+
 impl Axis {
     /// 0, 1 or 2.
     pub fn index(self) -> usize {
@@ -563,7 +600,7 @@ pub enum ForceLaw {
     /// Dry friction with a stick stiffness along one local axis, or about it when `rotational`
     /// ([`crate::suspension::friction_law`]). Internal state: the slider's position s (an
     /// angle when rotational); F = −k·(Δ − s), sliding at F0 = `force` + `coefficient`·N, N the
-    /// magnitude of the force of element `normal`.
+    /// normal load from the force of another element ([`NormalLoad`]).
     Friction {
         /// The local axis.
         axis: Axis,
@@ -577,8 +614,8 @@ pub enum ForceLaw {
         /// \[-\] friction coefficient on the normal element's force (0 without one); \[m\] the
         /// coefficient times the friction radius when rotational.
         coefficient: f64,
-        /// The element whose force magnitude is the normal load (never a friction element).
-        normal: Option<ForceElementId>,
+        /// Where the normal load comes from.
+        normal: Option<NormalLoad>,
     },
     /// Dry friction in the plane of two local axes with one sliding force for every direction
     /// ([`crate::suspension::planar_friction_law`]). Internal states: the slider's position
@@ -593,8 +630,8 @@ pub enum ForceLaw {
         force: f64,
         /// \[-\] friction coefficient on the normal element's force (0 without one).
         coefficient: f64,
-        /// The element whose force magnitude is the normal load (never a friction element).
-        normal: Option<ForceElementId>,
+        /// Where the normal load comes from.
+        normal: Option<NormalLoad>,
     },
 }
 
@@ -986,10 +1023,16 @@ fn friction_limit_keys(rotational: bool) -> Vec<&'static str> {
             "friction_moment_nm",
             "friction_coefficient",
             "normal_element",
+            "normal_direction",
             "friction_radius_m",
         ]
     } else {
-        vec!["friction_force_n", "friction_coefficient", "normal_element"]
+        vec![
+            "friction_force_n",
+            "friction_coefficient",
+            "normal_element",
+            "normal_direction",
+        ]
     }
 }
 
@@ -2044,7 +2087,7 @@ impl Compiler<'_> {
     }
 
     fn not_applicable(&mut self, f: &ForceSpec, label: &str, kind: &str, allowed: &[&str]) {
-        let present: [(&str, Option<Range<usize>>); 17] = [
+        let present: [(&str, Option<Range<usize>>); 18] = [
             ("direction", f.direction.as_ref().map(|v| v.span())),
             (
                 "stiffness_n_per_m",
@@ -2080,6 +2123,10 @@ impl Compiler<'_> {
             (
                 "normal_element",
                 f.normal_element.as_ref().map(|v| v.span()),
+            ),
+            (
+                "normal_direction",
+                f.normal_direction.as_ref().map(|v| v.span()),
             ),
             ("plane", f.plane.as_ref().map(|v| v.span())),
             ("about", f.about.as_ref().map(|v| v.span())),
@@ -2538,6 +2585,13 @@ impl Compiler<'_> {
             ),
             _ => {}
         }
+        if let (Some(d), None) = (&f.normal_direction, &f.normal_element) {
+            self.err(
+                &d.span(),
+                "normal_direction",
+                format!("{label}: normal_direction needs normal_element, the force element whose force presses the surfaces together"),
+            );
+        }
         // the lever of the normal load's friction about the axis
         let radius = match (rotational, &f.friction_radius_m) {
             (false, _) => Some(1.0),
@@ -2621,6 +2675,82 @@ impl Compiler<'_> {
         })
     }
 
+    /// The rule by which the force of normal element `target` (compiled with `law`) gives the
+    /// normal load of friction element `fs`: its key `normal_direction`, a signed local axis of
+    /// the normal element (`"z"`, `"-z"`, …) or `"any"`. `at` is the span of its
+    /// `normal_element`.
+    fn normal_rule(
+        &mut self,
+        fs: &ForceSpec,
+        at: &Range<usize>,
+        label: &str,
+        target: &str,
+        law: &ForceLaw,
+    ) -> Option<NormalRule> {
+        if matches!(law, ForceLaw::AntiRollBar { .. }) {
+            self.err(
+                at,
+                "normal_element",
+                format!(
+                    "{label}: normal_element '{target}' is an anti-roll bar, which carries a moment and no force; expected a spring, table, damper or bushing element"
+                ),
+            );
+            return None;
+        }
+        let Some(dir) = &fs.normal_direction else {
+            self.err(
+                at,
+                "normal_direction",
+                format!(
+                    "{label}: missing key 'normal_direction' (expected the local axis of '{target}' along which its force on its body2 presses the rubbing surfaces, with its sign: \"x\", \"y\", \"z\", \"-x\", \"-y\" or \"-z\"; the load is zero when that force turns the other way; or \"any\" for the magnitude of its whole force)"
+                ),
+            );
+            return None;
+        };
+        let text = dir.get_ref().trim();
+        let (sign, name) = match text.strip_prefix('-') {
+            Some(rest) => (-1.0, rest),
+            None => (1.0, text.strip_prefix('+').unwrap_or(text)),
+        };
+        let axis = match name {
+            "x" => Axis::X,
+            "y" => Axis::Y,
+            "z" => Axis::Z,
+            "any" if sign > 0.0 => return Some(NormalRule::Magnitude),
+            _ => {
+                self.err(
+                    &dir.span(),
+                    "normal_direction",
+                    format!(
+                        "{label}: normal_direction '{text}' is not a signed local axis (expected \"x\", \"y\", \"z\", \"-x\", \"-y\", \"-z\" or \"any\")"
+                    ),
+                );
+                return None;
+            }
+        };
+        // a one-axis element has force along its own axis only
+        let own = match law {
+            ForceLaw::Table { axis, .. }
+            | ForceLaw::SeriesSpringDamper { axis, .. }
+            | ForceLaw::Damper { axis, .. } => Some(*axis),
+            _ => None,
+        };
+        if let Some(own) = own
+            && own != axis
+        {
+            self.err(
+                &dir.span(),
+                "normal_direction",
+                format!(
+                    "{label}: normal_direction '{text}': '{target}' acts along its local {} only (expected \"{0}\" or \"-{0}\")",
+                    own.name()
+                ),
+            );
+            return None;
+        }
+        Some(NormalRule::Along { axis, sign })
+    }
+
     /// Resolve each friction element's `normal_element` to the element it names, which must
     /// be declared, differ from it and not be a friction element itself (checked also when the
     /// friction element failed its own checks).
@@ -2682,11 +2812,19 @@ impl Compiler<'_> {
                 // declared and not a friction element: bind it when both compiled (otherwise
                 // their own problems are reported)
                 let j = forces.iter().position(|e| e.name == target);
-                if let (Some(i), Some(j)) = (forces.iter().position(|e| e.name == name), j)
+                let Some(j) = j else { continue };
+                let rule = self.normal_rule(fs, &normal.span(), &label, target, &forces[j].law);
+                let Some(rule) = rule else {
+                    continue;
+                };
+                if let Some(i) = forces.iter().position(|e| e.name == name)
                     && let ForceLaw::Friction { normal, .. }
                     | ForceLaw::PlanarFriction { normal, .. } = &mut forces[i].law
                 {
-                    *normal = Some(ForceElementId(j));
+                    *normal = Some(NormalLoad {
+                        element: ForceElementId(j),
+                        rule,
+                    });
                 }
                 continue;
             };

@@ -244,6 +244,10 @@ pub struct ForceSpec {
     /// Friction: the force element whose force presses the friction surfaces together.
     #[serde(default)]
     pub normal_element: Option<Spanned<String>>,
+    /// Friction: the signed local axis of `normal_element` along which its force on its body2
+    /// presses the surfaces (`"z"`, `"-z"`, …), or `"any"` for the magnitude of its force.
+    #[serde(default)]
+    pub normal_direction: Option<Spanned<String>>,
     /// Planar friction: the plane of two local axes it acts in, e.g. `"xy"`.
     #[serde(default)]
     pub plane: Option<Spanned<String>>,
@@ -422,6 +426,7 @@ pub const FORCE_KEYS: &[&str] = &[
     "friction_force_n",
     "friction_coefficient",
     "normal_element",
+    "normal_direction",
     "plane",
     "about",
     "friction_moment_nm",

@@ -20,8 +20,15 @@
 //! load of a load-dependent friction drops) is followed by `(|e|/F0)^n > 1`: the slider runs
 //! ahead of the deflection; the factor is bounded by 2 ([`FRICTION_RATE_CAP`]) for abrupt
 //! drops. The second term acts only when `|e| > F0` and lets a held element give way when its
-//! sliding force falls, with the time constant τ = [`FRICTION_RELAXATION_S`]. `F0 = 0` makes
-//! the element free (no force in steady motion).
+//! sliding force falls, with the time constant τ = [`FRICTION_RELAXATION_S`].
+//!
+//! The sliding force is floored at `k · 1 µm` (or `k · 1 µrad`, [`FRICTION_MIN_STICK`]): as
+//! `F0 → 0` (the rubbing surfaces of a load-dependent friction part when its normal element
+//! turns the other way) the transition's width `F0/n` vanishes and the law's slope
+//! `n |Δ̇| / (F0/k)` grows without bound, and at `F0 = 0` the step `H(Δ̇ e)` switches the slider
+//! on and off about `e = 0` (a sliding mode: an adaptive integrator stalls on it). With the
+//! floor a parted element carries at most `k · 1 µm` (10 N for a stick stiffness of 10 MN/m)
+//! and its slope stays below `n |Δ̇| / 1 µm`, which the implicit integrators take.
 //!
 //! The law is stiff near yield: its rate falls off with the tension over `F0/n`, a time scale
 //! of `F0 / (n k |Δ̇|)` (1 ms for F0 = 5 kN, k = 5 MN/m, Δ̇ = 50 mm/s). The adaptive and implicit
@@ -33,6 +40,10 @@
 //! the same tension passes through spring and damper, `k (Δ − s) = f_d(ṡ)`, so
 //! `ṡ = f_d⁻¹(k (Δ − s))`; a linear table `f_d = c v` gives back the series spring-damper
 //! exactly. The time scale `f_d'/k` is the element's stiffness for an explicit integrator.
+
+/// \[m\] (\[rad\] for a rotational friction) the least stick deflection at yield: the sliding
+/// force is at least the stick stiffness times this (module docs).
+pub const FRICTION_MIN_STICK: f64 = 1e-6;
 
 /// The exponent `n` of the friction law's transition from stick to slip. At 20 the slider has
 /// moves at 5 % of the deflection rate at 0.86 F0 and at 36 % at 0.95 F0; the energy a cycle
@@ -65,12 +76,13 @@ fn slip_factor(ae: f64, f0: f64) -> f64 {
 }
 
 /// Friction element: the force on body 2 along the axis \[N\] and the slider's rate \[m/s\], for
-/// stick stiffness `k` \[N/m\] (> 0), sliding force `f0` \[N\] (negative values count as 0),
+/// stick stiffness `k` \[N/m\] (> 0), sliding force `f0` \[N\] (at least `k` ×
+/// [`FRICTION_MIN_STICK`]),
 /// deflection `delta` \[m\], its rate `delta_rate` \[m/s\] and slider position `s` \[m\] (module
 /// docs).
 pub fn friction_law(k: f64, f0: f64, delta: f64, delta_rate: f64, s: f64) -> (f64, f64) {
     let e = k * (delta - s);
-    let f0 = f0.max(0.0);
+    let f0 = f0.max(k * FRICTION_MIN_STICK);
     let ae = e.abs();
     let mut rate = 0.0;
     if delta_rate * e > 0.0 {
@@ -105,7 +117,7 @@ pub fn planar_friction_law(
     s: [f64; 2],
 ) -> ([f64; 2], [f64; 2]) {
     let e = [k * (delta[0] - s[0]), k * (delta[1] - s[1])];
-    let f0 = f0.max(0.0);
+    let f0 = f0.max(k * FRICTION_MIN_STICK);
     let ae = e[0].hypot(e[1]);
     let mut rate = [0.0; 2];
     let power = e[0] * delta_rate[0] + e[1] * delta_rate[1];
@@ -257,9 +269,23 @@ mod tests {
         assert!(
             (FRICTION_RATE_CAP_RATIO.powi(FRICTION_EXPONENT) - FRICTION_RATE_CAP).abs() < 1e-12
         );
-        // No sliding force: the element gives way to any tension.
-        let (_, r) = friction_law(k, 0.0, 1e-6, 0.0, 0.0);
+        // No sliding force (a load-dependent friction whose surfaces parted): the element
+        // gives way to any tension beyond its floor k · 1 µm, and slides at the floor.
+        let floor = k * FRICTION_MIN_STICK;
+        let (_, r) = friction_law(k, 0.0, 2e-6, 0.0, 0.0);
         assert!(r > 0.0);
+        assert_eq!(friction_law(k, 0.0, 0.5e-6, 0.0, 0.0).1, 0.0);
+        // (1e-6 + 0.01 - 0.01 keeps 1e-6 to 7e-13 relative: the slip factor's 20th power to
+        // 1.5e-11)
+        let (f, r) = friction_law(k, 0.0, 1e-6 + 0.01, 0.2, 0.01);
+        assert!(
+            (f + floor).abs() < 1e-9 && (r - 0.2).abs() < 1e-10,
+            "{f} {r}"
+        );
+        assert_eq!(
+            friction_law(k, 0.0, 3e-6, 0.3, 1e-6),
+            friction_law(k, floor, 3e-6, 0.3, 1e-6)
+        );
         // Odd in the deflection.
         let (fa, ra) = friction_law(k, f0, 1.9e-3, 0.05, 1e-4);
         let (fb, rb) = friction_law(k, f0, -1.9e-3, -0.05, -1e-4);

@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use railsim_vehicle::{
-    DofKind, ForceLaw, InternalStateKind, Member, VehicleError, VehicleModel, WheelProfile,
-    series_force, series_state_rate,
+    Axis, DofKind, ForceLaw, InternalStateKind, Member, NormalRule, VehicleError, VehicleModel,
+    WheelProfile, series_force, series_state_rate,
 };
 
 fn vehicles_dir() -> PathBuf {
@@ -536,6 +536,7 @@ stiffness_n_per_m = 5e6
 friction_force_n = 100
 friction_coefficient = 0.1
 normal_element = "spring"
+normal_direction = "y"
 
 [[force]]
 name = "blow_off"
@@ -580,7 +581,18 @@ force_n = [-5e3, 5e3]
         panic!("{:?}", v.forces()[1].law);
     };
     assert_eq!((stiffness, force, coefficient), (5e6, 100.0, 0.1));
-    assert_eq!(normal, v.force_id("spring"));
+    let normal = normal.unwrap();
+    assert_eq!(Some(normal.element), v.force_id("spring"));
+    assert_eq!(
+        normal.rule,
+        NormalRule::Along {
+            axis: Axis::Y,
+            sign: 1.0
+        }
+    );
+    // the spring presses while its force on body2 points along +y, and not at all the other way
+    assert_eq!(normal.load([5.0, 300.0, -7.0]), 300.0);
+    assert_eq!(normal.load([5.0, -300.0, -7.0]), 0.0);
     let ForceLaw::Damper {
         ref table,
         stiffness,
@@ -711,6 +723,131 @@ friction_force_n = 10
     );
 }
 
+/// A friction element's normal load needs the direction in which its normal element presses:
+/// missing, not an axis, another axis than a one-axis element's own, an anti-roll bar (no
+/// force) and a direction without a normal element are located.
+#[test]
+fn the_normal_direction_of_a_friction_element_is_checked() {
+    let text = format!(
+        r#"{WS}
+[[force]]
+name = "spring"
+type = "bushing"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+stiffness_n_per_m = [0, 1e6, 1e6]
+
+[[force]]
+name = "rub1"
+type = "friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+stiffness_n_per_m = 5e6
+friction_coefficient = 0.1
+normal_element = "spring"
+
+[[force]]
+name = "rub2"
+type = "friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+stiffness_n_per_m = 5e6
+friction_coefficient = 0.1
+normal_element = "spring"
+normal_direction = "up"
+
+[[force]]
+name = "table"
+type = "table"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "z"
+deflection_mm = [-10, 10]
+force_n = [-1e4, 1e4]
+
+[[force]]
+name = "rub3"
+type = "friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+stiffness_n_per_m = 5e6
+friction_coefficient = 0.1
+normal_element = "table"
+normal_direction = "-y"
+
+[[force]]
+name = "bar"
+type = "anti_roll_bar"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+rotational_stiffness_nm_per_rad = 1e6
+
+[[force]]
+name = "rub4"
+type = "friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+stiffness_n_per_m = 5e6
+friction_coefficient = 0.1
+normal_element = "bar"
+normal_direction = "z"
+
+[[force]]
+name = "rub5"
+type = "friction"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "y"
+stiffness_n_per_m = 5e6
+friction_force_n = 100
+normal_direction = "z"
+"#
+    );
+    let p = problems(&text);
+    expect(
+        &p,
+        28,
+        &[
+            "force 'rub1'",
+            "missing key 'normal_direction'",
+            "\"-z\"",
+            "\"any\"",
+        ],
+    );
+    expect(
+        &p,
+        40,
+        &[
+            "force 'rub2'",
+            "normal_direction 'up' is not a signed local axis",
+        ],
+    );
+    expect(
+        &p,
+        62,
+        &["force 'rub3'", "'table' acts along its local z only"],
+    );
+    expect(&p, 81, &["force 'rub4'", "'bar' is an anti-roll bar"]);
+    expect(
+        &p,
+        93,
+        &["force 'rub5'", "normal_direction needs normal_element"],
+    );
+    assert_eq!(p.len(), 5, "{p:#?}");
+}
+
 #[test]
 fn rotational_friction_compiles_and_its_keys_are_checked() {
     let good = format!(
@@ -734,6 +871,7 @@ rotational_stiffness_nm_per_rad = 2e7
 friction_moment_nm = 500
 friction_coefficient = 0.1
 normal_element = "spring"
+normal_direction = "any"
 friction_radius_m = 0.8
 "#
     );
@@ -754,7 +892,10 @@ friction_radius_m = 0.8
     assert!(rotational);
     assert_eq!((stiffness, force), (2e7, 500.0));
     assert!((coefficient - 0.08).abs() < 1e-15, "μ times the radius");
-    assert_eq!(normal, v.force_id("spring"));
+    let normal = normal.unwrap();
+    assert_eq!(Some(normal.element), v.force_id("spring"));
+    assert_eq!(normal.rule, NormalRule::Magnitude);
+    assert_eq!(normal.load([3.0, 0.0, -4.0]), 5.0);
     assert_eq!(v.internal_states()[0].kind, InternalStateKind::FrictionSlip);
     let bad = format!(
         r#"{WS}
