@@ -714,10 +714,22 @@ impl Dynamics<'_> {
         let (p1, v1, q1, w1) = self.end_state(el.ends[0], el.ends[1], el.points[0]);
         let (p2, v2, q2, w2) = self.end_state(el.ends[1], el.ends[0], el.points[1]);
         let dp = sub(p2, p1);
-        // Deflections in body 1's axes, then the element's local axes.
+        // Deflections in body 1's axes, then the element's local axes; along the line between
+        // the points, the change of their distance and its rate (local x), with `line_dir`
+        // the line's direction now.
         let e = &el.axes;
-        let lin = mul_t(e, sub(mul_t(&q1, dp), sub(el.points[1], el.points[0])));
-        let lin_rate = mul_t(e, mul_t(&q1, sub(sub(v2, v1), cross(w1, dp))));
+        let (lin, lin_rate, line_dir) = match el.line {
+            None => (
+                mul_t(e, sub(mul_t(&q1, dp), sub(el.points[1], el.points[0]))),
+                mul_t(e, mul_t(&q1, sub(sub(v2, v1), cross(w1, dp)))),
+                None,
+            ),
+            Some(l0) => {
+                let l = dot(dp, dp).sqrt();
+                let u = scale(1.0 / l, dp);
+                ([l - l0, 0.0, 0.0], [dot(u, sub(v2, v1)), 0.0, 0.0], Some(u))
+            }
+        };
         let rot = mul_t(e, small_rotation(&mat_t_mul(&q1, &q2)));
         let rot_rate = mul_t(e, mul_t(&q1, sub(w2, w1)));
         let mut f = [0.0; 3];
@@ -845,7 +857,12 @@ impl Dynamics<'_> {
                 ),
             };
         }
-        let force = mul(&q1, mul(e, f));
+        // (along the line: on it, and no moment; body 1's reaction at P2 is then the same as at
+        // P1, the line passing through both)
+        let force = match line_dir {
+            None => mul(&q1, mul(e, f)),
+            Some(u) => scale(f[0], u),
+        };
         let moment = mul(&q1, mul(e, mo));
         // Each end's moment about its centre of gravity: body 2's own, body 1's the reaction at
         // the same point, P2 (the massless element passes force and moment through unchanged,

@@ -110,6 +110,9 @@ pub struct ElementModel {
     pub axes: M3,
     /// The law.
     pub law: ForceLaw,
+    /// \[m\] nominal distance between the attachment points of an element that acts along
+    /// the line between them (`railsim_vehicle::ForceElement::line`); `None` for the others.
+    pub line: Option<f64>,
     /// Index of the (first) internal state in the state vector, if the element has any (a
     /// planar friction has two, one after the other).
     pub internal: Option<usize>,
@@ -351,6 +354,14 @@ impl SimModel {
                 points: [f.point1, f.point2],
                 axes: f.axes,
                 law: f.law.clone(),
+                line: f.line.then(|| {
+                    let d = [
+                        f.point2[0] - f.point1[0],
+                        f.point2[1] - f.point1[1],
+                        f.point2[2] - f.point1[2],
+                    ];
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+                }),
                 internal,
                 preload: [0.0; 6],
             });

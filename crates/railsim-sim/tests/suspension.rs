@@ -799,3 +799,84 @@ fn elements_on_a_wheelset_make_no_torque_about_its_axle() {
         "{roll_raised} against {roll_on}"
     );
 }
+
+/// An element along the line between its points (`direction = "line"`) turns with that line:
+/// a mass hung from the track by a stiff vertical spring 0.5 m long swings laterally as a
+/// pendulum, period 2π √(L/g) = 1.4186 s (the spring's preload, the weight, times the line's
+/// turning, y / L, is the restoring force); the same spring along the fixed local z has no
+/// lateral stiffness: the static solve finds the mass without lateral support.
+#[test]
+fn an_element_along_its_line_hangs_a_pendulum() {
+    let base = root().join("crates/railsim-sim/tests/vehicles/friction_mass.toml");
+    let text = std::fs::read_to_string(&base).unwrap();
+    let head = &text[..text.find("[[force]]").unwrap()];
+    let head = head.replace(
+        "frozen = [\"x\", \"y\", \"roll\", \"pitch\", \"yaw\"]",
+        "frozen = [\"x\", \"roll\", \"pitch\", \"yaw\"]",
+    );
+    let (len, k) = (0.5, 1e7);
+    let swing = |direction: &str| {
+        let vehicle = format!(
+            "{head}[[force]]\nname = \"hanger\"\ntype = \"table\"\nbody1 = \"track\"\n\
+             body2 = \"mass\"\npoint_m = [0.0, 0.0, {top}]\npoint2_m = [0.0, 0.0, 1.0]\n\
+             direction = \"{direction}\"\ndeflection_mm = [-100, 100]\n\
+             force_n = [{lo}, {hi}]\n",
+            top = 1.0 + len,
+            lo = -k * 0.1,
+            hi = k * 0.1,
+        );
+        let s = vehicle_scene(
+            &format!("hanger-{direction}"),
+            &vehicle,
+            4.5,
+            "rate_hz = 200",
+        );
+        let mut sim = match Simulation::new(&s) {
+            Ok(sim) => sim,
+            Err(e) => return Err(e.to_string()),
+        };
+        let names = &sim.model().state_names;
+        let iy = names.iter().position(|n| n == "mass.y").unwrap();
+        let mut x = sim.initial_state().to_vec();
+        let y0 = x[iy];
+        x[iy] += 20e-3;
+        sim.start_from(0.0, &x).unwrap();
+        let (mut t, mut y) = (Vec::new(), Vec::new());
+        let opts = RunOptions {
+            no_log: true,
+            ..Default::default()
+        };
+        sim.run(&s, &opts, &mut |_, _| {}, &mut |smp| {
+            t.push(smp.t);
+            y.push(smp.x[iy] - y0);
+        })
+        .unwrap();
+        Ok((t, y))
+    };
+    // along the line: the upward zero crossings, interpolated, a period apart
+    let (t, y) = swing("line").unwrap();
+    let mut up = Vec::new();
+    for i in 1..y.len() {
+        if y[i - 1] < 0.0 && y[i] >= 0.0 {
+            up.push(t[i - 1] + (t[i] - t[i - 1]) * y[i - 1] / (y[i - 1] - y[i]));
+        }
+    }
+    assert!(up.len() >= 3, "{up:?}");
+    let period = (up[up.len() - 1] - up[0]) / (up.len() - 1) as f64;
+    let expected = 2.0 * std::f64::consts::PI * (len / G).sqrt();
+    eprintln!(
+        "period {period:.5} s, pendulum {expected:.5} s ({} crossings)",
+        up.len()
+    );
+    assert!(
+        (period / expected - 1.0).abs() < 2e-3,
+        "period {period} s, pendulum {expected} s"
+    );
+    // swinging, not decaying or growing: the amplitude stays 20 mm
+    let amp = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    eprintln!("amplitude {:.4} mm", amp * 1e3);
+    assert!((amp - 20e-3).abs() < 0.2e-3, "{amp}");
+    // along the fixed z: no lateral stiffness at all
+    let e = swing("z").unwrap_err();
+    assert!(e.contains("body 'mass' has no support in y"), "{e}");
+}

@@ -724,6 +724,10 @@ pub struct ForceElement {
     pub axes: Mat3,
     /// The law.
     pub law: ForceLaw,
+    /// The element acts along the line between its two attachment points as they move
+    /// (`direction = "line"`): its deflection is the change of that distance, its force lies on
+    /// the line. Its local x is the line at the nominal configuration, the law's axis x.
+    pub line: bool,
 }
 
 /// An internal state variable of a force element, integrated with the vehicle's states.
@@ -2064,9 +2068,11 @@ impl Compiler<'_> {
                 }
             }
         }
-        let axes = match &f.orientation_deg {
-            None => Some(rotation_rpy(0.0, 0.0, 0.0)),
-            Some(v) => self
+        let line = f.direction.as_ref().filter(|d| d.get_ref() == "line");
+        let axes = match (&f.orientation_deg, line) {
+            (_, Some(d)) => self.line_axes(f, d, p1, p2, &label),
+            (None, None) => Some(rotation_rpy(0.0, 0.0, 0.0)),
+            (Some(v), None) => self
                 .finite3(v, &label, "orientation_deg")
                 .map(|a| rotation_rpy(a[0].to_radians(), a[1].to_radians(), a[2].to_radians())),
         };
@@ -2083,7 +2089,78 @@ impl Compiler<'_> {
             point2: p2?,
             axes: axes?,
             law: law?,
+            line: line.is_some(),
         })
+    }
+
+    /// The local axes of an element along the line between its points (`direction = "line"`,
+    /// span `d`): x along `p2 − p1` at the nominal configuration, y horizontal (the vehicle's y
+    /// for a vertical line), z = x × y. Needs `point2_m` at least 1 cm from `point_m`, no
+    /// `orientation_deg`, and a one-axis type.
+    fn line_axes(
+        &mut self,
+        f: &ForceSpec,
+        d: &Spanned<String>,
+        p1: Option<[f64; 3]>,
+        p2: Option<[f64; 3]>,
+        label: &str,
+    ) -> Option<Mat3> {
+        let kind = f.kind.as_ref().map_or("", |k| k.get_ref().as_str());
+        if !matches!(
+            kind,
+            "table" | "series_spring_damper" | "damper" | "friction"
+        ) {
+            // (the type's own check reports direction as not applicable where it is not)
+            return None;
+        }
+        if let Some(o) = &f.orientation_deg {
+            self.err(
+                &o.span(),
+                "orientation_deg",
+                format!(
+                    "{label}: orientation_deg does not apply to an element along the line between its points (direction = \"line\"): its axis is that line"
+                ),
+            );
+            return None;
+        }
+        if f.point2_m.is_none() {
+            self.err(
+                &d.span(),
+                "point2_m",
+                format!(
+                    "{label}: missing key 'point2_m': direction = \"line\" acts along the line from point_m to point2_m (expected body 2's attachment point, at least 0.01 m from point_m)"
+                ),
+            );
+            return None;
+        }
+        let (p1, p2) = (p1?, p2?);
+        let v = [p2[0] - p1[0], p2[1] - p1[1], p2[2] - p1[2]];
+        let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if len < 0.01 {
+            self.err(
+                &f.point2_m.as_ref().map_or(d.span(), |p| p.span()),
+                "point2_m",
+                format!(
+                    "{label}: point2_m lies {len:.4} m from point_m; an element along the line between its points needs them at least 0.01 m apart"
+                ),
+            );
+            return None;
+        }
+        let x = [v[0] / len, v[1] / len, v[2] / len];
+        // y: the vehicle's z × x normalised, or the vehicle's y when the line is vertical
+        let h = (x[0] * x[0] + x[1] * x[1]).sqrt();
+        let y = if h > 1e-9 {
+            [-x[1] / h, x[0] / h, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let z = [
+            x[1] * y[2] - x[2] * y[1],
+            x[2] * y[0] - x[0] * y[2],
+            x[0] * y[1] - x[1] * y[0],
+        ];
+        // columns: the local axes in the vehicle frame
+        Some([[x[0], y[0], z[0]], [x[1], y[1], z[1]], [x[2], y[2], z[2]]])
     }
 
     fn not_applicable(&mut self, f: &ForceSpec, label: &str, kind: &str, allowed: &[&str]) {
@@ -2232,6 +2309,11 @@ impl Compiler<'_> {
     }
 
     fn axis(&mut self, f: &ForceSpec, table: &Range<usize>, label: &str) -> Option<Axis> {
+        // along the line between the points: the law's axis is the local x, laid along the line
+        // by `Self::force`
+        if f.direction.as_ref().is_some_and(|d| d.get_ref() == "line") {
+            return Some(Axis::X);
+        }
         self.axis_key(&f.direction, "direction", table, label)
     }
 

@@ -127,8 +127,11 @@ impl VehicleModel {
             // 1's axes from body 2's point and puts body 1's reaction there (a massless element;
             // docs/models/dynamics.md), whose linearisation is body 1's motion at P₂. With P₁
             // here, an element with its own `point2_m` started out of equilibrium.
+            // An element along the line between its points (`ForceElement::line`) measures
+            // the distance from body 1's own point P₁, in the simulator as here.
+            let p1 = if f.line { f.point1 } else { f.point2 };
             if let Endpoint::Member(m) = f.body1 {
-                c.add(n, index(m), centre(m), f.point2, &f.axes, -1.0);
+                c.add(n, index(m), centre(m), p1, &f.axes, -1.0);
             }
             if let Endpoint::Member(m) = f.body2 {
                 c.add(n, index(m), centre(m), f.point2, &f.axes, 1.0);
@@ -178,13 +181,7 @@ impl VehicleModel {
             }
         }
         let nf = free.len();
-        let mut a = vec![0.0; nf * nf];
-        for (i, gi) in free.iter().enumerate() {
-            for (j, gj) in free.iter().enumerate() {
-                a[i * nf + j] = kk[gi * cols + gj];
-            }
-        }
-        let mut rhs: Vec<f64> = free
+        let rhs: Vec<f64> = free
             .iter()
             .map(|&g| {
                 if g % 6 == DofKind::Z.index() {
@@ -200,30 +197,114 @@ impl VehicleModel {
                 }
             })
             .collect();
-        if let Err(j) = cholesky(&mut a, nf) {
-            let g = free[j];
-            let (m, k) = (g / 6, DofKind::ALL[g % 6]);
-            let who = if m < nb {
-                format!(
-                    "body '{}' has no support in {}",
-                    self.bodies[m].name,
-                    k.body_name()
-                )
-            } else {
-                format!(
-                    "wheelset '{}' has no support in {}",
-                    self.wheelsets[m - nb].name,
-                    k.wheelset_name()
-                )
-            };
-            return Err(VehicleError::Statics {
-                vehicle: self.name.clone(),
-                message: format!(
-                    "{who}: connect it by force elements with stiffness in that direction, or freeze it"
-                ),
-            });
+        // Solve K u = gravity on the free unknowns; `Err(j)`: no support at free unknown j.
+        // `eps` > 0 adds eps times the largest diagonal entry to every diagonal entry.
+        let solve = |kk: &[f64], eps: f64| -> Result<Vec<f64>, usize> {
+            let mut a = vec![0.0; nf * nf];
+            for (i, gi) in free.iter().enumerate() {
+                for (j, gj) in free.iter().enumerate() {
+                    a[i * nf + j] = kk[gi * cols + gj];
+                }
+            }
+            if eps > 0.0 {
+                let big = (0..nf).fold(0.0f64, |m, i| m.max(a[i * nf + i]));
+                for i in 0..nf {
+                    a[i * nf + i] += eps * big;
+                }
+            }
+            cholesky(&mut a, nf)?;
+            let mut x = rhs.clone();
+            cholesky_solve(&a, nf, &mut x);
+            Ok(x)
+        };
+        // Elements along the line between their points turn with it: a force F along the line
+        // (on body 2, positive pushing it away) adds the geometric stiffness −F/L on the
+        // transverse relative motion (a hanger in tension is a pendulum). F comes from the
+        // solution, so with such elements the solve is repeated until their forces settle;
+        // the first pass, without it, may need a small regularisation to give them a force.
+        let lines: Vec<(usize, f64)> = self
+            .forces
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| f.line)
+            .map(|(i, f)| {
+                let d = [
+                    f.point2[0] - f.point1[0],
+                    f.point2[1] - f.point1[1],
+                    f.point2[2] - f.point1[2],
+                ];
+                (i, (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+            })
+            .collect();
+        let axial = |x: &[f64], i: usize| {
+            let mut u = vec![0.0; cols];
+            for (k, g) in free.iter().enumerate() {
+                u[*g] = x[k];
+            }
+            let (c, k) = &connections[i];
+            -k[0] * c.apply(&u, cols)[0]
+        };
+        let mut line_force = vec![0.0; lines.len()];
+        let mut result = solve(&kk, 0.0);
+        if !lines.is_empty() {
+            if result.is_err() {
+                if let Ok(x) = solve(&kk, 1e-9) {
+                    for (f, &(i, _)) in line_force.iter_mut().zip(&lines) {
+                        *f = axial(&x, i);
+                    }
+                }
+            } else if let Ok(x) = &result {
+                for (f, &(i, _)) in line_force.iter_mut().zip(&lines) {
+                    *f = axial(x, i);
+                }
+            }
+            for _ in 0..20 {
+                let mut kg = kk.clone();
+                for (&(i, len), &force) in lines.iter().zip(&line_force) {
+                    let kt = -force / len;
+                    connections[i]
+                        .0
+                        .assemble(&[0.0, kt, kt, 0.0, 0.0, 0.0], &mut kg, cols);
+                }
+                result = solve(&kg, 0.0);
+                let Ok(x) = &result else { break };
+                let mut settled = true;
+                for (f, &(i, _)) in line_force.iter_mut().zip(&lines) {
+                    let new = axial(x, i);
+                    settled &= (new - *f).abs() <= 1e-9 * (1.0 + new.abs());
+                    *f = new;
+                }
+                if settled {
+                    break;
+                }
+            }
         }
-        cholesky_solve(&a, nf, &mut rhs);
+        let rhs = match result {
+            Ok(x) => x,
+            Err(j) => {
+                let g = free[j];
+                let (m, k) = (g / 6, DofKind::ALL[g % 6]);
+                let who = if m < nb {
+                    format!(
+                        "body '{}' has no support in {}",
+                        self.bodies[m].name,
+                        k.body_name()
+                    )
+                } else {
+                    format!(
+                        "wheelset '{}' has no support in {}",
+                        self.wheelsets[m - nb].name,
+                        k.wheelset_name()
+                    )
+                };
+                return Err(VehicleError::Statics {
+                    vehicle: self.name.clone(),
+                    message: format!(
+                        "{who}: connect it by force elements with stiffness in that direction, or freeze it"
+                    ),
+                });
+            }
+        };
         let mut u = vec![0.0; cols];
         for (i, g) in free.iter().enumerate() {
             u[*g] = rhs[i];

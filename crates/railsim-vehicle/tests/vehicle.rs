@@ -1833,3 +1833,132 @@ fn an_out_of_round_wheel_rests_on_the_lowest_point_of_its_rim() {
     assert!((e2 / want - 1.0).abs() < 1e-3, "{e2} against {want}");
     assert!(want / dr2 > 3.6);
 }
+
+/// An element along the line between its points (`direction = "line"`): its local x is that
+/// line, and in the static solve a hanger in tension holds its body laterally by its pendulum
+/// stiffness (weight / length), which the same element along a fixed axis does not.
+#[test]
+fn a_hanger_along_its_line_holds_its_body_laterally() {
+    let hanger = |direction: &str| {
+        format!(
+            r#"{WS}
+[[body]]
+name = "mass"
+mass_kg = 1000
+inertia_kgm2 = [100, 100, 100]
+position_m = [0.0, 0.0, 1.0]
+frozen = ["x", "roll", "pitch", "yaw"]
+
+[[force]]
+name = "hanger"
+type = "table"
+body1 = "track"
+body2 = "mass"
+point_m = [0.0, 0.0, 1.5]
+point2_m = [0.0, 0.0, 1.0]
+direction = "{direction}"
+deflection_mm = [-100, 100]
+force_n = [-1e6, 1e6]
+"#
+        )
+    };
+    let v = compile(&hanger("line")).unwrap_or_else(|e| panic!("{e}"));
+    let f = &v.forces()[0];
+    assert!(f.line);
+    // local x down the line, from point_m to point2_m
+    assert_eq!([f.axes[0][0], f.axes[1][0], f.axes[2][0]], [0.0, 0.0, -1.0]);
+    let eq = v.static_equilibrium().unwrap_or_else(|e| panic!("{e}"));
+    // the hanger carries the weight in tension: on body 2 (the mass), up the line (-x)
+    let fx = eq.element_force[0][0];
+    assert!((fx + 1000.0 * 9.81).abs() < 1e-6 * 9810.0, "{fx}");
+    let e = compile(&hanger("z"))
+        .unwrap()
+        .static_equilibrium()
+        .unwrap_err();
+    assert!(
+        e.to_string().contains("body 'mass' has no support in y"),
+        "{e}"
+    );
+}
+
+/// `direction = "line"` needs body 2's own point at least 1 cm away and no orientation, and
+/// applies to the one-axis types only.
+#[test]
+fn a_line_element_without_its_second_point_is_located() {
+    let text = format!(
+        r#"{WS}
+[[force]]
+name = "a"
+type = "damper"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+direction = "line"
+velocity_m_per_s = [-1, 1]
+force_n = [-5e3, 5e3]
+
+[[force]]
+name = "b"
+type = "damper"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+point2_m = [0, 0.005, 0.46]
+direction = "line"
+velocity_m_per_s = [-1, 1]
+force_n = [-5e3, 5e3]
+
+[[force]]
+name = "c"
+type = "damper"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+point2_m = [0, 0.5, 0.46]
+direction = "line"
+orientation_deg = [0, 0, 90]
+velocity_m_per_s = [-1, 1]
+force_n = [-5e3, 5e3]
+
+[[force]]
+name = "d"
+type = "bushing"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+point2_m = [0, 0.5, 0.46]
+direction = "line"
+stiffness_n_per_m = [1e6, 1e6, 1e6]
+"#
+    );
+    let p = problems(&text);
+    expect(
+        &p,
+        17,
+        &[
+            "force 'a'",
+            "missing key 'point2_m'",
+            "line from point_m to point2_m",
+        ],
+    );
+    expect(
+        &p,
+        27,
+        &[
+            "force 'b'",
+            "point2_m lies 0.0050 m from point_m",
+            "at least 0.01 m",
+        ],
+    );
+    expect(
+        &p,
+        40,
+        &[
+            "force 'c'",
+            "orientation_deg does not apply",
+            "direction = \"line\"",
+        ],
+    );
+    expect(&p, 51, &["direction", "does not apply to type 'bushing'"]);
+    assert_eq!(p.len(), 4, "{p:#?}");
+}
