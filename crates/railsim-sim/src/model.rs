@@ -354,14 +354,7 @@ impl SimModel {
                 points: [f.point1, f.point2],
                 axes: f.axes,
                 law: f.law.clone(),
-                line: f.line.then(|| {
-                    let d = [
-                        f.point2[0] - f.point1[0],
-                        f.point2[1] - f.point1[1],
-                        f.point2[2] - f.point1[2],
-                    ];
-                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-                }),
+                line: f.line.then(|| f.nominal_length()),
                 internal,
                 preload: [0.0; 6],
             });

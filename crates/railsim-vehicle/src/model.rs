@@ -730,6 +730,18 @@ pub struct ForceElement {
     pub line: bool,
 }
 
+impl ForceElement {
+    /// \[m\] the distance between the two attachment points at the nominal configuration.
+    pub fn nominal_length(&self) -> f64 {
+        let d = [
+            self.point2[0] - self.point1[0],
+            self.point2[1] - self.point1[1],
+            self.point2[2] - self.point1[2],
+        ];
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    }
+}
+
 /// An internal state variable of a force element, integrated with the vehicle's states.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct InternalState {

@@ -227,14 +227,7 @@ impl VehicleModel {
             .iter()
             .enumerate()
             .filter(|(_, f)| f.line)
-            .map(|(i, f)| {
-                let d = [
-                    f.point2[0] - f.point1[0],
-                    f.point2[1] - f.point1[1],
-                    f.point2[2] - f.point1[2],
-                ];
-                (i, (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
-            })
+            .map(|(i, f)| (i, f.nominal_length()))
             .collect();
         let axial = |x: &[f64], i: usize| {
             let mut u = vec![0.0; cols];
