@@ -803,8 +803,9 @@ fn elements_on_a_wheelset_make_no_torque_about_its_axle() {
 /// An element along the line between its points (`direction = "line"`) turns with that line:
 /// a mass hung from the track by a stiff vertical spring 0.5 m long swings laterally as a
 /// pendulum, period 2π √(L/g) = 1.4186 s (the spring's preload, the weight, times the line's
-/// turning, y / L, is the restoring force); the same spring along the fixed local z has no
-/// lateral stiffness: the static solve finds the mass without lateral support.
+/// turning, y / L, is the restoring force), and the work the hanger absorbs balances the mass's
+/// energy; the same spring along the fixed local z has no lateral stiffness: the static solve
+/// finds the mass without lateral support.
 #[test]
 fn an_element_along_its_line_hangs_a_pendulum() {
     let base = root().join("crates/railsim-sim/tests/vehicles/friction_mass.toml");
@@ -836,21 +837,51 @@ fn an_element_along_its_line_hangs_a_pendulum() {
             Err(e) => return Err(e.to_string()),
         };
         let names = &sim.model().state_names;
-        let iy = names.iter().position(|n| n == "mass.y").unwrap();
+        let at = |n: &str| names.iter().position(|m| m == n).unwrap();
+        let (iy, iz, ivy, ivz) = (
+            at("mass.y"),
+            at("mass.z"),
+            at("d/dt mass.y"),
+            at("d/dt mass.z"),
+        );
         let mut x = sim.initial_state().to_vec();
         let y0 = x[iy];
         x[iy] += 20e-3;
         sim.start_from(0.0, &x).unwrap();
-        let (mut t, mut y) = (Vec::new(), Vec::new());
+        let (mut t, mut y, mut ends) = (Vec::new(), Vec::new(), Vec::new());
         let opts = RunOptions {
             no_log: true,
             ..Default::default()
         };
-        sim.run(&s, &opts, &mut |_, _| {}, &mut |smp| {
-            t.push(smp.t);
-            y.push(smp.x[iy] - y0);
-        })
-        .unwrap();
+        let summary = sim
+            .run(&s, &opts, &mut |_, _| {}, &mut |smp| {
+                t.push(smp.t);
+                y.push(smp.x[iy] - y0);
+                // the mass's kinetic and potential energy
+                let (vy, vz) = (smp.x[ivy], smp.x[ivz]);
+                let e = 0.5 * MASS * (vy * vy + vz * vz) + MASS * G * smp.x[iz];
+                ends.push(e);
+            })
+            .unwrap();
+        let hanger = summary
+            .elements
+            .iter()
+            .find(|e| e.name == "hanger")
+            .unwrap();
+        // What the hanger absorbed is what the mass lost: the mass starts displaced sideways
+        // at its nominal height, so the hanger starts stretched by √(L² + y²) − L = 0.4 mm
+        // and gives up some 11 J; the balance leaves room for the hanger's own stored energy
+        // at the end (its 16 Hz axial oscillation).
+        let lost = ends[0] - ends[ends.len() - 1];
+        eprintln!(
+            "{direction}: hanger absorbed {:.6} J, the mass lost {lost:.6} J",
+            hanger.work
+        );
+        assert!(
+            (hanger.work - lost).abs() < 5e-3 * lost.abs() + 1e-3,
+            "{} J vs {lost} J",
+            hanger.work
+        );
         Ok((t, y))
     };
     // along the line: the upward zero crossings, interpolated, a period apart
