@@ -2323,8 +2323,21 @@ impl Compiler<'_> {
     fn axis(&mut self, f: &ForceSpec, table: &Range<usize>, label: &str) -> Option<Axis> {
         // along the line between the points: the law's axis is the local x, laid along the line
         // by `Self::force`
-        if f.direction.as_ref().is_some_and(|d| d.get_ref() == "line") {
-            return Some(Axis::X);
+        if let Some(d) = &f.direction {
+            match d.get_ref().as_str() {
+                "line" => return Some(Axis::X),
+                "x" | "y" | "z" => {}
+                other => {
+                    self.err(
+                        &d.span(),
+                        "direction",
+                        format!(
+                            "{label}: direction '{other}' is not a local axis (expected \"x\", \"y\", \"z\", or \"line\" for along the line from point_m to point2_m)"
+                        ),
+                    );
+                    return None;
+                }
+            }
         }
         self.axis_key(&f.direction, "direction", table, label)
     }

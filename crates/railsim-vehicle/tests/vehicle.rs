@@ -1929,6 +1929,17 @@ point_m = [0, 0, 0.46]
 point2_m = [0, 0.5, 0.46]
 direction = "line"
 stiffness_n_per_m = [1e6, 1e6, 1e6]
+
+[[force]]
+name = "e"
+type = "damper"
+body1 = "track"
+body2 = "ws"
+point_m = [0, 0, 0.46]
+point2_m = [0, 0.5, 0.46]
+direction = "lien"
+velocity_m_per_s = [-1, 1]
+force_n = [-5e3, 5e3]
 "#
     );
     let p = problems(&text);
@@ -1960,5 +1971,14 @@ stiffness_n_per_m = [1e6, 1e6, 1e6]
         ],
     );
     expect(&p, 51, &["direction", "does not apply to type 'bushing'"]);
-    assert_eq!(p.len(), 4, "{p:#?}");
+    expect(
+        &p,
+        61,
+        &[
+            "force 'e'",
+            "direction 'lien' is not a local axis",
+            "\"line\"",
+        ],
+    );
+    assert_eq!(p.len(), 5, "{p:#?}");
 }
