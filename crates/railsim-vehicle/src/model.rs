@@ -519,6 +519,13 @@ impl Axis {
     pub fn name(self) -> &'static str {
         ["x", "y", "z"][self.index()]
     }
+
+    /// The axis named `"x"`, `"y"` or `"z"` ([`Self::name`]'s inverse).
+    pub fn from_name(name: &str) -> Option<Axis> {
+        [Axis::X, Axis::Y, Axis::Z]
+            .into_iter()
+            .find(|a| a.name() == name)
+    }
 }
 
 /// A piecewise-linear force–deflection law.
@@ -2323,23 +2330,21 @@ impl Compiler<'_> {
     fn axis(&mut self, f: &ForceSpec, table: &Range<usize>, label: &str) -> Option<Axis> {
         // along the line between the points: the law's axis is the local x, laid along the line
         // by `Self::force`
-        if let Some(d) = &f.direction {
-            match d.get_ref().as_str() {
-                "line" => return Some(Axis::X),
-                "x" | "y" | "z" => {}
-                other => {
-                    self.err(
-                        &d.span(),
-                        "direction",
-                        format!(
-                            "{label}: direction '{other}' is not a local axis (expected \"x\", \"y\", \"z\", or \"line\" for along the line from point_m to point2_m)"
-                        ),
-                    );
-                    return None;
-                }
+        match f.direction.as_ref() {
+            Some(d) if d.get_ref() == "line" => Some(Axis::X),
+            Some(d) if Axis::from_name(d.get_ref()).is_none() => {
+                self.err(
+                    &d.span(),
+                    "direction",
+                    format!(
+                        "{label}: direction '{}' is not a local axis (expected \"x\", \"y\", \"z\", or \"line\" for along the line from point_m to point2_m)",
+                        d.get_ref()
+                    ),
+                );
+                None
             }
+            _ => self.axis_key(&f.direction, "direction", table, label),
         }
-        self.axis_key(&f.direction, "direction", table, label)
     }
 
     /// The local axis named by the required key `key` (`"x"`, `"y"` or `"z"`).
@@ -2351,21 +2356,18 @@ impl Compiler<'_> {
         label: &str,
     ) -> Option<Axis> {
         let d = self.req(v, table, label, key, "\"x\", \"y\" or \"z\"")?;
-        match d.get_ref().as_str() {
-            "x" => Some(Axis::X),
-            "y" => Some(Axis::Y),
-            "z" => Some(Axis::Z),
-            s => {
-                self.err(
-                    &d.span(),
-                    key,
-                    format!(
-                        "{label}: {key} '{s}' is not a local axis (expected \"x\", \"y\" or \"z\")"
-                    ),
-                );
-                None
-            }
+        let axis = Axis::from_name(d.get_ref());
+        if axis.is_none() {
+            self.err(
+                &d.span(),
+                key,
+                format!(
+                    "{label}: {key} '{}' is not a local axis (expected \"x\", \"y\" or \"z\")",
+                    d.get_ref()
+                ),
+            );
         }
+        axis
     }
 
     fn law(
@@ -2738,12 +2740,7 @@ impl Compiler<'_> {
         );
         let axes = plane.and_then(|p| {
             let text = p.get_ref().as_str();
-            let axis = |c| match c {
-                'x' => Some(Axis::X),
-                'y' => Some(Axis::Y),
-                'z' => Some(Axis::Z),
-                _ => None,
-            };
+            let axis = |c: char| Axis::from_name(c.encode_utf8(&mut [0u8; 4]));
             let mut chars = text.chars();
             match (
                 chars.next().and_then(axis),
@@ -2819,11 +2816,9 @@ impl Compiler<'_> {
             Some(rest) => (-1.0, rest),
             None => (1.0, text.strip_prefix('+').unwrap_or(text)),
         };
-        let axis = match name {
-            "x" => Axis::X,
-            "y" => Axis::Y,
-            "z" => Axis::Z,
-            "any" if sign > 0.0 => return Some(NormalRule::Magnitude),
+        let axis = match (Axis::from_name(name), name) {
+            (Some(a), _) => a,
+            (None, "any") if sign > 0.0 => return Some(NormalRule::Magnitude),
             _ => {
                 self.err(
                     &dir.span(),

@@ -229,6 +229,7 @@ impl VehicleModel {
             .filter(|(_, f)| f.line)
             .map(|(i, f)| (i, f.nominal_length()))
             .collect();
+        // the force along the line of element `i` at the free unknowns' solution `x`
         let axial = |x: &[f64], i: usize| {
             let mut u = vec![0.0; cols];
             for (k, g) in free.iter().enumerate() {
@@ -237,20 +238,15 @@ impl VehicleModel {
             let (c, k) = &connections[i];
             -k[0] * c.apply(&u, cols)[0]
         };
-        let mut line_force = vec![0.0; lines.len()];
         let mut result = solve(&kk, 0.0);
         if !lines.is_empty() {
-            if result.is_err() {
-                if let Ok(x) = solve(&kk, 1e-9) {
-                    for (f, &(i, _)) in line_force.iter_mut().zip(&lines) {
-                        *f = axial(&x, i);
-                    }
-                }
-            } else if let Ok(x) = &result {
-                for (f, &(i, _)) in line_force.iter_mut().zip(&lines) {
-                    *f = axial(x, i);
-                }
-            }
+            // the first forces: from the solution, or a regularised one where only the lines'
+            // own stiffness would hold a body
+            let first = result.clone().or_else(|_| solve(&kk, 1e-9));
+            let mut line_force: Vec<f64> = match &first {
+                Ok(x) => lines.iter().map(|&(i, _)| axial(x, i)).collect(),
+                Err(_) => vec![0.0; lines.len()],
+            };
             for _ in 0..20 {
                 let mut kg = kk.clone();
                 for (&(i, len), &force) in lines.iter().zip(&line_force) {
