@@ -32,6 +32,11 @@ use crate::math::{
 };
 use crate::model::{ElementModel, End, MemberIx, MemberKind, SimModel};
 
+/// \[m\] the distance below which the points of an element along its line stop a run: its
+/// direction, the line's, is lost where they meet (they start at least 0.01 m apart,
+/// `railsim_vehicle::ForceElement::line`).
+pub const LINE_COLLAPSE: f64 = 1e-3;
+
 /// A member's frame and kinematics at one evaluation (global components unless noted).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct MemberKin {
@@ -702,15 +707,25 @@ impl Dynamics<'_> {
     /// Stage 4: force elements, the friction elements last (`SimModel::element_order`: their
     /// sliding force may depend on another element's force). Writes the internal-state rates
     /// into `dx`.
-    fn elements(&mut self, x: &[f64], dx: &mut [f64]) {
+    /// Fails when an element along its line has its points within [`LINE_COLLAPSE`] (its
+    /// direction would be lost; the run stops naming the element).
+    fn elements(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), RhsError> {
         let model = self.model;
         for &ei in &model.element_order {
-            self.element(ei, &model.elements[ei], x, dx);
+            self.element(t, ei, &model.elements[ei], x, dx)?;
         }
+        Ok(())
     }
 
     /// One force element `el` (number `ei`): its forces on the members, its state rate.
-    fn element(&mut self, ei: usize, el: &ElementModel, x: &[f64], dx: &mut [f64]) {
+    fn element(
+        &mut self,
+        t: f64,
+        ei: usize,
+        el: &ElementModel,
+        x: &[f64],
+        dx: &mut [f64],
+    ) -> Result<(), RhsError> {
         let (p1, v1, q1, w1) = self.end_state(el.ends[0], el.ends[1], el.points[0]);
         let (p2, v2, q2, w2) = self.end_state(el.ends[1], el.ends[0], el.points[1]);
         let dp = sub(p2, p1);
@@ -726,6 +741,19 @@ impl Dynamics<'_> {
             ),
             Some(l0) => {
                 let l = dot(dp, dp).sqrt();
+                // (false for NaN: a non-finite state is the integrator's to report)
+                if l < LINE_COLLAPSE {
+                    let body = format!("element '{}'", el.name);
+                    let quantity = format!(
+                        "its points came {:.3} mm apart (nominal {:.3} m): an element along the line between its points needs them at least {} mm apart",
+                        l * 1e3,
+                        l0,
+                        LINE_COLLAPSE * 1e3
+                    );
+                    let message = format!("t = {t:.6} s: {body}: {quantity}");
+                    self.ws.failure = Some((body, quantity));
+                    return Err(RhsError(message));
+                }
                 let u = scale(1.0 / l, dp);
                 ([l - l0, 0.0, 0.0], [dot(u, sub(v2, v1)), 0.0, 0.0], Some(u))
             }
@@ -903,6 +931,7 @@ impl Dynamics<'_> {
             k.force = sub(k.force, force);
             k.moment = add(k.moment, sub(add(mo, a2), a1));
         }
+        Ok(())
     }
 
     /// Stage 5: contact of every wheel: the inputs in order, the evaluations in parallel (rayon;
@@ -1218,7 +1247,7 @@ impl OdeSystem for Dynamics<'_> {
         let t0 = self.ws.timing.then(Instant::now);
         self.kinematics(t, x);
         let ts = self.ws.timing.then(Instant::now);
-        self.elements(x, dx);
+        self.elements(t, x, dx)?;
         if let Some(ts) = ts {
             self.ws.cost.suspension += ts.elapsed().as_secs_f64();
         }

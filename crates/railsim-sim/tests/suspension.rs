@@ -5,7 +5,7 @@
 use crate::common;
 
 use common::{root, scene};
-use railsim_sim::{RunOptions, Simulation};
+use railsim_sim::{RunOptions, SimError, Simulation};
 
 /// A scene with the test vehicle `tests/vehicles/friction_mass.toml`, its friction element
 /// completed by `keys` (written to a temporary vehicle file named after `tag`), run for
@@ -910,4 +910,59 @@ fn an_element_along_its_line_hangs_a_pendulum() {
     // along the fixed z: no lateral stiffness at all
     let e = swing("z").unwrap_err();
     assert!(e.contains("body 'mass' has no support in y"), "{e}");
+}
+
+/// An element along its line whose points meet has no direction: the run stops there, naming
+/// the element and the distance, with the samples before it kept. A 2 cm hanger, soft beyond its
+/// preload (1 kN/m, so 1 rad/s with the 1 t mass), and the mass thrown up at 0.1 m/s: it comes
+/// within 1 mm of the top point, where the run stops, at asin((0.019 − z0) / 0.1) = 0.193 s.
+#[test]
+fn a_line_element_whose_points_meet_stops_the_run_naming_it() {
+    let base = root().join("crates/railsim-sim/tests/vehicles/friction_mass.toml");
+    let text = std::fs::read_to_string(&base).unwrap();
+    let head = &text[..text.find("[[force]]").unwrap()];
+    let vehicle = format!(
+        "{head}[[force]]\nname = \"hanger\"\ntype = \"table\"\nbody1 = \"track\"\n\
+         body2 = \"mass\"\npoint_m = [0.0, 0.0, 1.02]\npoint2_m = [0.0, 0.0, 1.0]\n\
+         direction = \"line\"\ndeflection_mm = [-100, 100]\nforce_n = [-100, 100]\n"
+    );
+    let s = vehicle_scene("hanger-collapse", &vehicle, 1.0, "rate_hz = 1000");
+    let mut sim = Simulation::new(&s).unwrap();
+    let names = &sim.model().state_names;
+    let ivz = names.iter().position(|m| m == "d/dt mass.z").unwrap();
+    let iz = names.iter().position(|m| m == "mass.z").unwrap();
+    let mut x = sim.initial_state().to_vec();
+    // (the initial state's height, a fraction of a millimetre from the nominal one)
+    let z0 = x[iz];
+    x[ivz] = 0.1;
+    sim.start_from(0.0, &x).unwrap();
+    let opts = RunOptions {
+        no_log: true,
+        ..Default::default()
+    };
+    let mut last = 0.0;
+    let e = sim
+        .run(&s, &opts, &mut |_, _| {}, &mut |smp| last = smp.t)
+        .unwrap_err();
+    let SimError::Stopped {
+        t, body, quantity, ..
+    } = &e
+    else {
+        panic!("{e}")
+    };
+    eprintln!("{e}");
+    assert_eq!(body, "element 'hanger'", "{e}");
+    assert!(
+        quantity.contains("mm apart (nominal 0.020 m)"),
+        "{quantity}"
+    );
+    // (the rejected steps close in on the crossing: the stop's time is the last failed
+    // evaluation's; the samples, every 1 ms, end before it)
+    let expected = ((0.019 - z0) / 0.1).asin();
+    eprintln!("expected {expected:.6} s, last sample {last:.6} s");
+    assert!(
+        (t - expected).abs() < 1e-3,
+        "stopped at {t} s, expected {expected} s"
+    );
+    assert!(last > t - 1.001e-3 && last <= *t, "last sample at {last} s");
 }

@@ -21,6 +21,13 @@ pub const CONTACT_NORMAL_STIFFNESS: f64 = 1e9;
 /// \[N/m\] longitudinal and lateral stiffness of a wheel's contact support in the static solve.
 pub const CONTACT_TANGENT_STIFFNESS: f64 = 1e8;
 
+/// Passes of the static solve with elements along their lines (their forces from the last
+/// pass's solution) before it fails as not settled.
+pub const LINE_PASSES: usize = 20;
+/// \[rad\] the largest turn of an element along its line in the static solve: its linearised
+/// geometric stiffness (−F/L across the line) is good to about θ²/2 of the force, 0.5 %.
+pub const LINE_MAX_TURN: f64 = 0.1;
+
 /// The static equilibrium of a vehicle on level track.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StaticEquilibrium {
@@ -247,7 +254,9 @@ impl VehicleModel {
                 Ok(x) => lines.iter().map(|&(i, _)| axial(x, i)).collect(),
                 Err(_) => vec![0.0; lines.len()],
             };
-            for _ in 0..20 {
+            // (the largest change of a line's force in the last pass, and the element)
+            let mut unsettled = None;
+            for _ in 0..LINE_PASSES {
                 let mut kg = kk.clone();
                 for (&(i, len), &force) in lines.iter().zip(&line_force) {
                     let kt = -force / len;
@@ -257,14 +266,47 @@ impl VehicleModel {
                 }
                 result = solve(&kg, 0.0);
                 let Ok(x) = &result else { break };
-                let mut settled = true;
+                unsettled = None;
                 for (f, &(i, _)) in line_force.iter_mut().zip(&lines) {
                     let new = axial(x, i);
-                    settled &= (new - *f).abs() <= 1e-9 * (1.0 + new.abs());
+                    let change = (new - *f).abs();
+                    if change > 1e-9 * (1.0 + new.abs())
+                        && unsettled.is_none_or(|(c, _)| change > c)
+                    {
+                        unsettled = Some((change, i));
+                    }
                     *f = new;
                 }
-                if settled {
+                if unsettled.is_none() {
                     break;
+                }
+            }
+            if let Ok(x) = &result {
+                let fail = |message: String| VehicleError::Statics {
+                    vehicle: self.name.clone(),
+                    message,
+                };
+                if let Some((change, i)) = unsettled {
+                    return Err(fail(format!(
+                        "the forces of the elements along their lines did not settle in {LINE_PASSES} passes of the static solve (element '{}' still changed by {change:.3e} N): their geometric stiffness (-F/L across the line) dominates the support there; stiffen it, or set the element along a fixed direction",
+                        self.forces[i].name
+                    )));
+                }
+                // the linearised geometric stiffness holds for small turns of the lines
+                let mut u = vec![0.0; cols];
+                for (k, g) in free.iter().enumerate() {
+                    u[*g] = x[k];
+                }
+                for &(i, len) in &lines {
+                    let d = connections[i].0.apply(&u, cols);
+                    let turn = d[1].hypot(d[2]) / len;
+                    if turn > LINE_MAX_TURN {
+                        return Err(fail(format!(
+                            "element '{}' along its line turns by {turn:.3} rad in the static solve (its body 2's point moves {:.1} mm across the line), beyond the {LINE_MAX_TURN} rad for which its linearised geometric stiffness holds: the support across the line is too soft for the load",
+                            self.forces[i].name,
+                            d[1].hypot(d[2]) * 1e3
+                        )));
+                    }
                 }
             }
         }
@@ -286,10 +328,15 @@ impl VehicleModel {
                         k.wheelset_name()
                     )
                 };
+                let strut = if lines.is_empty() {
+                    ""
+                } else {
+                    " (an element along its line in compression also takes stiffness away across its line, -F/L)"
+                };
                 return Err(VehicleError::Statics {
                     vehicle: self.name.clone(),
                     message: format!(
-                        "{who}: connect it by force elements with stiffness in that direction, or freeze it"
+                        "{who}: connect it by force elements with stiffness in that direction, or freeze it{strut}"
                     ),
                 });
             }

@@ -1881,6 +1881,135 @@ force_n = [-1e6, 1e6]
     );
 }
 
+/// A 10 t mass on a bushing (3 MN/m laterally, 1 MN/m vertically) and an inclined hanger (0.2 m
+/// across, 0.4 m down, 100 MN/m): the hanger's force and the mass's displacement make a static
+/// equilibrium with the hanger's geometric stiffness at that force, on the branch that starts
+/// unloaded. On softer lateral support the single inclined hanger pulls the mass sideways: at
+/// 100 kN/m it turns by 0.25 rad, beyond the linearisation (an error); at 10 kN/m the repeated
+/// solve does not settle (an error); a strut from below with the weight far above its buckling
+/// load (about ky·L) leaves the mass without lateral support, and the message says why.
+#[test]
+fn an_inclined_hanger_finds_its_equilibrium_or_says_why_not() {
+    let kb = 1e8;
+    let vehicle = |ky: f64, top: [f64; 3]| {
+        format!(
+            r#"{WS}
+[[body]]
+name = "mass"
+mass_kg = 10000
+inertia_kgm2 = [100, 100, 100]
+position_m = [0.0, 0.0, 1.0]
+frozen = ["x", "roll", "pitch", "yaw"]
+
+[[force]]
+name = "bushing"
+type = "bushing"
+body1 = "track"
+body2 = "mass"
+point_m = [0.0, 0.0, 1.0]
+stiffness_n_per_m = [{ky}, {ky}, 1e6]
+
+[[force]]
+name = "hanger"
+type = "table"
+body1 = "track"
+body2 = "mass"
+point_m = [{}, {}, {}]
+point2_m = [0.0, 0.0, 1.0]
+direction = "line"
+deflection_mm = [-100, 100]
+force_n = [{}, {}]
+"#,
+            top[0],
+            top[1],
+            top[2],
+            -kb * 0.1,
+            kb * 0.1
+        )
+    };
+    let (ky, kz) = (3e6, 1e6);
+    let v = compile(&vehicle(ky, [0.0, -0.2, 1.4])).unwrap_or_else(|e| panic!("{e}"));
+    let w = 10000.0 * v.gravity();
+    let eq = v.static_equilibrium().unwrap_or_else(|e| panic!("{e}"));
+    // the line from the top point to the mass, in the y-z plane
+    let len = (0.2f64 * 0.2 + 0.4 * 0.4).sqrt();
+    let u = [0.2 / len, -0.4 / len];
+    // the line's force G(F) of the 2 × 2 solve at load `lam` with the geometric stiffness of F
+    let solve = |f: f64, lam: f64| {
+        let kt = -f / len;
+        let k = |i: usize, j: usize| {
+            let d = if i == j { 1.0 } else { 0.0 };
+            [ky, kz][i] * d + kb * u[i] * u[j] + kt * (d - u[i] * u[j])
+        };
+        let det = k(0, 0) * k(1, 1) - k(0, 1) * k(1, 0);
+        let g = [0.0, -lam * w];
+        let d = [
+            (k(1, 1) * g[0] - k(0, 1) * g[1]) / det,
+            (k(0, 0) * g[1] - k(1, 0) * g[0]) / det,
+        ];
+        (-kb * (u[0] * d[0] + u[1] * d[1]), d)
+    };
+    let f = eq.element_force[1][0];
+    let d = &eq.body_displacement[0];
+    let (g, dd) = solve(f, 1.0);
+    eprintln!(
+        "hanger {f:.3} N, G(F) {g:.3} N; displacement y {:.4} mm, z {:.4} mm",
+        d[1] * 1e3,
+        d[2] * 1e3
+    );
+    // a fixed point, and the reported displacement its solution
+    assert!((g - f).abs() < 1e-6 * w, "{g} against {f}");
+    assert!(
+        (dd[0] - d[1]).abs() < 1e-9 && (dd[1] - d[2]).abs() < 1e-9,
+        "{dd:?} against {d:?}"
+    );
+    // on the branch that starts unloaded: its root followed from no load in 1000 increments
+    let mut root = 0.0;
+    for i in 1..=1000 {
+        let lam = f64::from(i) / 1000.0;
+        for _ in 0..50 {
+            let (r0, _) = solve(root, lam);
+            let h = 1e-6 * (1.0 + root.abs());
+            let (r1, _) = solve(root + h, lam);
+            let step = (r0 - root) / ((r1 - r0) / h - 1.0);
+            root -= step;
+            if step.abs() < 1e-12 * (1.0 + root.abs()) {
+                break;
+            }
+        }
+    }
+    eprintln!("followed from no load: {root:.3} N");
+    assert!((root - f).abs() < 1e-6 * w, "{root} against {f}");
+    assert!(
+        f < -0.5 * w,
+        "the hanger carries most of the weight in tension: {f}"
+    );
+    let error = |ky: f64, top: [f64; 3]| {
+        let e = compile(&vehicle(ky, top))
+            .unwrap()
+            .static_equilibrium()
+            .unwrap_err()
+            .to_string();
+        eprintln!("{e}");
+        e
+    };
+    let e = error(1e5, [0.0, -0.2, 1.4]);
+    assert!(
+        e.contains("element 'hanger' along its line turns by 0.25"),
+        "{e}"
+    );
+    let e = error(1e4, [0.0, -0.2, 1.4]);
+    assert!(
+        e.contains("did not settle in 20 passes") && e.contains("element 'hanger'"),
+        "{e}"
+    );
+    let e = error(1e5, [0.0, -0.07, 0.6]);
+    assert!(
+        e.contains("body 'mass' has no support in") && e.contains("in compression"),
+        "{e}"
+    );
+}
+
 /// `direction = "line"` needs body 2's own point at least 1 cm away and no orientation, and
 /// applies to the one-axis types only.
 #[test]
