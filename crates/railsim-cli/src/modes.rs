@@ -310,6 +310,15 @@ fn print_modes(r: &ModalAnalysis, a: &ModesArgs) -> Result<()> {
         r.residual.1,
         r.residual.0
     );
+    match &r.balance {
+        Ok(0) => {}
+        Ok(n) => outln!(
+            "  the equilibrium balanced by Newton on the whole state in {n} iterations (a traction or brake torque's creep forces carried by the suspension)"
+        ),
+        Err(e) => outln!(
+            "  not an equilibrium: Newton on the whole state failed ({e}); the modes describe the motion about a state that drifts"
+        ),
+    }
     outln!("  frequency Hz  damping ratio   Re λ 1/s  leading coordinates (relative amplitude)");
     for m in r
         .modes
@@ -346,7 +355,8 @@ fn print_modes(r: &ModalAnalysis, a: &ModesArgs) -> Result<()> {
 
 /// \[m/s², rad/s²\] the largest acceleration of the state linearised about above which
 /// `critical-speed --method linear` notes that it is no equilibrium (the Manchester vehicle's
-/// is 1.4e-3; with 5 kN·m of traction per axle, 6.0 on an axle's x).
+/// is 1.4e-3; with 5 kN·m of traction per axle 5e-7 once Newton has balanced it, 6.0 on an
+/// axle's x where Newton fails because nothing holds the carbody's x).
 const RESIDUAL_NOTE: f64 = 0.1;
 
 /// `railsim critical-speed --method linear`.
@@ -379,12 +389,16 @@ pub fn linear(a: &CriticalArgs, scene: &Scene) -> Result<ExitCode> {
                 r.residual.0
             );
         }
-        // A linearisation about a state that is not an equilibrium (a traction torque whose
-        // creep force the suspension does not yet carry, say) describes another motion.
+        // A linearisation about a state that is not an equilibrium (Newton could not balance
+        // a traction torque, say) describes another motion.
         if !noted && r.residual.1 > RESIDUAL_NOTE {
             noted = true;
+            let why = match &r.balance {
+                Err(e) => format!(" (Newton on the whole state: {e})"),
+                Ok(_) => String::new(),
+            };
             eprintln!(
-                "note: at {:.2} km/h the state linearised about is not an equilibrium: its largest acceleration is {:.2e} ({}); the modes describe the motion about a state that drifts",
+                "note: at {:.2} km/h the state linearised about is not an equilibrium: its largest acceleration is {:.2e} ({}){why}; the modes describe the motion about a state that drifts",
                 r.speed * 3.6,
                 r.residual.1,
                 r.residual.0

@@ -794,7 +794,7 @@ fn finer_step_hint(scene: &Scene) -> String {
 /// Newton's method for `f(t, x) = 0` of `sim`'s model from `start` (default: its initial
 /// state), [`quasi_static_curving`]: the solution, the iterations taken and the largest scaled
 /// residual left; the reason when it fails.
-fn newton_steady(
+pub(crate) fn newton_steady(
     sim: &Simulation,
     t: f64,
     start: Option<&[f64]>,

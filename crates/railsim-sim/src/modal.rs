@@ -7,7 +7,9 @@
 //! with every wheelset settled on its rails, spinning at free rolling ([`Simulation::new`] with
 //! no disturbance), on the scene's track file with its alignment replaced by a tangent and its
 //! irregularities removed, and each wheelset's spin then set to its rolling equilibrium (with a
-//! traction or brake torque, the spin whose creep torque balances it). The
+//! traction or brake torque, the spin whose creep torque balances it), then the whole state
+//! balanced by Newton (the quasi-static start's; a torque's creep forces carried by the
+//! suspension, [`ModalAnalysis::balance`]). The
 //! Jacobian is a central difference of the right-hand side ([`railsim_ode::linear::jacobian`])
 //! with steps of 1 µm (1 µrad) on positions and internal states and 10 µm/s (10 µrad/s) on
 //! rates, far above the contact search's tolerances and small enough that the creep forces stay
@@ -39,7 +41,9 @@ use railsim_ode::linear::{Eigenpair, eigenpairs, jacobian};
 
 use railsim_log::LogStats;
 
-use crate::curving::{CurveCase, CurvingRun, QuasiStatic, SteadyState, smooth_track, steady_state};
+use crate::curving::{
+    CurveCase, CurvingRun, QuasiStatic, SteadyState, newton_steady, smooth_track, steady_state,
+};
 use crate::dynamics::Dynamics;
 use crate::error::SimError;
 use crate::model::SimModel;
@@ -143,6 +147,11 @@ pub struct ModalAnalysis {
     pub residual: (String, f64),
     /// The state linearised about.
     pub equilibrium: Vec<f64>,
+    /// On straight track ([`modes_at`]): the Newton iterations that balanced the whole state
+    /// after the spins (0 when it already was: no traction or brake torque), or why Newton
+    /// failed (the spins' equilibrium is then linearised about; `residual` shows the rest).
+    /// `Ok(0)` in a curve, whose steady state is Newton's already.
+    pub balance: Result<usize, String>,
     /// \[s\] the time it was linearised at: 0 on straight track; in a curve the time at which
     /// the case's run (`crate::curving::curving_scene`) is at the steady state, so that
     /// [`Simulation::start_from`] can restart that run there.
@@ -221,7 +230,25 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
     // the axles started with a small torque: 8.6 rad/s² on the Manchester vehicle.)
     let mut f0 = vec![0.0; x0.len()];
     settle_spins(&mut sys, &mut x0, &mut f0, SpinTarget::Equilibrium).map_err(fail)?;
-    linearise(model, &mut sys, 0.0, x0, &f0, speed, opts).map_err(fail)
+    // With a traction or brake torque the creep forces that balance it also load the
+    // suspension: the whole state is balanced by Newton, as the quasi-static start's
+    // (`curving::newton_steady`), which returns a state already within its tolerances as it is.
+    // Where it fails (no steady state: a torque with nothing to hold the vehicle's x; or forces
+    // not smooth enough for Newton) the spins' equilibrium is kept, and the residual and
+    // `balance` tell.
+    let balance = match newton_steady(&sim, 0.0, Some(&x0), &QuasiStatic::default()) {
+        Ok((x, iterations, _)) => {
+            if iterations > 0 {
+                x0 = x;
+                sys.rhs(0.0, &x0, &mut f0).map_err(|e| fail(e.0))?;
+            }
+            Ok(iterations)
+        }
+        Err(e) => Err(e),
+    };
+    let mut analysis = linearise(model, &mut sys, 0.0, x0, &f0, speed, opts).map_err(fail)?;
+    analysis.balance = balance;
+    Ok(analysis)
 }
 
 /// Check the difference steps of `opts`: at most 1 mm and 10 mm/s.
@@ -280,6 +307,7 @@ fn linearise(
         states: n,
         residual,
         equilibrium: x0,
+        balance: Ok(0),
         time: t,
     })
 }
@@ -713,6 +741,7 @@ mod tests {
             states: 4,
             residual: (String::new(), 0.0),
             equilibrium: Vec::new(),
+            balance: Ok(0),
             time: 0.0,
         }
     }
