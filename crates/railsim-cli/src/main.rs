@@ -40,6 +40,7 @@ mod curving;
 mod modes;
 mod replay;
 mod run;
+mod statics;
 
 /// Most threads `--threads` accepts (the wheels of a vehicle are a few dozen evaluations per
 /// right-hand side; each thread costs a stack and a start-up).
@@ -92,6 +93,10 @@ enum Command {
     /// state directly (--method quasi-static).
     #[command(allow_negative_numbers = true)]
     Curving(curving::CurvingArgs),
+    /// A vehicle's static equilibrium on level track (wheel loads, elements' static forces)
+    /// and, with --twist-permille, its wheels' unloading ΔQ/Q0 on a twisted track.
+    #[command(allow_negative_numbers = true)]
+    Statics(statics::StaticsArgs),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -289,6 +294,7 @@ fn main() -> ExitCode {
         Command::CriticalSpeed(a) => critical::run_critical(a),
         Command::Curving(a) => curving::run_curving(a),
         Command::Modes(a) => modes::run_modes(a),
+        Command::Statics(a) => statics::run_statics(a),
     };
     // The command runs on a thread of a rayon pool, so that a simulation's right-hand side
     // shares the wheels' contact evaluations with the pool's other threads

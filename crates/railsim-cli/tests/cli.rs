@@ -1142,3 +1142,88 @@ fn the_linear_critical_speed_notes_a_state_that_is_no_equilibrium() {
     assert!(err.contains("; residual "), "{err}");
     assert!(!err.contains("is not an equilibrium"), "{err}");
 }
+
+/// `railsim statics`: the built-in vehicle's static wheel loads balance its weight, and on a
+/// twist of 3 ‰ its wheels unload as the library's solve on the same rail heights says, in a
+/// pattern antisymmetric front to back and left to right (the worst wheel at an end wheelset);
+/// a twist of the other sign mirrors it. Bad options are refused with exit code 2.
+#[test]
+fn statics_reports_the_wheel_loads_and_their_unloading_on_a_twist() {
+    let (code, out, err) = railsim(&["statics", "--twist-permille", "3", "--elements"]);
+    assert_eq!(code, 0, "{err}");
+    eprintln!("{out}");
+    let v = railsim_vehicle::VehicleModel::from_file(
+        common::root().join("vehicles/manchester_vehicle1.toml"),
+    )
+    .unwrap();
+    let level = v.static_equilibrium().unwrap();
+    let weight = v.total_mass() * v.gravity();
+    assert!(out.contains(&format!(
+        "sum {:.3} kN against the weight {:.3} kN\n",
+        level.total_wheel_load() * 1e-3,
+        weight * 1e-3
+    )));
+    assert!(out.contains("primary_ws1_l"), "{out}");
+    // the library's solve on the rail heights of a uniform 3 ‰ twist about the middle of the
+    // end wheelsets (x = 0 on this symmetric vehicle)
+    let mid = 0.0;
+    let heights: Vec<[f64; 2]> = v
+        .wheelsets()
+        .iter()
+        .map(|w| {
+            let c = 3e-3 * (w.position[0] - mid);
+            [c / 2.0, -c / 2.0]
+        })
+        .collect();
+    let twisted = v.static_equilibrium_on(&heights).unwrap();
+    for (w, (q, q0)) in v
+        .wheelsets()
+        .iter()
+        .zip(twisted.wheel_loads.iter().zip(&level.wheel_loads))
+    {
+        let line = format!(
+            "  {:<12} left Q {:8.3} kN (ΔQ/Q0 {:+.3}), right Q {:8.3} kN (ΔQ/Q0 {:+.3})",
+            w.name,
+            q[0] * 1e-3,
+            (q0[0] - q[0]) / q0[0],
+            q[1] * 1e-3,
+            (q0[1] - q[1]) / q0[1]
+        );
+        assert!(out.contains(&line), "{line}\n{out}");
+    }
+    // the front wheelset's right wheel unloads as the rear's left one
+    let (front, rear) = (&twisted.wheel_loads[0], &twisted.wheel_loads[3]);
+    assert!(
+        (front[1] - rear[0]).abs() < 1e-6 * weight,
+        "{front:?} {rear:?}"
+    );
+    assert!(front[1] < level.wheel_loads[0][1]);
+    let worst = (level.wheel_loads[0][1] - front[1]) / level.wheel_loads[0][1];
+    assert!(
+        out.contains(&format!("largest unloading ΔQ/Q0 = {worst:.3}"))
+            && out.contains("limit 0.6: within"),
+        "{out}"
+    );
+    let (_, mirrored, _) = railsim(&["statics", "--twist-permille", "-3"]);
+    assert!(
+        mirrored.contains(&format!("largest unloading ΔQ/Q0 = {worst:.3}")),
+        "{mirrored}"
+    );
+    let (code, out, err) = railsim(&["statics", "--twist-permille", "3", "--limit", "0.2"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("limit 0.2: EXCEEDED"), "{out}");
+    for (args, needle) in [
+        (
+            vec!["statics", "--twist-permille", "100"],
+            "--twist-permille: expected a number from -50 to 50, found 100",
+        ),
+        (
+            vec!["statics", "--limit", "0"],
+            "--limit: expected a wheel unloading ΔQ/Q0 in (0, 1], found 0",
+        ),
+    ] {
+        let (code, _, err) = railsim(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{err}");
+    }
+}

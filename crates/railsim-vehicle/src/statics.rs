@@ -1,4 +1,6 @@
-//! Static equilibrium on level, ideal track: a linear stiffness solve of the whole vehicle.
+//! Static equilibrium on level, ideal track (or with the rails displaced vertically under the
+//! wheels: a twisted track, [`VehicleModel::static_equilibrium_on`]): a linear stiffness solve
+//! of the whole vehicle.
 //!
 //! Unknowns: the small displacements (x, y, z, roll, pitch, yaw) of every body and wheelset,
 //! except frozen ones and the wheelsets' spin. Each force element contributes its stiffness at
@@ -115,6 +117,34 @@ impl VehicleModel {
     /// Fails with [`VehicleError::Statics`] when a body is not supported in some direction
     /// (nothing connects it to the wheelsets or the track, and it is not frozen).
     pub fn static_equilibrium(&self) -> Result<StaticEquilibrium, VehicleError> {
+        self.static_equilibrium_on(&vec![[0.0; 2]; self.wheelsets.len()])
+    }
+
+    /// Static equilibrium on a track whose rails are displaced vertically under the wheels:
+    /// `rail_heights[i]` \[m\] is `[left, right]` under wheelset `i`'s running circles (a
+    /// twisted track: the left rail `c/2` up and the right `c/2` down for a cross-level `c`).
+    /// Each wheel's contact support then starts at that height, so its load follows from the
+    /// same linear solve (the wheel-unloading check on a twisted track, EN 14363; a negative
+    /// load means the wheel would lift off, where the linear solve no longer holds).
+    ///
+    /// Fails as [`Self::static_equilibrium`], and with [`VehicleError::Statics`] when
+    /// `rail_heights` does not have one entry per wheelset or holds a non-finite value.
+    pub fn static_equilibrium_on(
+        &self,
+        rail_heights: &[[f64; 2]],
+    ) -> Result<StaticEquilibrium, VehicleError> {
+        if rail_heights.len() != self.wheelsets.len()
+            || rail_heights.iter().flatten().any(|h| !h.is_finite())
+        {
+            return Err(VehicleError::Statics {
+                vehicle: self.name.clone(),
+                message: format!(
+                    "expected a finite rail height under each wheel of the {} wheelsets, found {} pairs",
+                    self.wheelsets.len(),
+                    rail_heights.len()
+                ),
+            });
+        }
         let nb = self.bodies.len();
         let n = nb + self.wheelsets.len();
         let cols = 6 * n;
@@ -188,9 +218,17 @@ impl VehicleModel {
             }
         }
         let nf = free.len();
+        // gravity, and the supports' preload k·h toward a displaced rail (left first, as the
+        // supports are built)
+        let heights: Vec<f64> = rail_heights.iter().flatten().copied().collect();
         let rhs: Vec<f64> = free
             .iter()
             .map(|&g| {
+                let rail: f64 = supports
+                    .iter()
+                    .zip(&heights)
+                    .map(|(c, h)| CONTACT_NORMAL_STIFFNESS * h * c.g[2 * cols + g])
+                    .sum();
                 if g % 6 == DofKind::Z.index() {
                     let m = g / 6;
                     let mass = if m < nb {
@@ -198,9 +236,9 @@ impl VehicleModel {
                     } else {
                         self.wheelsets[m - nb].mass
                     };
-                    -mass * self.gravity
+                    rail - mass * self.gravity
                 } else {
-                    0.0
+                    rail
                 }
             })
             .collect();
@@ -347,9 +385,11 @@ impl VehicleModel {
         }
         let wheel_loads = supports
             .chunks(2)
-            .map(|pair| {
-                let q = |c: &Connection| -CONTACT_NORMAL_STIFFNESS * c.apply(&u, cols)[2];
-                [q(&pair[0]), q(&pair[1])]
+            .zip(rail_heights)
+            .map(|(pair, h)| {
+                let q =
+                    |c: &Connection, h: f64| -CONTACT_NORMAL_STIFFNESS * (c.apply(&u, cols)[2] - h);
+                [q(&pair[0], h[0]), q(&pair[1], h[1])]
             })
             .collect();
         let element_force = connections

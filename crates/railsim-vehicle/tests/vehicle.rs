@@ -2010,6 +2010,77 @@ force_n = [{}, {}]
     );
 }
 
+/// Wheel unloading on a twisted track (`static_equilibrium_on`): a rigid 20 t body on four
+/// springs (k_z = 1 MN/m at x = ±a, y = ±b_s, at axle height) over two wheelsets. (Their
+/// horizontal stiffness is kept small, 10 kN/m: a wheelset rolls about its contact points, so
+/// its axle moves sideways by r0 φ_i, in opposite directions front and rear, and with 1 MN/m
+/// horizontally the springs' shear added 6 % to ΔQ.) Each wheelset rolls with its
+/// rails, φ_i = c_i/(2 b_w); the body, rigid, cannot follow the warp b_s(φ1 − φ2)/2 of the spring
+/// seats, so each spring takes ±k times it, and each wheel ΔQ = k b_s² (c1 − c2)/(4 b_w²): with a
+/// twist g over the wheelbase 2a, c1 − c2 = 2ag. Level rails give the loads of
+/// `static_equilibrium`; a wrong count of rail heights is refused.
+#[test]
+fn a_twisted_track_unloads_the_wheels_as_a_rigid_body_on_four_springs() {
+    let (a, bs, k) = (1.5, 1.0, 1e6);
+    let mut text = String::from("name = \"two-axle\"\n");
+    for (name, x) in [("ws1", a), ("ws2", -a)] {
+        text += &format!(
+            "[[wheelset]]\nname = \"{name}\"\nmass_kg = 1500\ninertia_kgm2 = [800, 100, 800]\n\
+             position_m = [{x}, 0, 0.46]\nnominal_radius_m = 0.46\nback_to_back_mm = 1360\n\
+             wheel_profile = {{ left = \"s1002\", right = \"s1002\" }}\n"
+        );
+    }
+    text += "[[body]]\nname = \"body\"\nmass_kg = 20000\ninertia_kgm2 = [20000, 40000, 40000]\n\
+             position_m = [0, 0, 1.5]\n";
+    for (ws, x) in [("ws1", a), ("ws2", -a)] {
+        for (side, y) in [("l", bs), ("r", -bs)] {
+            text += &format!(
+                "[[force]]\nname = \"spring_{ws}_{side}\"\ntype = \"bushing\"\nbody1 = \"{ws}\"\n\
+                 body2 = \"body\"\npoint_m = [{x}, {y}, 0.46]\n\
+                 stiffness_n_per_m = [1e4, 1e4, {k}]\n"
+            );
+        }
+    }
+    let v = compile(&text).unwrap_or_else(|e| panic!("{e}"));
+    let bw = v.wheelsets()[0].contact_half_distance();
+    let level = v.static_equilibrium().unwrap();
+    let same = v.static_equilibrium_on(&[[0.0; 2]; 2]).unwrap();
+    assert_eq!(level, same);
+    let q0 = level.wheel_loads[0][0];
+    let g = 3e-3;
+    // cross-level g (x − x̄): the left rail up by half of it, the right one down
+    let c = [g * a, -g * a];
+    let eq = v
+        .static_equilibrium_on(&[[c[0] / 2.0, -c[0] / 2.0], [c[1] / 2.0, -c[1] / 2.0]])
+        .unwrap();
+    let dq = k * bs * bs * (c[0] - c[1]) / (4.0 * bw * bw);
+    eprintln!(
+        "Q0 {q0:.1} N, b_w {bw:.4} m; twisted {:?} N; ΔQ expected {dq:.1} N ({:.3} of Q0)",
+        eq.wheel_loads,
+        dq / q0
+    );
+    // the raised left rail at the front and the lowered one at the rear load those wheels
+    let want = [[q0 + dq, q0 - dq], [q0 - dq, q0 + dq]];
+    for (got, want) in eq.wheel_loads.iter().zip(want) {
+        for (q, w) in got.iter().zip(want) {
+            assert!((q - w).abs() < 2e-3 * dq, "{q} against {w}");
+        }
+    }
+    // the total load is the weight still
+    let total: f64 = eq.wheel_loads.iter().flatten().sum();
+    assert!((total - level.total_wheel_load()).abs() < 1e-6 * total);
+    let e = v
+        .static_equilibrium_on(&[[0.0; 2]])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("of the 2 wheelsets, found 1 pairs"), "{e}");
+    let e = v
+        .static_equilibrium_on(&[[0.0, f64::NAN], [0.0; 2]])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("finite rail height"), "{e}");
+}
+
 /// `direction = "line"` needs body 2's own point at least 1 cm away and no orientation, and
 /// applies to the one-axis types only.
 #[test]
