@@ -313,11 +313,14 @@ fn print_modes(r: &ModalAnalysis, a: &ModesArgs) -> Result<()> {
     match &r.balance {
         Ok(0) => {}
         Ok(n) => outln!(
-            "  the equilibrium balanced by Newton on the whole state in {n} iterations (a traction or brake torque's creep forces carried by the suspension)"
+            "  the equilibrium balanced by Newton on the whole state in {n} iterations (the traction or brake torque's creep forces carried by the suspension)"
         ),
-        Err(e) => outln!(
+        Err(e) if r.residual.1 > RESIDUAL_NOTE => outln!(
             "  not an equilibrium: Newton on the whole state failed ({e}); the modes describe the motion about a state that drifts"
         ),
+        Err(e) => {
+            outln!("  Newton on the whole state failed ({e}); the residual above is what is left")
+        }
     }
     outln!("  frequency Hz  damping ratio   Re λ 1/s  leading coordinates (relative amplitude)");
     for m in r

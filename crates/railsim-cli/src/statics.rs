@@ -9,7 +9,7 @@ use std::process::ExitCode;
 use anyhow::{Result, bail};
 use clap::Args;
 
-use railsim_vehicle::VehicleModel;
+use railsim_vehicle::{DofKind, VehicleModel};
 
 /// The built-in vehicle, from the repository this binary was built in.
 pub const DEFAULT_VEHICLE: &str = concat!(
@@ -27,7 +27,9 @@ pub struct StaticsArgs {
     /// Track twist g (‰: mm of cross-level per metre along the track): the cross-level
     /// c(x) = g (x − x̄) about the middle x̄ of the end wheelsets, the left rail c/2 up and the
     /// right c/2 down under the wheels' running circles; positive: the left rail rises toward
-    /// the front (+x). Reports each wheel's unloading ΔQ/Q0 against --limit.
+    /// the front (+x). Reports each wheel's unloading ΔQ/Q0 against --limit. One twist over
+    /// the whole vehicle: EN 14363 twists a bogie's wheelbase and the bogie-centre distance by
+    /// different amounts (larger on the short base), which this does not reproduce.
     #[arg(long)]
     pub twist_permille: Option<f64>,
     /// Limit of the wheel unloading ΔQ/Q0 on the twisted track (EN 14363's commonly quoted 0.6;
@@ -97,8 +99,8 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
     if a.elements {
         outln!("static forces of the elements on their body 2, local axes (N; N·m):");
         for (f, e) in v.forces().iter().zip(&level.element_force) {
-            // (+ 0.0: no "-0.0" for a zero force)
-            let e = e.map(|x| x + 0.0);
+            // (rounded to the printed 0.1, then + 0.0: no "-0.0" for a force that rounds to 0)
+            let e = e.map(|x| (x * 10.0).round() / 10.0 + 0.0);
             outln!(
                 "  {:<28} F [{:10.1} {:10.1} {:10.1}]  M [{:9.1} {:9.1} {:9.1}]",
                 f.name,
@@ -120,6 +122,24 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
             (l.min(*x), h.max(*x))
         });
+    // a wheelset held vertically cannot follow its rails: its support would just press it
+    if let Some(w) = v
+        .wheelsets()
+        .iter()
+        .find(|w| w.frozen[DofKind::Z.index()] || w.frozen[DofKind::Roll.index()])
+    {
+        bail!(
+            "--twist-permille: wheelset '{}' of vehicle '{}' has its z or roll frozen, so it cannot follow a twisted track",
+            w.name,
+            v.name()
+        );
+    }
+    if hi <= lo {
+        bail!(
+            "--twist-permille: vehicle '{}' has no two wheelsets at different x: a uniform twist needs a wheelbase",
+            v.name()
+        );
+    }
     let mid = 0.5 * (lo + hi);
     let cross = |x: f64| g * 1e-3 * (x - mid);
     let heights: Vec<[f64; 2]> = xs
@@ -136,19 +156,23 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
     for &i in &order {
         let w = &v.wheelsets()[i];
         let (q0, q) = (level.wheel_loads[i], twisted.wheel_loads[i]);
-        let unload = |k: usize| (q0[k] - q[k]) / q0[k];
+        // (none for a wheel without static load, e.g. a wheelset held by frozen freedoms)
+        let unload = |k: usize| (q0[k] > 0.0).then(|| (q0[k] - q[k]) / q0[k]);
+        let text = |k: usize| unload(k).map_or("-".to_owned(), |u| format!("{u:+.3}"));
         for k in 0..2 {
-            if worst.is_none_or(|(u, _, _)| unload(k) > u) {
-                worst = Some((unload(k), i, k));
+            if let Some(u) = unload(k)
+                && worst.is_none_or(|(w, _, _)| u > w)
+            {
+                worst = Some((u, i, k));
             }
         }
         outln!(
-            "  {:<12} left Q {:8.3} kN (ΔQ/Q0 {:+.3}), right Q {:8.3} kN (ΔQ/Q0 {:+.3})",
+            "  {:<12} left Q {:8.3} kN (ΔQ/Q0 {}), right Q {:8.3} kN (ΔQ/Q0 {})",
             w.name,
             q[0] * 1e-3,
-            unload(0),
+            text(0),
             q[1] * 1e-3,
-            unload(1)
+            text(1)
         );
     }
     if let Some((u, i, k)) = worst {

@@ -1146,7 +1146,8 @@ fn the_linear_critical_speed_notes_a_state_that_is_no_equilibrium() {
 /// `railsim statics`: the built-in vehicle's static wheel loads balance its weight, and on a
 /// twist of 3 ‰ its wheels unload as the library's solve on the same rail heights says, in a
 /// pattern antisymmetric front to back and left to right (the worst wheel at an end wheelset);
-/// a twist of the other sign mirrors it. Bad options are refused with exit code 2.
+/// a twist of the other sign mirrors it. Bad options, and a twist for a single wheelset, are
+/// refused with exit code 2.
 #[test]
 fn statics_reports_the_wheel_loads_and_their_unloading_on_a_twist() {
     let (code, out, err) = railsim(&["statics", "--twist-permille", "3", "--elements"]);
@@ -1204,14 +1205,37 @@ fn statics_reports_the_wheel_loads_and_their_unloading_on_a_twist() {
             && out.contains("limit 0.6: within"),
         "{out}"
     );
+    // the other sign mirrors it: the front wheelset's left wheel unloads now
     let (_, mirrored, _) = railsim(&["statics", "--twist-permille", "-3"]);
     assert!(
         mirrored.contains(&format!("largest unloading ΔQ/Q0 = {worst:.3}")),
         "{mirrored}"
     );
+    let ws1 = mirrored
+        .lines()
+        .find(|l| l.starts_with("  ws1 ") && l.contains("left Q"))
+        .unwrap();
+    assert!(
+        ws1.contains(&format!(
+            "left Q {:8.3} kN (ΔQ/Q0 {worst:+.3})",
+            front[1] * 1e-3
+        )),
+        "{ws1}"
+    );
     let (code, out, err) = railsim(&["statics", "--twist-permille", "3", "--limit", "0.2"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("limit 0.2: EXCEEDED"), "{out}");
+    // the Manchester vehicle with its first wheelset held in roll
+    let dir = common::temp_dir("cli", "statics");
+    let held = dir.join("held.toml");
+    let text = std::fs::read_to_string(common::root().join("vehicles/manchester_vehicle1.toml"))
+        .unwrap()
+        .replacen("[[wheelset]]\n", "[[wheelset]]\nfrozen = [\"roll\"]\n", 1)
+        .replace(
+            "\"profiles/",
+            &format!("\"{}/vehicles/profiles/", common::root().display()),
+        );
+    std::fs::write(&held, text).unwrap();
     for (args, needle) in [
         (
             vec!["statics", "--twist-permille", "100"],
@@ -1220,6 +1244,19 @@ fn statics_reports_the_wheel_loads_and_their_unloading_on_a_twist() {
         (
             vec!["statics", "--limit", "0"],
             "--limit: expected a wheel unloading ΔQ/Q0 in (0, 1], found 0",
+        ),
+        (
+            vec![
+                "statics",
+                "vehicles/wheelset_free.toml",
+                "--twist-permille",
+                "3",
+            ],
+            "has no two wheelsets at different x: a uniform twist needs a wheelbase",
+        ),
+        (
+            vec!["statics", held.to_str().unwrap(), "--twist-permille", "3"],
+            "wheelset 'ws1' of vehicle 'Manchester benchmark vehicle 1' has its z or roll frozen",
         ),
     ] {
         let (code, _, err) = railsim(&args);

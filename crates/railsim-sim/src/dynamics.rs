@@ -704,6 +704,14 @@ impl Dynamics<'_> {
         }
     }
 
+    /// A failed evaluation at `t`: `body` and `quantity` kept for the stop error
+    /// (`Workspace::failure`), and the integrator's error.
+    fn fail(&mut self, t: f64, body: String, quantity: String) -> RhsError {
+        let message = format!("t = {t:.6} s: {body}: {quantity}");
+        self.ws.failure = Some((body, quantity));
+        RhsError(message)
+    }
+
     /// Stage 4: force elements, the friction elements last (`SimModel::element_order`: their
     /// sliding force may depend on another element's force). Writes the internal-state rates
     /// into `dx`.
@@ -743,16 +751,16 @@ impl Dynamics<'_> {
                 let l = dot(dp, dp).sqrt();
                 // (false for NaN: a non-finite state is the integrator's to report)
                 if l < LINE_COLLAPSE {
-                    let body = format!("element '{}'", el.name);
-                    let quantity = format!(
-                        "its points came {:.3} mm apart (nominal {:.3} m): an element along the line between its points needs them at least {} mm apart",
-                        l * 1e3,
-                        l0,
-                        LINE_COLLAPSE * 1e3
-                    );
-                    let message = format!("t = {t:.6} s: {body}: {quantity}");
-                    self.ws.failure = Some((body, quantity));
-                    return Err(RhsError(message));
+                    return Err(self.fail(
+                        t,
+                        format!("element '{}'", el.name),
+                        format!(
+                            "its points came {:.3} mm apart (nominal {:.3} m): an element along the line between its points needs them at least {} mm apart",
+                            l * 1e3,
+                            l0,
+                            LINE_COLLAPSE * 1e3
+                        ),
+                    ));
                 }
                 let u = scale(1.0 / l, dp);
                 ([l - l0, 0.0, 0.0], [dot(u, sub(v2, v1)), 0.0, 0.0], Some(u))
@@ -1061,10 +1069,7 @@ impl Dynamics<'_> {
                     m.members[mi].name,
                     wheel.side.name()
                 );
-                let quantity = format!("contact: {e}");
-                let message = format!("t = {t:.6} s: {body}: {quantity}");
-                self.ws.failure = Some((body, quantity));
-                return Err(RhsError(message));
+                return Err(self.fail(t, body, format!("contact: {e}")));
             }
             let WheelInput {
                 rail,

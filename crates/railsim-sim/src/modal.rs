@@ -7,9 +7,9 @@
 //! with every wheelset settled on its rails, spinning at free rolling ([`Simulation::new`] with
 //! no disturbance), on the scene's track file with its alignment replaced by a tangent and its
 //! irregularities removed, and each wheelset's spin then set to its rolling equilibrium (with a
-//! traction or brake torque, the spin whose creep torque balances it), then the whole state
-//! balanced by Newton (the quasi-static start's; a torque's creep forces carried by the
-//! suspension, [`ModalAnalysis::balance`]). The
+//! traction or brake torque, the spin whose creep torque balances it, and then the whole state
+//! balanced by Newton, the quasi-static start's, so that the suspension carries the torque's
+//! creep forces: [`ModalAnalysis::balance`]). The
 //! Jacobian is a central difference of the right-hand side ([`railsim_ode::linear::jacobian`])
 //! with steps of 1 µm (1 µrad) on positions and internal states and 10 µm/s (10 µrad/s) on
 //! rates, far above the contact search's tolerances and small enough that the creep forces stay
@@ -147,10 +147,10 @@ pub struct ModalAnalysis {
     pub residual: (String, f64),
     /// The state linearised about.
     pub equilibrium: Vec<f64>,
-    /// On straight track ([`modes_at`]): the Newton iterations that balanced the whole state
-    /// after the spins (0 when it already was: no traction or brake torque), or why Newton
+    /// On straight track ([`modes_at`]) with a traction or brake torque: the Newton iterations
+    /// that balanced the whole state after the spins (0 if it already was), or why Newton
     /// failed (the spins' equilibrium is then linearised about; `residual` shows the rest).
-    /// `Ok(0)` in a curve, whose steady state is Newton's already.
+    /// `Ok(0)` without a torque, and in a curve, whose steady state is Newton's already.
     pub balance: Result<usize, String>,
     /// \[s\] the time it was linearised at: 0 on straight track; in a curve the time at which
     /// the case's run (`crate::curving::curving_scene`) is at the steady state, so that
@@ -231,20 +231,25 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
     let mut f0 = vec![0.0; x0.len()];
     settle_spins(&mut sys, &mut x0, &mut f0, SpinTarget::Equilibrium).map_err(fail)?;
     // With a traction or brake torque the creep forces that balance it also load the
-    // suspension: the whole state is balanced by Newton, as the quasi-static start's
-    // (`curving::newton_steady`), which returns a state already within its tolerances as it is.
-    // Where it fails (no steady state: a torque with nothing to hold the vehicle's x; or forces
-    // not smooth enough for Newton) the spins' equilibrium is kept, and the residual and
-    // `balance` tell.
-    let balance = match newton_steady(&sim, 0.0, Some(&x0), &QuasiStatic::default()) {
-        Ok((x, iterations, _)) => {
-            if iterations > 0 {
-                x0 = x;
-                sys.rhs(0.0, &x0, &mut f0).map_err(|e| fail(e.0))?;
-            }
-            Ok(iterations)
-        }
-        Err(e) => Err(e),
+    // suspension: the whole state is then balanced by Newton, as the quasi-static start's
+    // (`curving::newton_steady`). Where it fails (no steady state: a torque with nothing to
+    // hold the vehicle's x; or forces not smooth enough for Newton) the spins' equilibrium is
+    // kept, and the residual and `balance` tell. Without a torque the state above is the one
+    // linearised about, as before (a free wheelset's x has no stiffness, so Newton on it would
+    // fail for nothing).
+    let driven = scene.vehicle.wheelsets().iter().any(|w| w.torque != 0.0);
+    let balance = if driven {
+        newton_steady(&sim, 0.0, Some(&x0), &QuasiStatic::default()).and_then(
+            |(x, iterations, _)| {
+                if iterations > 0 {
+                    x0 = x;
+                    sys.rhs(0.0, &x0, &mut f0).map_err(|e| e.0)?;
+                }
+                Ok(iterations)
+            },
+        )
+    } else {
+        Ok(0)
     };
     let mut analysis = linearise(model, &mut sys, 0.0, x0, &f0, speed, opts).map_err(fail)?;
     analysis.balance = balance;

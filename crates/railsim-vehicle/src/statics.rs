@@ -133,16 +133,27 @@ impl VehicleModel {
         &self,
         rail_heights: &[[f64; 2]],
     ) -> Result<StaticEquilibrium, VehicleError> {
-        if rail_heights.len() != self.wheelsets.len()
-            || rail_heights.iter().flatten().any(|h| !h.is_finite())
-        {
+        let message = if rail_heights.len() != self.wheelsets.len() {
+            Some(format!(
+                "expected a pair of rail heights for each of the {} wheelsets, found {} pairs",
+                self.wheelsets.len(),
+                rail_heights.len()
+            ))
+        } else {
+            rail_heights
+                .iter()
+                .position(|h| !(h[0].is_finite() && h[1].is_finite()))
+                .map(|i| {
+                    format!(
+                        "expected finite rail heights under wheelset '{}', found {:?}",
+                        self.wheelsets[i].name, rail_heights[i]
+                    )
+                })
+        };
+        if let Some(message) = message {
             return Err(VehicleError::Statics {
                 vehicle: self.name.clone(),
-                message: format!(
-                    "expected a finite rail height under each wheel of the {} wheelsets, found {} pairs",
-                    self.wheelsets.len(),
-                    rail_heights.len()
-                ),
+                message,
             });
         }
         let nb = self.bodies.len();
@@ -274,14 +285,25 @@ impl VehicleModel {
             .filter(|(_, f)| f.line)
             .map(|(i, f)| (i, f.nominal_length()))
             .collect();
-        // the force along the line of element `i` at the free unknowns' solution `x`
-        let axial = |x: &[f64], i: usize| {
+        // all 6·N displacements from the free unknowns' solution `x`
+        let scatter = |x: &[f64]| {
             let mut u = vec![0.0; cols];
             for (k, g) in free.iter().enumerate() {
                 u[*g] = x[k];
             }
+            u
+        };
+        // the force along the line of element `i` at the free unknowns' solution `x`
+        let axial = |x: &[f64], i: usize| {
             let (c, k) = &connections[i];
-            -k[0] * c.apply(&u, cols)[0]
+            -k[0] * c.apply(&scatter(x), cols)[0]
+        };
+        // (a line element in compression in the last pass: it takes stiffness away across its
+        // line, which the "no support" message names)
+        let mut strut = None;
+        let fail = |message: String| VehicleError::Statics {
+            vehicle: self.name.clone(),
+            message,
         };
         let mut result = solve(&kk, 0.0);
         if !lines.is_empty() {
@@ -319,11 +341,12 @@ impl VehicleModel {
                     break;
                 }
             }
+            strut = lines
+                .iter()
+                .zip(&line_force)
+                .find(|(_, f)| **f > 0.0)
+                .map(|(&(i, _), _)| i);
             if let Ok(x) = &result {
-                let fail = |message: String| VehicleError::Statics {
-                    vehicle: self.name.clone(),
-                    message,
-                };
                 if let Some((change, i)) = unsettled {
                     return Err(fail(format!(
                         "the forces of the elements along their lines did not settle in {LINE_PASSES} passes of the static solve (element '{}' still changed by {change:.3e} N): their geometric stiffness (-F/L across the line) dominates the support there; stiffen it, or set the element along a fixed direction",
@@ -331,10 +354,7 @@ impl VehicleModel {
                     )));
                 }
                 // the linearised geometric stiffness holds for small turns of the lines
-                let mut u = vec![0.0; cols];
-                for (k, g) in free.iter().enumerate() {
-                    u[*g] = x[k];
-                }
+                let u = scatter(x);
                 for &(i, len) in &lines {
                     let d = connections[i].0.apply(&u, cols);
                     let turn = d[1].hypot(d[2]) / len;
@@ -366,29 +386,25 @@ impl VehicleModel {
                         k.wheelset_name()
                     )
                 };
-                let strut = if lines.is_empty() {
-                    ""
-                } else {
-                    " (an element along its line in compression also takes stiffness away across its line, -F/L)"
-                };
-                return Err(VehicleError::Statics {
-                    vehicle: self.name.clone(),
-                    message: format!(
-                        "{who}: connect it by force elements with stiffness in that direction, or freeze it{strut}"
-                    ),
+                let strut = strut.map_or(String::new(), |i| {
+                    format!(
+                        " (element '{}' along its line is in compression, which takes stiffness away across its line: -F/L)",
+                        self.forces[i].name
+                    )
                 });
+                return Err(fail(format!(
+                    "{who}: connect it by force elements with stiffness in that direction, or freeze it{strut}"
+                )));
             }
         };
-        let mut u = vec![0.0; cols];
-        for (i, g) in free.iter().enumerate() {
-            u[*g] = rhs[i];
-        }
+        let u = scatter(&rhs);
         let wheel_loads = supports
             .chunks(2)
             .zip(rail_heights)
             .map(|(pair, h)| {
-                let q =
-                    |c: &Connection, h: f64| -CONTACT_NORMAL_STIFFNESS * (c.apply(&u, cols)[2] - h);
+                let q = |c: &Connection, rail: f64| {
+                    -CONTACT_NORMAL_STIFFNESS * (c.apply(&u, cols)[2] - rail)
+                };
                 [q(&pair[0], h[0]), q(&pair[1], h[1])]
             })
             .collect();
