@@ -242,8 +242,9 @@ pub fn modes_at(scene: &Scene, speed: f64, opts: &ModalOptions) -> Result<ModalA
         newton_steady(&sim, 0.0, Some(&x0), &QuasiStatic::default()).and_then(
             |(x, iterations, _)| {
                 if iterations > 0 {
-                    x0 = x;
-                    sys.rhs(0.0, &x0, &mut f0).map_err(|e| e.0)?;
+                    let mut f = vec![0.0; x.len()];
+                    sys.rhs(0.0, &x, &mut f).map_err(|e| e.0)?;
+                    (x0, f0) = (x, f);
                 }
                 Ok(iterations)
             },
