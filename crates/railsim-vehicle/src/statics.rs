@@ -293,10 +293,16 @@ impl VehicleModel {
             }
             u
         };
-        // the force along the line of element `i` at the free unknowns' solution `x`
-        let axial = |x: &[f64], i: usize| {
-            let (c, k) = &connections[i];
-            -k[0] * c.apply(&scatter(x), cols)[0]
+        // the forces along the lines at the free unknowns' solution `x`
+        let axial = |x: &[f64]| -> Vec<f64> {
+            let u = scatter(x);
+            lines
+                .iter()
+                .map(|&(i, _)| {
+                    let (c, k) = &connections[i];
+                    -k[0] * c.apply(&u, cols)[0]
+                })
+                .collect()
         };
         // (a line element in compression in the last pass: it takes stiffness away across its
         // line, which the "no support" message names)
@@ -311,7 +317,7 @@ impl VehicleModel {
             // own stiffness would hold a body
             let first = result.clone().or_else(|_| solve(&kk, 1e-9));
             let mut line_force: Vec<f64> = match &first {
-                Ok(x) => lines.iter().map(|&(i, _)| axial(x, i)).collect(),
+                Ok(x) => axial(x),
                 Err(_) => vec![0.0; lines.len()],
             };
             // (the largest change of a line's force in the last pass, and the element)
@@ -327,8 +333,7 @@ impl VehicleModel {
                 result = solve(&kg, 0.0);
                 let Ok(x) = &result else { break };
                 unsettled = None;
-                for (f, &(i, _)) in line_force.iter_mut().zip(&lines) {
-                    let new = axial(x, i);
+                for ((f, new), &(i, _)) in line_force.iter_mut().zip(axial(x)).zip(&lines) {
                     let change = (new - *f).abs();
                     if change > 1e-9 * (1.0 + new.abs())
                         && unsettled.is_none_or(|(c, _)| change > c)
