@@ -12,7 +12,7 @@ use clap::Args;
 use railsim_ode::Method;
 use railsim_sim::assess::{
     Assessment, CARBODY_BAND, MIN_F0_RECORD, SPERLING_BAND, STABILITY_WINDOW, SUM_Y_WINDOW,
-    default_assessment_rate,
+    VerticalWeighting, default_assessment_rate,
 };
 use railsim_sim::{RunOptions, RunSummary, Scene, SimError, Simulation};
 
@@ -572,7 +572,13 @@ fn print_assessment(a: &Assessment, names: &[String]) -> Result<()> {
         for c in &a.comfort {
             let n_mv = c.n_mv.map_or_else(
                 || "N_MV - (run under 5 s)".to_owned(),
-                |(n, w)| format!("EN 12299 N_MV {n:.2} over {w} windows of 5 s"),
+                |(n, w)| {
+                    let w_b = match a.vertical_weighting {
+                        VerticalWeighting::En12299 => "",
+                        VerticalWeighting::Iso2631_4 => " (W_b of ISO 2631-4)",
+                    };
+                    format!("EN 12299 N_MV {n:.2} over {w} windows of 5 s{w_b}")
+                },
             );
             outln!(
                 "  {}: Wz {} / {}; {} / {}; {n_mv}",

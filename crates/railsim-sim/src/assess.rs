@@ -234,6 +234,8 @@ pub struct AssessOptions {
     /// resolves the wheelsets' contact-stiffness content (120–220 Hz) keeps it from folding into
     /// the 20 Hz band (docs/models/dynamics.md, "Aliasing").
     pub rate_hz: Option<f64>,
+    /// The W_b of the vertical acceleration in N_MV.
+    pub vertical_weighting: VerticalWeighting,
 }
 
 /// \[Hz\] the lowest assessment rate when a scene sets none, for STRIPES and the half-space: it
@@ -290,6 +292,7 @@ impl Default for AssessOptions {
             comfort_points: Vec::new(),
             limits: Limits::default(),
             rate_hz: None,
+            vertical_weighting: VerticalWeighting::default(),
         }
     }
 }
@@ -494,6 +497,8 @@ pub struct Assessment {
     pub alpha: f64,
     /// Ride index per carbody point.
     pub comfort: Vec<Comfort>,
+    /// The W_b its N_MV were weighted with.
+    pub vertical_weighting: VerticalWeighting,
 }
 
 /// The band-pass around `f0`: f0 ± 2 Hz, the lower edge kept at or above f0 / 2 (a hunting
@@ -621,7 +626,7 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
                 sperling(&c.vertical, fs, Direction::Vertical),
             ],
             band_passed: [max_and_rms(&c.lateral), max_and_rms(&c.vertical)],
-            n_mv: mean_comfort(c, fs),
+            n_mv: mean_comfort(c, fs, &opts.vertical_weighting.weighting()),
         })
         .collect();
     Assessment {
@@ -636,6 +641,7 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         lowpass: lowpass.is_some(),
         alpha: opts.alpha,
         comfort,
+        vertical_weighting: opts.vertical_weighting,
     }
 }
 
@@ -827,16 +833,72 @@ pub const W_D: IsoWeighting = IsoWeighting {
     step: None,
 };
 
-/// W_b, vertical (EN 12299): f1 0.4 Hz, f2 100 Hz, f3 = f4 = 16 Hz, Q4 0.63, step K 0.4,
-/// f5 2.5 Hz, Q5 0.8, f6 4 Hz, Q6 0.8 (the same three implementations; with the step written
-/// as above, K = 0.4 is its low-frequency gain and 0.4 (f6/f5)² = 1.024 its high-frequency one).
-/// ISO 8041's table (ISO 2631-4's W_b) has Q4 0.55, Q5 0.9, Q6 0.95: which of the two EN 12299
-/// lists is open (docs/models/dynamics.md, "Carbody accelerations and ride index").
+/// W_b, vertical, as EN 12299 is implemented: f1 0.4 Hz, f2 100 Hz, f3 = f4 = 16 Hz, Q4 0.63,
+/// step K 0.4, f5 2.5 Hz, Q5 0.8, f6 4 Hz, Q6 0.8 (the same three implementations; with the
+/// step written as above, K = 0.4 is its low-frequency gain and 0.4 (f6/f5)² = 1.024 its
+/// high-frequency one). The default of [`VerticalWeighting`]; ISO 2631-4's differs in the Q's
+/// ([`W_B_ISO_2631_4`]).
 pub const W_B: IsoWeighting = IsoWeighting {
     band: (0.4, 100.0),
     transition: (16.0, 16.0, 0.63),
     step: Some((0.4, 2.5, 0.8, 4.0, 0.8)),
 };
+
+/// W_b of ISO 2631-4:2001 (Table A.1) as ISO 8041 tabulates it: the f's and K of [`W_B`], with
+/// Q4 0.55, Q5 0.9, Q6 0.95 (the table as reproduced in the Larson Davis HVM200 reference
+/// manual, Table 3.1, "source: ISO 8041"). Checked against an independent value: ZETLAB's
+/// weighting filters give |W_b| = 0.8126 at 100 rad/s (15.915 Hz) "in compliance with
+/// ISO 2631-4"; these parameters give 0.8126 there, [`W_B`]'s 0.9207 (test
+/// `iso_2631_4_w_b_matches_its_published_value_at_100_rad_s`).
+pub const W_B_ISO_2631_4: IsoWeighting = IsoWeighting {
+    band: (0.4, 100.0),
+    transition: (16.0, 16.0, 0.55),
+    step: Some((0.4, 2.5, 0.9, 4.0, 0.95)),
+};
+
+/// Which W_b weights the vertical acceleration in EN 12299's mean comfort N_MV
+/// (`[assessment] vertical_weighting`). Whether EN 12299's annex lists the Q's of the public
+/// implementations ([`W_B`], the default) or ISO 2631-4's ([`W_B_ISO_2631_4`]) could not be
+/// checked against the standard's text; the two differ by −1.5 % at 1 Hz, −4.4 % at 2 Hz,
+/// +8.2 % at 4 Hz and −12 % at 16 Hz (ISO 2631-4's against the default; docs/models/dynamics.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VerticalWeighting {
+    /// [`W_B`], as EN 12299 is implemented publicly (comfpy, pyridy, MoniRail).
+    #[default]
+    En12299,
+    /// [`W_B_ISO_2631_4`], ISO 2631-4:2001's as tabulated by ISO 8041.
+    Iso2631_4,
+}
+
+impl VerticalWeighting {
+    /// The names `[assessment] vertical_weighting` takes.
+    pub const NAMES: [&'static str; 2] = ["en12299", "iso2631-4"];
+
+    /// The weighting.
+    pub fn weighting(self) -> IsoWeighting {
+        match self {
+            VerticalWeighting::En12299 => W_B,
+            VerticalWeighting::Iso2631_4 => W_B_ISO_2631_4,
+        }
+    }
+
+    /// Its name in a scene file.
+    pub fn name(self) -> &'static str {
+        match self {
+            VerticalWeighting::En12299 => Self::NAMES[0],
+            VerticalWeighting::Iso2631_4 => Self::NAMES[1],
+        }
+    }
+
+    /// From its name in a scene file; `None` for another name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "en12299" => Some(VerticalWeighting::En12299),
+            "iso2631-4" => Some(VerticalWeighting::Iso2631_4),
+            _ => None,
+        }
+    }
+}
 
 impl IsoWeighting {
     /// |W(i 2π f)|.
@@ -904,8 +966,8 @@ impl IsoWeighting {
 
 /// EN 12299's mean comfort, standard method: N_MV = 6 √(a_x² + a_y² + a_z²) with a the 95th
 /// percentile of the r.m.s. values over 5 s windows of the W_d-weighted longitudinal and
-/// lateral and the W_b-weighted vertical acceleration (m/s²). The whole record is weighted
-/// first, by the causal filters of [`IsoWeighting::filter`] (started from the steady state of
+/// lateral and the vertical acceleration weighted by `w_b` (one of [`VerticalWeighting`]'s;
+/// m/s²). The whole record is weighted first, by the causal filters of [`IsoWeighting::filter`] (started from the steady state of
 /// the first sample), then cut into windows: weighting each window on its own (its periodogram
 /// times |W|²) treats its ends as steps, and a curve transition's ramp of the quasi-static
 /// lateral acceleration, which the weighting's 0.4 Hz high-pass all but removes, then counted
@@ -914,7 +976,7 @@ impl IsoWeighting {
 /// running (60 windows); a shorter run gives the value over its windows (their number is
 /// returned), a coarser statistic. Sources: the standard's formula as implemented in pyridy's
 /// `ComfortProcessor` and credwood/ride_comfort `metrics.py` (which agree); vehicle-reference §6.5.
-pub fn mean_comfort(c: &ComfortSeries, fs: f64) -> Option<(f64, usize)> {
+pub fn mean_comfort(c: &ComfortSeries, fs: f64, w_b: &IsoWeighting) -> Option<(f64, usize)> {
     let window = (COMFORT_WINDOW * fs).round() as usize;
     if window < 2 {
         return None;
@@ -931,7 +993,7 @@ pub fn mean_comfort(c: &ComfortSeries, fs: f64) -> Option<(f64, usize)> {
     };
     let (ax, n) = p95(&c.longitudinal, &W_D)?;
     let (ay, _) = p95(&c.lateral, &W_D)?;
-    let (az, _) = p95(&c.vertical, &W_B)?;
+    let (az, _) = p95(&c.vertical, w_b)?;
     Some((6.0 * (ax * ax + ay * ay + az * az).sqrt(), n))
 }
 
@@ -1289,6 +1351,73 @@ mod tests {
     }
 
     #[test]
+    fn iso_2631_4_w_b_matches_its_published_value_at_100_rad_s() {
+        // ZETLAB's table of weighting functions: W_b "in compliance with ISO 2631-4" is 0.8126
+        // at its reference frequency 100 rad/s; ISO 8041's parameters (W_B_ISO_2631_4) give it,
+        // the Q's of the EN 12299 implementations (W_B) do not (0.9207)
+        let f = 100.0 / (2.0 * std::f64::consts::PI);
+        let iso = W_B_ISO_2631_4.gain(f);
+        assert!((iso - 0.8126).abs() < 0.00005, "{iso}");
+        assert!((W_B.gain(f) - 0.8126).abs() > 0.1, "{}", W_B.gain(f));
+        // the same f's and K: equal at low frequency within 2 %, apart in the 2.5-4 Hz step
+        assert!((W_B_ISO_2631_4.gain(1.0) / W_B.gain(1.0) - 1.0).abs() < 0.02);
+        assert!(W_B_ISO_2631_4.gain(4.0) / W_B.gain(4.0) > 1.07);
+        for w in [VerticalWeighting::En12299, VerticalWeighting::Iso2631_4] {
+            assert_eq!(VerticalWeighting::from_name(w.name()), Some(w));
+        }
+        assert_eq!(VerticalWeighting::from_name("ISO2631"), None);
+    }
+
+    #[test]
+    fn the_assessment_weights_n_mv_with_the_chosen_w_b() {
+        // 20 s at 200 Hz of a vertical tone at 4 Hz (0.2 m/s² r.m.s.) on gravity: N_MV follows
+        // the W_b of the options (8 % apart there), the run's other quantities do not move
+        let fs = 200.0;
+        let n = 4000;
+        let vertical: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 / fs;
+                let fade = 0.5 - 0.5 * (std::f64::consts::PI * (t / 5.0).min(1.0)).cos();
+                9.81 + fade * 0.2 * 2f64.sqrt() * (2.0 * std::f64::consts::PI * 4.0 * t).sin()
+            })
+            .collect();
+        let s = Series {
+            rate_hz: fs,
+            distance: (0..n).map(|i| 30.0 * i as f64 / fs).collect(),
+            comfort: vec![ComfortSeries {
+                name: "p".into(),
+                longitudinal: vec![0.0; n],
+                lateral: vec![0.0; n],
+                vertical,
+            }],
+            ..Default::default()
+        };
+        let run = |w: VerticalWeighting| {
+            let opts = AssessOptions {
+                vertical_weighting: w,
+                ..Default::default()
+            };
+            assess(&s, &[], &opts)
+        };
+        let (en, iso) = (
+            run(VerticalWeighting::En12299),
+            run(VerticalWeighting::Iso2631_4),
+        );
+        assert_eq!(iso.vertical_weighting, VerticalWeighting::Iso2631_4);
+        let (n_en, n_iso) = (
+            en.comfort[0].n_mv.unwrap().0,
+            iso.comfort[0].n_mv.unwrap().0,
+        );
+        let want = W_B_ISO_2631_4.gain(4.0) / W_B.gain(4.0);
+        assert!(
+            (n_iso / n_en / want - 1.0).abs() < 0.005,
+            "{n_iso} / {n_en} vs {want}"
+        );
+        assert_eq!(en.comfort[0].band_passed, iso.comfort[0].band_passed);
+        assert_eq!(en.comfort[0].wz, iso.comfort[0].wz);
+    }
+
+    #[test]
     fn the_carbody_maximum_is_the_extreme_percentiles() {
         // 60 s at 200 Hz: a lateral tone of 0.5 m/s² amplitude at 2 Hz (faded in) and one
         // spike of 5 m/s² in a single sample. EN 14363's processing (§6.1 of the reference,
@@ -1332,7 +1461,7 @@ mod tests {
             (200.0, 20.0, 0.035),
             (1000.0, 20.0, 0.002),
         ] {
-            for w in [W_D, W_B] {
+            for w in [W_D, W_B, W_B_ISO_2631_4] {
                 let f = w.filter(fs).unwrap();
                 for k in 0..=40 {
                     let hz = 0.5 * (top / 0.5f64).powf(k as f64 / 40.0);
@@ -1370,20 +1499,20 @@ mod tests {
                 .collect(),
             vertical: vec![9.81; n],
         };
-        let (alone, windows) = mean_comfort(&series(false), fs).unwrap();
+        let (alone, windows) = mean_comfort(&series(false), fs, &W_B).unwrap();
         assert_eq!(windows, 12);
         assert!(
             (alone / (6.0 * 0.1 * W_D.gain(1.0)) - 1.0).abs() < 0.01,
             "{alone}"
         );
-        let (with_ramp, _) = mean_comfort(&series(true), fs).unwrap();
+        let (with_ramp, _) = mean_comfort(&series(true), fs, &W_B).unwrap();
         assert!(with_ramp / alone < 1.05, "{with_ramp} against {alone}");
         // the ramp alone: N_MV under 0.15 (0.42 weighting each window on its own)
         let only: ComfortSeries = ComfortSeries {
             lateral: (0..n).map(ramp).collect(),
             ..series(false)
         };
-        let (nmv, _) = mean_comfort(&only, fs).unwrap();
+        let (nmv, _) = mean_comfort(&only, fs, &W_B).unwrap();
         assert!(nmv < 0.15, "{nmv}");
     }
 
@@ -1407,17 +1536,28 @@ mod tests {
             lateral: tone(0.3, 1.0, 0.0),
             vertical: tone(0.2, 8.0, 9.81),
         };
-        let (n_mv, windows) = mean_comfort(&c, fs).unwrap();
+        let (n_mv, windows) = mean_comfort(&c, fs, &W_B).unwrap();
         assert_eq!(windows, 4);
         let expect = 6.0 * ((0.3 * W_D.gain(1.0)).powi(2) + (0.2 * W_B.gain(8.0)).powi(2)).sqrt();
         assert!((n_mv / expect - 1.0).abs() < 0.01, "{n_mv} vs {expect}");
+        // a vertical tone at 4 Hz, where the two W_b differ by 8 %: each gives its own gain
+        let vertical_only = ComfortSeries {
+            lateral: vec![0.0; 4000],
+            vertical: tone(0.2, 4.0, 9.81),
+            ..c.clone()
+        };
+        for w in [W_B, W_B_ISO_2631_4] {
+            let (n_mv, _) = mean_comfort(&vertical_only, fs, &w).unwrap();
+            let expect = 6.0 * 0.2 * w.gain(4.0);
+            assert!((n_mv / expect - 1.0).abs() < 0.01, "{n_mv} vs {expect}");
+        }
         let short = ComfortSeries {
             longitudinal: vec![0.0; 900],
             lateral: vec![0.0; 900],
             vertical: vec![0.0; 900],
             ..c
         };
-        assert_eq!(mean_comfort(&short, fs), None);
+        assert_eq!(mean_comfort(&short, fs, &W_B), None);
     }
 
     #[test]

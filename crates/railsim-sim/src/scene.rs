@@ -15,7 +15,7 @@ use toml::Spanned;
 
 use crate::assess::{
     AssessOptions, ComfortPoint, DEFAULT_ASSESSMENT_RATE_HZ, STABILITY_HALF_BAND,
-    default_assessment_rate, stability_band,
+    VerticalWeighting, default_assessment_rate, stability_band,
 };
 use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
 use crate::spec::{
@@ -1006,6 +1006,25 @@ impl Compiler<'_> {
         l.q = q.or(l.q);
         l.y_qst = y_qst.unwrap_or(l.y_qst);
         l.q_qst = q_qst.unwrap_or(l.q_qst);
+        if let Some(w) = &a.vertical_weighting {
+            let name = w.get_ref().trim();
+            match VerticalWeighting::from_name(name) {
+                Some(k) => out.vertical_weighting = k,
+                None => {
+                    self.err(
+                        &w.span(),
+                        "vertical_weighting",
+                        format!(
+                            "[assessment] vertical_weighting: unknown weighting '{name}'{}; \
+                             expected one of: {}",
+                            did_you_mean(name, VerticalWeighting::NAMES.into_iter()),
+                            VerticalWeighting::NAMES.join(", ")
+                        ),
+                    );
+                    ok = false;
+                }
+            }
+        }
         if let Some(points) = &a.comfort_points {
             if vehicle.is_some_and(|v| v.bodies().is_empty()) {
                 self.err(

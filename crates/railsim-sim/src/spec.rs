@@ -248,6 +248,9 @@ pub struct AssessmentSpec {
     /// \[kN\] limit of the quasi-static vertical wheel force Q_qst; default 145.
     #[serde(default)]
     pub q_qst_limit_kn: Option<Spanned<f64>>,
+    /// The W_b of N_MV's vertical acceleration: "en12299" (default) or "iso2631-4".
+    #[serde(default)]
+    pub vertical_weighting: Option<Spanned<String>>,
 }
 
 /// One `[[assessment.comfort_points]]` entry: a measuring point on the carbody.
@@ -317,6 +320,7 @@ pub const ASSESSMENT_KEYS: &[&str] = &[
     "q_limit_kn",
     "y_qst_limit_kn",
     "q_qst_limit_kn",
+    "vertical_weighting",
 ];
 
 const SUBTABLES: [(&str, &[&str]); 6] = [

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use railsim_contact::{ContactModelKind, HertzSearch, Tangential};
 use railsim_ode::Method;
+use railsim_sim::assess::VerticalWeighting;
 use railsim_sim::{
     RunLength, Scene, SceneError, Topic, longest_rigid_wheelbase, required_curve_radius,
 };
@@ -820,6 +821,32 @@ fn assessment_limits_are_read_in_file_units_and_checked() {
     );
     expect(&p, 7, &["y_over_q_limit must lie in (0e0, 1e1]", "found 0"]);
     expect(&p, 8, &["q_limit_kn must lie in", "found NaN"]);
+}
+
+#[test]
+fn the_vertical_comfort_weighting_is_read_and_checked() {
+    let s = compile(&format!(
+        "{GOOD}[assessment]\nvertical_weighting = \"iso2631-4\"\n"
+    ))
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        s.assessment.vertical_weighting,
+        VerticalWeighting::Iso2631_4
+    );
+    let d = compile(GOOD).unwrap().assessment.vertical_weighting;
+    assert_eq!(d, VerticalWeighting::En12299);
+    let p = problems(&format!(
+        "{GOOD}[assessment]\nvertical_weighting = \"iso2631\"\n"
+    ));
+    expect(
+        &p,
+        6,
+        &[
+            "vertical_weighting: unknown weighting 'iso2631'",
+            "did you mean 'iso2631-4'",
+            "en12299, iso2631-4",
+        ],
+    );
 }
 
 #[test]
