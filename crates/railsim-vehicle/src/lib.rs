@@ -26,8 +26,8 @@ pub mod suspension;
 pub use error::{Problem, SourceMap, VehicleError};
 pub use model::{
     Axis, Body, BodyId, Dof, DofKind, Endpoint, ForceElement, ForceElementId, ForceLaw, ForceTable,
-    InternalState, InternalStateKind, Member, NormalLoad, NormalRule, VehicleModel, WheelDefect,
-    WheelProfile, Wheelset, WheelsetId, radius_deviation, rim_support, series_force,
+    InternalState, InternalStateKind, Member, NormalLoad, NormalRule, Sign, VehicleModel,
+    WheelDefect, WheelProfile, Wheelset, WheelsetId, radius_deviation, rim_support, series_force,
     series_state_rate,
 };
 pub use spec::{

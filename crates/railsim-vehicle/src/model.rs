@@ -491,11 +491,31 @@ pub enum NormalRule {
     Along {
         /// The local axis.
         axis: Axis,
-        /// +1 or −1.
-        sign: f64,
+        /// Along it or against it.
+        sign: Sign,
     },
     /// N = |F|, the magnitude of the whole force, whatever its direction.
     Magnitude,
+}
+
+/// The sign of a signed local axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sign {
+    /// Along the axis (`"z"`, `"+z"`).
+    Plus,
+    /// Against it (`"-z"`).
+    Minus,
+}
+
+impl Sign {
+    /// +1 or −1.
+    #[inline]
+    pub fn value(self) -> f64 {
+        match self {
+            Sign::Plus => 1.0,
+            Sign::Minus => -1.0,
+        }
+    }
 }
 
 impl NormalLoad {
@@ -503,7 +523,7 @@ impl NormalLoad {
     #[inline]
     pub fn load(&self, f: [f64; 3]) -> f64 {
         match self.rule {
-            NormalRule::Along { axis, sign } => (sign * f[axis.index()]).max(0.0),
+            NormalRule::Along { axis, sign } => (sign.value() * f[axis.index()]).max(0.0),
             NormalRule::Magnitude => (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt(),
         }
     }
@@ -2813,12 +2833,12 @@ impl Compiler<'_> {
         };
         let text = dir.get_ref().trim();
         let (sign, name) = match text.strip_prefix('-') {
-            Some(rest) => (-1.0, rest),
-            None => (1.0, text.strip_prefix('+').unwrap_or(text)),
+            Some(rest) => (Sign::Minus, rest),
+            None => (Sign::Plus, text.strip_prefix('+').unwrap_or(text)),
         };
         let axis = match (Axis::from_name(name), name) {
             (Some(a), _) => a,
-            (None, "any") if sign > 0.0 => return Some(NormalRule::Magnitude),
+            (None, "any") if sign == Sign::Plus => return Some(NormalRule::Magnitude),
             _ => {
                 self.err(
                     &dir.span(),

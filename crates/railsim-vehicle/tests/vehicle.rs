@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use railsim_vehicle::{
-    Axis, DofKind, ForceLaw, InternalStateKind, Member, NormalRule, VehicleError, VehicleModel,
-    WheelProfile, series_force, series_state_rate,
+    Axis, DofKind, ForceLaw, InternalStateKind, Member, NormalRule, Sign, VehicleError,
+    VehicleModel, WheelProfile, series_force, series_state_rate,
 };
 
 fn vehicles_dir() -> PathBuf {
@@ -587,7 +587,7 @@ force_n = [-5e3, 5e3]
         normal.rule,
         NormalRule::Along {
             axis: Axis::Y,
-            sign: 1.0
+            sign: Sign::Plus
         }
     );
     // the spring presses while its force on body2 points along +y, and not at all the other way
