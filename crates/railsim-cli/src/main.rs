@@ -94,7 +94,8 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Curving(curving::CurvingArgs),
     /// A vehicle's static equilibrium on level track (wheel loads, elements' static forces)
-    /// and, with --twist-permille, its wheels' unloading ΔQ/Q0 on a twisted track.
+    /// and, with --twist-permille or --bogie-twist-permille, its wheels' unloading ΔQ/Q0 on a
+    /// twisted track.
     #[command(allow_negative_numbers = true)]
     Statics(statics::StaticsArgs),
 }

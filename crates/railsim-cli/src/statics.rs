@@ -1,7 +1,8 @@
 //! `railsim statics [VEHICLE]`: a vehicle's static equilibrium on level track (the wheel loads,
 //! and with `--elements` every force element's static force) and, with `--twist-permille`, its
-//! wheels' unloading on a uniformly twisted track (`VehicleModel::static_equilibrium_on`,
-//! docs/models/vehicle.md "Statics").
+//! wheels' unloading on a uniformly twisted track, or with `--bogie-twist-permille` on a track
+//! twisted over the bogie-centre distance and over each bogie's wheelbase by different amounts
+//! (`VehicleModel::static_equilibrium_on`, docs/models/vehicle.md "Statics").
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -9,7 +10,7 @@ use std::process::ExitCode;
 use anyhow::{Result, bail};
 use clap::Args;
 
-use railsim_vehicle::{DofKind, VehicleModel};
+use railsim_vehicle::{BOGIE_FRAME_MIN_OFFSET, Bogie, DofKind, VehicleModel};
 
 /// The built-in vehicle, from the repository this binary was built in.
 pub const DEFAULT_VEHICLE: &str = concat!(
@@ -17,7 +18,7 @@ pub const DEFAULT_VEHICLE: &str = concat!(
     "/../../vehicles/manchester_vehicle1.toml"
 );
 
-/// \[‰\] the largest twist `--twist-permille` takes.
+/// \[‰\] the largest twist `--twist-permille` and `--bogie-twist-permille` take.
 const MAX_TWIST_PERMILLE: f64 = 50.0;
 
 #[derive(Args)]
@@ -27,11 +28,23 @@ pub struct StaticsArgs {
     /// Track twist g (‰: mm of cross-level per metre along the track): the cross-level
     /// c(x) = g (x − x̄) about the middle x̄ of the end wheelsets, the left rail c/2 up and the
     /// right c/2 down under the wheels' running circles; positive: the left rail rises toward
-    /// the front (+x). Reports each wheel's unloading ΔQ/Q0 against --limit. One twist over
-    /// the whole vehicle: EN 14363 twists a bogie's wheelbase and the bogie-centre distance by
-    /// different amounts (larger on the short base), which this does not reproduce.
+    /// the front (+x). Reports each wheel's unloading ΔQ/Q0 against --limit. Alone, one twist
+    /// over the whole vehicle; with --bogie-twist-permille, the twist G* over the bogie-centre
+    /// distance (the carbody twist) only, see there.
     #[arg(long)]
     pub twist_permille: Option<f64>,
+    /// Twist G+ (‰) over each bogie's wheelbase, superposed on the twist G* over the
+    /// bogie-centre distance given by --twist-permille (0 without it), as EN 14363 twists a
+    /// bogie's wheelbase and the bogie-centre distance by different amounts: a wheelset at x in
+    /// the bogie whose frame is at x_b gets the cross-level c = G* (x_b − x̄_b) + G+ (x − x_b),
+    /// x̄_b the middle of the outermost bogie frames. Each bogie's centre thus sits on the
+    /// carbody twist and its wheelbase is twisted by G+ in all (not G* + G+) about its centre.
+    /// Bogies as in the run's assessment: the carbody is the heaviest rigid body, the bogie
+    /// frames the other rigid bodies at least 0.5 m in x from its centre, each wheelset in the
+    /// bogie whose frame is nearest in x. Both values come from the user (from the edition of
+    /// EN 14363 that applies; none is built in).
+    #[arg(long)]
+    pub bogie_twist_permille: Option<f64>,
     /// Limit of the wheel unloading ΔQ/Q0 on the twisted track (EN 14363's commonly quoted 0.6;
     /// check it against the edition that applies).
     #[arg(long, default_value_t = 0.6)]
@@ -48,6 +61,13 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
     {
         bail!(
             "--twist-permille: expected a number from -{MAX_TWIST_PERMILLE} to {MAX_TWIST_PERMILLE}, found {g}"
+        );
+    }
+    if let Some(g) = a.bogie_twist_permille
+        && !(g.is_finite() && g.abs() <= MAX_TWIST_PERMILLE)
+    {
+        bail!(
+            "--bogie-twist-permille: expected a number from -{MAX_TWIST_PERMILLE} to {MAX_TWIST_PERMILLE}, found {g}"
         );
     }
     if !(a.limit > 0.0 && a.limit <= 1.0) {
@@ -113,15 +133,15 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
             );
         }
     }
-    let Some(g) = a.twist_permille else {
+    if a.twist_permille.is_none() && a.bogie_twist_permille.is_none() {
         return Ok(ExitCode::SUCCESS);
+    }
+    // the option that asked for the twist, for the errors
+    let option = if a.bogie_twist_permille.is_some() {
+        "--bogie-twist-permille"
+    } else {
+        "--twist-permille"
     };
-    let xs: Vec<f64> = v.wheelsets().iter().map(|w| w.position[0]).collect();
-    let (lo, hi) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
-            (l.min(*x), h.max(*x))
-        });
     // a wheelset held vertically cannot follow its rails: its support would just press it
     if let Some(w) = v
         .wheelsets()
@@ -129,29 +149,46 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
         .find(|w| w.frozen[DofKind::Z.index()] || w.frozen[DofKind::Roll.index()])
     {
         bail!(
-            "--twist-permille: wheelset '{}' of vehicle '{}' has its z or roll frozen, so it cannot follow a twisted track",
+            "{option}: wheelset '{}' of vehicle '{}' has its z or roll frozen, so it cannot follow a twisted track",
             w.name,
             v.name()
         );
     }
-    if hi <= lo {
-        bail!(
-            "--twist-permille: vehicle '{}' has no two wheelsets at different x: a uniform twist needs a wheelbase",
-            v.name()
-        );
-    }
-    let mid = 0.5 * (lo + hi);
-    let cross = |x: f64| g * 1e-3 * (x - mid);
-    let heights: Vec<[f64; 2]> = xs
-        .iter()
-        .map(|&x| [0.5 * cross(x), -0.5 * cross(x)])
-        .collect();
+    // \[m\] each wheelset's cross-level, left rail up; and the lines that describe the twist
+    let (cross, header): (Vec<f64>, Vec<String>) = match a.bogie_twist_permille {
+        None => {
+            let g = a.twist_permille.unwrap_or(0.0);
+            let xs: Vec<f64> = v.wheelsets().iter().map(|w| w.position[0]).collect();
+            let (lo, hi) = xs
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                    (l.min(*x), h.max(*x))
+                });
+            if hi <= lo {
+                bail!(
+                    "--twist-permille: vehicle '{}' has no two wheelsets at different x: a uniform twist needs a wheelbase",
+                    v.name()
+                );
+            }
+            let mid = 0.5 * (lo + hi);
+            let cross = |x: f64| g * 1e-3 * (x - mid);
+            let header = format!(
+                "on a twist of {g} ‰ (cross-level {:+.2} mm at the front wheelset, {:+.2} mm at the rear):",
+                cross(hi) * 1e3,
+                cross(lo) * 1e3
+            );
+            (xs.into_iter().map(cross).collect(), vec![header])
+        }
+        Some(g_bogie) => {
+            let g_body = a.twist_permille.unwrap_or(0.0);
+            combined_twist(&v, g_body, g_bogie)?
+        }
+    };
+    let heights: Vec<[f64; 2]> = cross.iter().map(|&c| [0.5 * c, -0.5 * c]).collect();
     let twisted = v.static_equilibrium_on(&heights)?;
-    outln!(
-        "on a twist of {g} ‰ (cross-level {:+.2} mm at the front wheelset, {:+.2} mm at the rear):",
-        cross(hi) * 1e3,
-        cross(lo) * 1e3
-    );
+    for line in header {
+        outln!("{line}");
+    }
     let mut worst: Option<(f64, usize, usize)> = None;
     for &i in &order {
         let w = &v.wheelsets()[i];
@@ -194,4 +231,135 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
         "note: linear statics: every element with its stiffness at zero deflection (a bump stop in its clearance carries nothing, friction and series dampers nothing); for nonlinear characteristics run the vehicle slowly over a twist ramp (`railsim run`: the summary's least Q and ΔQ/Q0 per wheel)"
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// The bogies of `v` ([`VehicleModel::bogies`], the rule of the run's assessment); fails,
+/// naming `--bogie-twist-permille` and what was found, when it has none.
+fn find_bogies(v: &VehicleModel) -> Result<Vec<Bogie>> {
+    let bogies = v.bogies();
+    if !bogies.is_empty() {
+        return Ok(bogies);
+    }
+    let bodies = v.bodies();
+    let Some(cb) = v.carbody() else {
+        bail!(
+            "--bogie-twist-permille: vehicle '{}' has no bogie frame: expected a carbody (the heaviest rigid body) and bogie frames (other rigid bodies at least {BOGIE_FRAME_MIN_OFFSET} m in x from its centre, as in the run's assessment), found no rigid body",
+            v.name()
+        );
+    };
+    let carbody = &bodies[cb.index()];
+    let others: Vec<String> = (0..bodies.len())
+        .filter(|&i| i != cb.index())
+        .map(|i| format!("'{}' at x = {:.3} m", bodies[i].name, bodies[i].position[0]))
+        .collect();
+    bail!(
+        "--bogie-twist-permille: vehicle '{}' has no bogie frame: expected, besides the carbody '{}' (the heaviest rigid body, x = {:.3} m), rigid bodies at least {BOGIE_FRAME_MIN_OFFSET} m in x from its centre with wheelsets nearest to them (as in the run's assessment), found {}",
+        v.name(),
+        carbody.name,
+        carbody.position[0],
+        if others.is_empty() {
+            "no other rigid body".to_owned()
+        } else {
+            format!(
+                "{} with {} wheelset(s)",
+                others.join(", "),
+                v.wheelsets().len()
+            )
+        }
+    );
+}
+
+/// \[m\] each wheelset's cross-level (left rail up) on the track twisted by `g_body` \[‰\] over
+/// the bogie-centre distance and `g_bogie` \[‰\] over each bogie's wheelbase:
+/// c = G* (x_b − x̄_b) + G+ (x − x_b) for a wheelset at x in the bogie whose frame is at x_b, x̄_b
+/// the middle of the outermost frames; and the lines that describe it (the header, then each
+/// bogie's and wheelset's cross-level, from the front). Fails when `v` has no
+/// bogies, a bogie has no two wheelsets at different x, or `g_body` is not 0 and the bogie
+/// frames all sit at one x.
+fn combined_twist(v: &VehicleModel, g_body: f64, g_bogie: f64) -> Result<(Vec<f64>, Vec<String>)> {
+    let bogies = find_bogies(v)?;
+    let bodies = v.bodies();
+    let ws = v.wheelsets();
+    for g in &bogies {
+        let xs = g.wheelsets.iter().map(|i| ws[i.index()].position[0]);
+        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+            (l.min(x), h.max(x))
+        });
+        if hi <= lo {
+            let names: Vec<String> = g
+                .wheelsets
+                .iter()
+                .map(|i| {
+                    let w = &ws[i.index()];
+                    format!("'{}' at x = {:.3} m", w.name, w.position[0])
+                })
+                .collect();
+            bail!(
+                "--bogie-twist-permille: bogie frame '{}' of vehicle '{}' has {} wheelset(s) ({}): a twist over its wheelbase needs two at different x",
+                bodies[g.frame.index()].name,
+                v.name(),
+                g.wheelsets.len(),
+                names.join(", ")
+            );
+        }
+    }
+    let frame_x = |g: &Bogie| bodies[g.frame.index()].position[0];
+    let (lo, hi) = bogies
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), g| {
+            (l.min(frame_x(g)), h.max(frame_x(g)))
+        });
+    if g_body != 0.0 && hi <= lo {
+        let names: Vec<String> = bogies
+            .iter()
+            .map(|g| {
+                format!(
+                    "'{}' at x = {:.3} m",
+                    bodies[g.frame.index()].name,
+                    frame_x(g)
+                )
+            })
+            .collect();
+        bail!(
+            "--twist-permille with --bogie-twist-permille: vehicle '{}' has {} bogie frame(s) ({}), none at another x: a twist over the bogie-centre distance needs two bogies at different x",
+            v.name(),
+            bogies.len(),
+            names.join(", ")
+        );
+    }
+    let mid = 0.5 * (lo + hi);
+    // [mm] rounded to the printed µm, then + 0.0: no "-0.000" for a cross-level that rounds to 0
+    let mm = |c: f64| (c * 1e6).round() / 1e3 + 0.0;
+    let mut cross = vec![0.0; ws.len()];
+    for g in &bogies {
+        let xb = frame_x(g);
+        for i in g.wheelsets.iter().map(|i| i.index()) {
+            cross[i] = g_body * 1e-3 * (xb - mid) + g_bogie * 1e-3 * (ws[i].position[0] - xb);
+        }
+    }
+    let mut lines = vec![format!(
+        "on a twist of {g_body} ‰ over the bogie-centre distance (about x = {mid:.3} m) and {g_bogie} ‰ over each bogie's wheelbase (about its frame), cross-levels:"
+    )];
+    let mut order: Vec<&Bogie> = bogies.iter().collect();
+    order.sort_by(|a, b| frame_x(b).total_cmp(&frame_x(a)));
+    for g in order {
+        let xb = frame_x(g);
+        lines.push(format!(
+            "  bogie {:<12} x = {:7.3} m: {:+8.3} mm at its centre",
+            bodies[g.frame.index()].name,
+            xb,
+            mm(g_body * 1e-3 * (xb - mid))
+        ));
+        let mut members: Vec<usize> = g.wheelsets.iter().map(|i| i.index()).collect();
+        members.sort_by(|&a, &b| ws[b].position[0].total_cmp(&ws[a].position[0]));
+        for i in members {
+            lines.push(format!(
+                "    {:<12} x = {:7.3} m: {:+8.3} mm",
+                ws[i].name,
+                ws[i].position[0],
+                mm(cross[i])
+            ));
+        }
+    }
+    Ok((cross, lines))
 }

@@ -1264,3 +1264,299 @@ fn statics_reports_the_wheel_loads_and_their_unloading_on_a_twist() {
         assert!(err.contains(needle), "{err}");
     }
 }
+
+/// The wheel rows of `railsim statics` on a twist, from the front: each wheelset's name, its
+/// wheel loads Q \[kN\] and unloadings ΔQ/Q0, left and right.
+fn statics_twist_rows(out: &str) -> Vec<(String, [f64; 2], [f64; 2])> {
+    out.lines()
+        .filter(|l| l.starts_with("  ") && l.contains(" left Q "))
+        .map(|l| {
+            let t: Vec<&str> = l.split_whitespace().collect();
+            let num = |s: &str| -> f64 { s.trim_end_matches([')', ',']).parse().unwrap() };
+            (
+                t[0].to_owned(),
+                [num(t[3]), num(t[9])],
+                [num(t[6]), num(t[12])],
+            )
+        })
+        .collect()
+}
+
+/// The wheelsets' cross-levels that `railsim statics --bogie-twist-permille` prints: each
+/// wheelset's name, x \[m\] and cross-level \[mm\], from the front.
+fn statics_cross_levels(out: &str) -> Vec<(String, f64, f64)> {
+    out.lines()
+        .filter(|l| l.starts_with("    ") && l.ends_with(" mm"))
+        .map(|l| {
+            let t: Vec<&str> = l.split_whitespace().collect();
+            (
+                t[0].to_owned(),
+                t[3].parse().unwrap(),
+                t[5].parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// `railsim statics --twist-permille 0 --bogie-twist-permille 7` on the Manchester vehicle: each
+/// bogie twisted alone about its centre (cross-level 7 ‰ · (x − x_b), printed per wheelset),
+/// the carbody level; within each bogie the two wheelsets unload opposite wheels by the same
+/// ΔQ/Q0 (the front one its right wheel, the left rail being up at the front), and the two
+/// bogies, twisted alike, unload alike.
+#[test]
+fn statics_twists_each_bogie_alone_about_its_centre() {
+    let (code, out, err) = railsim(&[
+        "statics",
+        "--twist-permille",
+        "0",
+        "--bogie-twist-permille",
+        "7",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("on a twist of 0 ‰ over the bogie-centre distance (about x = 0.000 m) and 7 ‰ over each bogie's wheelbase"),
+        "{out}"
+    );
+    let v = railsim_vehicle::VehicleModel::from_file(
+        common::root().join("vehicles/manchester_vehicle1.toml"),
+    )
+    .unwrap();
+    let frame_x = |name: &str| v.body(v.body_id(name).unwrap()).position[0];
+    for (name, x) in [
+        ("bogie_front", frame_x("bogie_front")),
+        ("bogie_rear", frame_x("bogie_rear")),
+    ] {
+        assert!(
+            out.contains(&format!(
+                "  bogie {name:<12} x = {x:7.3} m:   +0.000 mm at its centre"
+            )),
+            "{out}"
+        );
+    }
+    let cross = statics_cross_levels(&out);
+    let names: Vec<&str> = cross.iter().map(|c| c.0.as_str()).collect();
+    assert_eq!(names, ["ws1", "ws2", "ws3", "ws4"], "{out}");
+    for (name, x, c) in &cross {
+        let w = v.wheelset(v.wheelset_id(name).unwrap());
+        assert_eq!(*x, (w.position[0] * 1e3).round() / 1e3);
+        let xb = frame_x(if w.position[0] > 0.0 {
+            "bogie_front"
+        } else {
+            "bogie_rear"
+        });
+        let expected = 7.0 * (w.position[0] - xb);
+        assert!(
+            (c - expected).abs() <= 0.5e-3 + 1e-9,
+            "{name}: {c} mm against {expected} mm"
+        );
+    }
+    let rows = statics_twist_rows(&out);
+    let names: Vec<&str> = rows.iter().map(|r| r.0.as_str()).collect();
+    assert_eq!(names, ["ws1", "ws2", "ws3", "ws4"], "{out}");
+    let du: Vec<[f64; 2]> = rows.iter().map(|r| r.2).collect();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-3 + 1e-9;
+    for (front, rear) in [(0, 1), (2, 3)] {
+        // the front wheelset's right wheel unloads, the rear's left one, by the same amount
+        assert!(du[front][1] > 0.1 && du[rear][0] > 0.1, "{out}");
+        assert!(close(du[front][1], du[rear][0]), "{out}");
+        assert!(close(du[front][0], du[rear][1]), "{out}");
+        for d in [du[front], du[rear]] {
+            assert!(close(d[0], -d[1]), "{out}");
+        }
+    }
+    // the carbody level: both bogies alike
+    assert!(
+        close(du[0][1], du[2][1]) && close(du[1][0], du[3][0]),
+        "{out}"
+    );
+}
+
+/// `railsim statics --twist-permille 3 --bogie-twist-permille 7`: the printed wheel loads are
+/// the library's solve on the rail heights of c = 3 ‰ · (x_b − x̄_b) + 7 ‰ · (x − x_b), built
+/// here from the vehicle's bogie frames (x_b = ±9.5 m, x̄_b = 0).
+#[test]
+fn statics_combined_twist_loads_are_the_librarys_on_the_same_rail_heights() {
+    let (code, out, err) = railsim(&[
+        "statics",
+        "--twist-permille",
+        "3",
+        "--bogie-twist-permille",
+        "7",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = railsim_vehicle::VehicleModel::from_file(
+        common::root().join("vehicles/manchester_vehicle1.toml"),
+    )
+    .unwrap();
+    let level = v.static_equilibrium().unwrap();
+    let frames: Vec<f64> = ["bogie_front", "bogie_rear"]
+        .iter()
+        .map(|n| v.body(v.body_id(n).unwrap()).position[0])
+        .collect();
+    let mid = 0.5 * (frames[0] + frames[1]);
+    let heights: Vec<[f64; 2]> = v
+        .wheelsets()
+        .iter()
+        .map(|w| {
+            let x = w.position[0];
+            let xb = if (x - frames[0]).abs() < (x - frames[1]).abs() {
+                frames[0]
+            } else {
+                frames[1]
+            };
+            let c = 3e-3 * (xb - mid) + 7e-3 * (x - xb);
+            [c / 2.0, -c / 2.0]
+        })
+        .collect();
+    let twisted = v.static_equilibrium_on(&heights).unwrap();
+    let mut worst: f64 = 0.0;
+    for (w, (q, q0)) in v
+        .wheelsets()
+        .iter()
+        .zip(twisted.wheel_loads.iter().zip(&level.wheel_loads))
+    {
+        let u = [(q0[0] - q[0]) / q0[0], (q0[1] - q[1]) / q0[1]];
+        worst = worst.max(u[0]).max(u[1]);
+        let line = format!(
+            "  {:<12} left Q {:8.3} kN (ΔQ/Q0 {:+.3}), right Q {:8.3} kN (ΔQ/Q0 {:+.3})",
+            w.name,
+            q[0] * 1e-3,
+            u[0],
+            q[1] * 1e-3,
+            u[1]
+        );
+        assert!(out.contains(&line), "{line}\n{out}");
+    }
+    assert!(
+        out.contains(&format!("largest unloading ΔQ/Q0 = {worst:.3}")),
+        "{out}"
+    );
+    // the end wheelsets' cross-level: 3 ‰ · 9.5 m + 7 ‰ · 1.28 m
+    assert!(
+        out.contains("    ws1          x =  10.780 m:  +37.460 mm\n"),
+        "{out}"
+    );
+}
+
+/// With the same twist over the bogie-centre distance and over the bogies' wheelbases,
+/// c = G (x − x̄_b): the uniform twist G about x̄ = x̄_b, the middle of the end wheelsets, which
+/// on the Manchester vehicle (bogies centred between their wheelsets, symmetric fore and aft)
+/// `--twist-permille` alone applies: the same wheel loads to the printed precision.
+#[test]
+fn statics_equal_bogie_and_carbody_twists_are_the_uniform_twist() {
+    let (code, combined, err) = railsim(&[
+        "statics",
+        "--twist-permille",
+        "3",
+        "--bogie-twist-permille",
+        "3",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, uniform, err) = railsim(&["statics", "--twist-permille", "3"]);
+    assert_eq!(code, 0, "{err}");
+    let rows = |out: &str| -> Vec<String> {
+        out.lines()
+            .filter(|l| l.contains(" left Q ") || l.starts_with("largest unloading"))
+            .map(str::to_owned)
+            .collect()
+    };
+    let (a, b) = (rows(&combined), rows(&uniform));
+    assert_eq!(a.len(), 5, "{combined}");
+    assert_eq!(a, b, "{combined}\n{uniform}");
+    // and the same cross-levels at the end wheelsets as the uniform twist's header
+    assert!(
+        uniform.contains("(cross-level +32.34 mm at the front wheelset, -32.34 mm at the rear)")
+            && combined.contains("    ws1          x =  10.780 m:  +32.340 mm\n")
+            && combined.contains("    ws4          x = -10.780 m:  -32.340 mm\n"),
+        "{combined}"
+    );
+}
+
+/// `--bogie-twist-permille` needs bogies: refused (exit code 2, naming the option and the
+/// vehicle) for a vehicle without rigid bodies, for the lone bogie of bogie_two_axle.toml (its
+/// frame is the heaviest body, the carbody), for a frame left with one wheelset (a 500 kg body
+/// at x = 8.22 m over ws2 takes it from bogie_front by the nearest-frame rule), with a
+/// carbody twist on a vehicle whose only bogie frame sits at one x, and out of range.
+#[test]
+fn statics_bogie_twist_needs_bogies_with_a_wheelbase() {
+    let dir = common::temp_dir("cli", "statics_bogies");
+    let absolute = |file: &str, extra: &str| {
+        let text = std::fs::read_to_string(common::root().join("vehicles").join(file))
+            .unwrap()
+            .replace(
+                "\"profiles/",
+                &format!("\"{}/vehicles/profiles/", common::root().display()),
+            );
+        let path = dir.join(file);
+        std::fs::write(&path, text + extra).unwrap();
+        path
+    };
+    let motor = absolute(
+        "manchester_vehicle1.toml",
+        "\n[[body]]\nname = \"motor_front\"\nmass_kg = 500\ninertia_kgm2 = [50, 50, 50]\n\
+         position_m = [8.22, 0.0, 0.6]\n\n[[force]]\nname = \"motor_mount\"\ntype = \"bushing\"\n\
+         body1 = \"bogie_front\"\nbody2 = \"motor_front\"\npoint_m = [8.5, 0.0, 0.6]\n\
+         stiffness_n_per_m = [1e7, 1e7, 1e7]\nrotational_stiffness_nm_per_rad = [1e6, 1e6, 1e6]\n",
+    );
+    // bogie_two_axle.toml under a heavier body 1 m behind: its frame becomes the only bogie
+    let ballast = absolute(
+        "bogie_two_axle.toml",
+        "\n[[body]]\nname = \"ballast\"\nmass_kg = 5000\ninertia_kgm2 = [500, 500, 500]\n\
+         position_m = [-1.0, 0.0, 1.0]\n\n[[force]]\nname = \"ballast_mount\"\ntype = \"bushing\"\n\
+         body1 = \"bogie\"\nbody2 = \"ballast\"\npoint_m = [-1.0, 0.0, 0.8]\n\
+         stiffness_n_per_m = [1e7, 1e7, 1e7]\nrotational_stiffness_nm_per_rad = [1e6, 1e6, 1e6]\n",
+    );
+    let (motor, ballast) = (motor.to_str().unwrap(), ballast.to_str().unwrap());
+    // the lone bogie twisted over its wheelbase alone is fine
+    let (code, out, err) = railsim(&["statics", ballast, "--bogie-twist-permille", "7"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("  bogie bogie        x =   0.000 m:"), "{out}");
+    for (args, needle) in [
+        (
+            vec![
+                "statics",
+                "vehicles/wheelset_springs.toml",
+                "--bogie-twist-permille",
+                "7",
+            ],
+            "--bogie-twist-permille: vehicle 'wheelset on lateral and yaw springs (Wickens case, §2.2)' has no bogie frame: expected a carbody (the heaviest rigid body) and bogie frames (other rigid bodies at least 0.5 m in x from its centre, as in the run's assessment), found no rigid body",
+        ),
+        (
+            vec![
+                "statics",
+                "vehicles/bogie_two_axle.toml",
+                "--bogie-twist-permille",
+                "7",
+            ],
+            "--bogie-twist-permille: vehicle 'two-axle bogie (Manchester vehicle 1 bogie)' has no bogie frame: expected, besides the carbody 'bogie' (the heaviest rigid body, x = 0.000 m)",
+        ),
+        (
+            vec!["statics", motor, "--bogie-twist-permille", "7"],
+            "--bogie-twist-permille: bogie frame 'bogie_front' of vehicle 'Manchester benchmark vehicle 1' has 1 wheelset(s) ('ws1' at x = 10.780 m): a twist over its wheelbase needs two at different x",
+        ),
+        (
+            vec![
+                "statics",
+                ballast,
+                "--twist-permille",
+                "3",
+                "--bogie-twist-permille",
+                "7",
+            ],
+            "--twist-permille with --bogie-twist-permille: vehicle 'two-axle bogie (Manchester vehicle 1 bogie)' has 1 bogie frame(s) ('bogie' at x = 0.000 m), none at another x",
+        ),
+        (
+            vec!["statics", "--bogie-twist-permille", "60"],
+            "--bogie-twist-permille: expected a number from -50 to 50, found 60",
+        ),
+        (
+            vec!["statics", "--bogie-twist-permille", "-50.5"],
+            "--bogie-twist-permille: expected a number from -50 to 50, found -50.5",
+        ),
+    ] {
+        let (code, _, err) = railsim(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -417,48 +417,33 @@ impl SimModel {
             bogies: Vec::new(),
         }
         .with_comfort_points(&scene.assessment.comfort_points)
-        .with_bogies())
+        .with_bogies(v))
     }
 
-    /// `self` with [`SimModel::bogies`] found: needs [`SimModel::comfort`]'s carbody.
-    fn with_bogies(mut self) -> SimModel {
-        let Some((cb, _)) = &self.comfort else {
-            return self;
-        };
-        let cb_x = self.members[*cb].p0[0];
-        let frames: Vec<usize> = (0..self.members.len())
-            .filter(|&i| {
-                let m = &self.members[i];
-                i != *cb && m.kind == MemberKind::Body && (m.p0[0] - cb_x).abs() >= 0.5
-            })
-            .collect();
-        let mut bogies: Vec<BogieModel> = frames
+    /// `self` with [`SimModel::bogies`]: `v`'s ([`VehicleModel::bogies`]), each frame's mass
+    /// with its wheelsets' and a measuring point above each of its wheelsets.
+    fn with_bogies(mut self, v: &VehicleModel) -> SimModel {
+        let nb = v.bodies().len();
+        self.bogies = v
+            .bogies()
             .iter()
-            .map(|&i| BogieModel {
-                member: i,
-                mass: self.members[i].mass,
-                points: Vec::new(),
+            .map(|g| {
+                let frame = &self.members[g.frame.index()];
+                let wheelsets = g.wheelsets.iter().map(|w| &self.members[nb + w.index()]);
+                BogieModel {
+                    member: g.frame.index(),
+                    mass: wheelsets.clone().fold(frame.mass, |sum, m| sum + m.mass),
+                    points: wheelsets
+                        .map(|m| {
+                            (
+                                format!("{} above {}", frame.name, m.name),
+                                [m.p0[0] - frame.p0[0], 0.0, 0.0],
+                            )
+                        })
+                        .collect(),
+                }
             })
             .collect();
-        for m in &self.members {
-            if !matches!(m.kind, MemberKind::Wheelset { .. }) {
-                continue;
-            }
-            let nearest = bogies.iter_mut().min_by(|a, b| {
-                let dx = |g: &BogieModel| (self.members[g.member].p0[0] - m.p0[0]).abs();
-                dx(a).total_cmp(&dx(b))
-            });
-            if let Some(g) = nearest {
-                let frame = &self.members[g.member];
-                g.mass += m.mass;
-                g.points.push((
-                    format!("{} above {}", frame.name, m.name),
-                    [m.p0[0] - frame.p0[0], 0.0, 0.0],
-                ));
-            }
-        }
-        bogies.retain(|g| !g.points.is_empty());
-        self.bogies = bogies;
         self
     }
 

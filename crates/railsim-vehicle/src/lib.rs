@@ -25,10 +25,10 @@ pub mod suspension;
 
 pub use error::{Problem, SourceMap, VehicleError};
 pub use model::{
-    Axis, Body, BodyId, Dof, DofKind, Endpoint, ForceElement, ForceElementId, ForceLaw, ForceTable,
-    InternalState, InternalStateKind, Member, NormalLoad, NormalRule, Sign, VehicleModel,
-    WheelDefect, WheelProfile, Wheelset, WheelsetId, radius_deviation, rim_support, series_force,
-    series_state_rate,
+    Axis, BOGIE_FRAME_MIN_OFFSET, Body, BodyId, Bogie, Dof, DofKind, Endpoint, ForceElement,
+    ForceElementId, ForceLaw, ForceTable, InternalState, InternalStateKind, Member, NormalLoad,
+    NormalRule, Sign, VehicleModel, WheelDefect, WheelProfile, Wheelset, WheelsetId,
+    radius_deviation, rim_support, series_force, series_state_rate,
 };
 pub use spec::{
     BodySpec, ForceSpec, NumberOrTriple, OutOfRoundnessSpec, VehicleSpec, WheelProfileSpec,

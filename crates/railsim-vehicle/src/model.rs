@@ -109,6 +109,19 @@ pub enum Member {
     Wheelset(WheelsetId),
 }
 
+/// \[m\] how far along x from the carbody's centre a rigid body must be to be a bogie frame
+/// ([`VehicleModel::bogies`]).
+pub const BOGIE_FRAME_MIN_OFFSET: f64 = 0.5;
+
+/// A bogie of [`VehicleModel::bogies`]: its frame and the wheelsets nearest to it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Bogie {
+    /// The frame.
+    pub frame: BodyId,
+    /// Its wheelsets, in wheelset order.
+    pub wheelsets: Vec<WheelsetId>,
+}
+
 /// One end of a force element.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Endpoint {
@@ -946,6 +959,45 @@ impl VehicleModel {
             self.wheelsets[b].position[0].total_cmp(&self.wheelsets[a].position[0])
         });
         order
+    }
+    /// The carbody: the heaviest rigid body (the last of equal masses); `None` without rigid
+    /// bodies. The simulator's ride and stability assessment and `railsim statics` take it so.
+    pub fn carbody(&self) -> Option<BodyId> {
+        self.bodies
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.mass.total_cmp(&b.1.mass))
+            .map(|(i, _)| BodyId(i))
+    }
+    /// The bogies: the rigid bodies other than the [`carbody`](Self::carbody) at least
+    /// [`BOGIE_FRAME_MIN_OFFSET`] from it along x, each with the wheelsets nearest to it along x
+    /// (the first frame of equal distances), in body order and with their wheelsets in
+    /// wheelset order; a frame without wheelsets is no bogie. Empty without a carbody. The rule
+    /// of the simulator's simplified stability method (bogie-frame accelerations) and of the
+    /// bogie twist of `railsim statics`.
+    pub fn bogies(&self) -> Vec<Bogie> {
+        let Some(cb) = self.carbody() else {
+            return Vec::new();
+        };
+        let cb_x = self.bodies[cb.index()].position[0];
+        let mut bogies: Vec<Bogie> = (0..self.bodies.len())
+            .filter(|&i| {
+                i != cb.index()
+                    && (self.bodies[i].position[0] - cb_x).abs() >= BOGIE_FRAME_MIN_OFFSET
+            })
+            .map(|i| Bogie {
+                frame: BodyId(i),
+                wheelsets: Vec::new(),
+            })
+            .collect();
+        for (i, w) in self.wheelsets.iter().enumerate() {
+            let dx = |g: &Bogie| (self.bodies[g.frame.index()].position[0] - w.position[0]).abs();
+            if let Some(g) = bogies.iter_mut().min_by(|a, b| dx(a).total_cmp(&dx(b))) {
+                g.wheelsets.push(WheelsetId(i));
+            }
+        }
+        bogies.retain(|g| !g.wheelsets.is_empty());
+        bogies
     }
     /// Removes every wheel's out-of-roundness (for the studies of steady states and of
     /// linearisations, which remove the track's irregularities too).

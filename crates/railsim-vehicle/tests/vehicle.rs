@@ -147,6 +147,25 @@ fn manchester_vehicle1_mass_and_static_wheel_loads() {
 }
 
 #[test]
+fn the_bogies_are_the_frames_with_their_nearest_wheelsets() {
+    let v = VehicleModel::from_file(vehicles_dir().join("manchester_vehicle1.toml")).unwrap();
+    assert_eq!(v.carbody(), v.body_id("carbody"));
+    let ids =
+        |names: &[&str]| -> Vec<_> { names.iter().map(|n| v.wheelset_id(n).unwrap()).collect() };
+    let bogies = v.bogies();
+    assert_eq!(bogies.len(), 2);
+    assert_eq!(Some(bogies[0].frame), v.body_id("bogie_front"));
+    assert_eq!(bogies[0].wheelsets, ids(&["ws1", "ws2"]));
+    assert_eq!(Some(bogies[1].frame), v.body_id("bogie_rear"));
+    assert_eq!(bogies[1].wheelsets, ids(&["ws3", "ws4"]));
+    // a lone wheelset has neither carbody nor bogies; a two-axle bogie alone is a carbody
+    let w = VehicleModel::from_file(vehicles_dir().join("wheelset_springs.toml")).unwrap();
+    assert_eq!((w.carbody(), w.bogies()), (None, Vec::new()));
+    let b = VehicleModel::from_file(vehicles_dir().join("bogie_two_axle.toml")).unwrap();
+    assert!(b.carbody().is_some() && b.bogies().is_empty());
+}
+
+#[test]
 fn manchester_vehicle1_elements() {
     let v = VehicleModel::from_file(vehicles_dir().join("manchester_vehicle1.toml")).unwrap();
     let bump = v.force(v.force_id("lateral_bump_stop_bogie_front").unwrap());
