@@ -1100,6 +1100,18 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
 mod tests {
     use super::*;
 
+    /// `n` samples at `fs` \[Hz\] of `offset` plus a tone of peak `amplitude` at `f` \[Hz\],
+    /// faded in over the first 5 s window (a sudden start rings the weightings' high-pass).
+    fn faded_tone(fs: f64, n: usize, amplitude: f64, f: f64, offset: f64) -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                let t = i as f64 / fs;
+                let fade = 0.5 - 0.5 * (std::f64::consts::PI * (t / 5.0).min(1.0)).cos();
+                offset + fade * amplitude * (2.0 * std::f64::consts::PI * f * t).sin()
+            })
+            .collect()
+    }
+
     /// By default the assessment samples at the smallest whole multiple of the log rate at or
     /// above 1 kHz (2 kHz for the Hertz models); a given rate is kept as the multiple it is.
     #[test]
@@ -1374,13 +1386,7 @@ mod tests {
         // the W_b of the options (8 % apart there), the run's other quantities do not move
         let fs = 200.0;
         let n = 4000;
-        let vertical: Vec<f64> = (0..n)
-            .map(|i| {
-                let t = i as f64 / fs;
-                let fade = 0.5 - 0.5 * (std::f64::consts::PI * (t / 5.0).min(1.0)).cos();
-                9.81 + fade * 0.2 * 2f64.sqrt() * (2.0 * std::f64::consts::PI * 4.0 * t).sin()
-            })
-            .collect();
+        let vertical = faded_tone(fs, n, 0.2 * 2f64.sqrt(), 4.0, 9.81);
         let s = Series {
             rate_hz: fs,
             distance: (0..n).map(|i| 30.0 * i as f64 / fs).collect(),
@@ -1426,14 +1432,8 @@ mod tests {
         // band-passed spike the absolute maximum reads (0.79 m/s²)
         let fs = 200.0;
         let n = 12_000;
-        let lateral: Vec<f64> = (0..n)
-            .map(|i| {
-                let t = i as f64 / fs;
-                let fade = 0.5 - 0.5 * (std::f64::consts::PI * (t / 5.0).min(1.0)).cos();
-                fade * 0.5 * (2.0 * std::f64::consts::PI * 2.0 * t).sin()
-                    + if i == 6000 { 5.0 } else { 0.0 }
-            })
-            .collect();
+        let mut lateral = faded_tone(fs, n, 0.5, 2.0, 0.0);
+        lateral[6000] += 5.0;
         let s = Series {
             rate_hz: fs,
             distance: (0..n).map(|i| 30.0 * i as f64 / fs).collect(),
@@ -1485,17 +1485,13 @@ mod tests {
         // at the window's ends, 0.155 m/s² r.m.s., and N_MV 26 % higher.
         let fs = 200.0;
         let n = 12_000;
-        let vib = |i: usize| {
-            let t = i as f64 / fs;
-            let fade = 0.5 - 0.5 * (std::f64::consts::PI * (t / 5.0).min(1.0)).cos();
-            fade * 0.1 * 2f64.sqrt() * (2.0 * std::f64::consts::PI * t).sin()
-        };
+        let vib = faded_tone(fs, n, 0.1 * 2f64.sqrt(), 1.0, 0.0);
         let ramp = |i: usize| ((i as f64 / fs - 20.0) / 3.0).clamp(0.0, 1.0);
         let series = |with_ramp: bool| ComfortSeries {
             name: "p".into(),
             longitudinal: vec![0.0; n],
             lateral: (0..n)
-                .map(|i| vib(i) + if with_ramp { ramp(i) } else { 0.0 })
+                .map(|i| vib[i] + if with_ramp { ramp(i) } else { 0.0 })
                 .collect(),
             vertical: vec![9.81; n],
         };
@@ -1521,15 +1517,8 @@ mod tests {
         // 0.3 m/s² r.m.s. lateral at 1 Hz, 0.2 m/s² r.m.s. vertical at 8 Hz, 20 s at 200 Hz
         // (faded in over the first window: a sudden start rings the weighting's high-pass)
         let fs = 200.0;
-        let tone = |rms: f64, f: f64, offset: f64| -> Vec<f64> {
-            (0..4000)
-                .map(|i| {
-                    let t = i as f64 / fs;
-                    let fade = 0.5 - 0.5 * (std::f64::consts::PI * (t / 5.0).min(1.0)).cos();
-                    offset + fade * rms * 2f64.sqrt() * (2.0 * std::f64::consts::PI * f * t).sin()
-                })
-                .collect()
-        };
+        let tone =
+            |rms: f64, f: f64, offset: f64| faded_tone(fs, 4000, rms * 2f64.sqrt(), f, offset);
         let c = ComfortSeries {
             name: "p".into(),
             longitudinal: vec![0.0; 4000],
