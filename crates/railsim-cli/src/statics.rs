@@ -159,11 +159,7 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
         None => {
             let g = a.twist_permille.unwrap_or(0.0);
             let xs: Vec<f64> = v.wheelsets().iter().map(|w| w.position[0]).collect();
-            let (lo, hi) = xs
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
-                    (l.min(*x), h.max(*x))
-                });
+            let (lo, hi) = x_range(xs.iter().copied());
             if hi <= lo {
                 bail!(
                     "--twist-permille: vehicle '{}' has no two wheelsets at different x: a uniform twist needs a wheelbase",
@@ -250,7 +246,7 @@ fn find_bogies(v: &VehicleModel) -> Result<Vec<Bogie>> {
     let carbody = &bodies[cb.index()];
     let others: Vec<String> = (0..bodies.len())
         .filter(|&i| i != cb.index())
-        .map(|i| format!("'{}' at x = {:.3} m", bodies[i].name, bodies[i].position[0]))
+        .map(|i| named_at(&bodies[i].name, bodies[i].position[0]))
         .collect();
     bail!(
         "--bogie-twist-permille: vehicle '{}' has no bogie frame: expected, besides the carbody '{}' (the heaviest rigid body, x = {:.3} m), rigid bodies at least {BOGIE_FRAME_MIN_OFFSET} m in x from its centre with wheelsets nearest to them (as in the run's assessment), found {}",
@@ -274,25 +270,20 @@ fn find_bogies(v: &VehicleModel) -> Result<Vec<Bogie>> {
 /// c = G* (x_b − x̄_b) + G+ (x − x_b) for a wheelset at x in the bogie whose frame is at x_b, x̄_b
 /// the middle of the outermost frames; and the lines that describe it (the header, then each
 /// bogie's and wheelset's cross-level, from the front). Fails when `v` has no
-/// bogies, a bogie has no two wheelsets at different x, or `g_body` is not 0 and the bogie
-/// frames all sit at one x.
+/// bogies, `g_bogie` is not 0 and a bogie has no two wheelsets at different x, or `g_body` is
+/// not 0 and the bogie frames all sit at one x.
 fn combined_twist(v: &VehicleModel, g_body: f64, g_bogie: f64) -> Result<(Vec<f64>, Vec<String>)> {
     let bogies = find_bogies(v)?;
     let bodies = v.bodies();
     let ws = v.wheelsets();
-    for g in &bogies {
-        let xs = g.wheelsets.iter().map(|i| ws[i.index()].position[0]);
-        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
-            (l.min(x), h.max(x))
-        });
+    // (a bogie without a wheelbase cannot be twisted over it; with G+ = 0 none is asked for)
+    for g in bogies.iter().filter(|_| g_bogie != 0.0) {
+        let (lo, hi) = x_range(g.wheelsets.iter().map(|i| ws[i.index()].position[0]));
         if hi <= lo {
             let names: Vec<String> = g
                 .wheelsets
                 .iter()
-                .map(|i| {
-                    let w = &ws[i.index()];
-                    format!("'{}' at x = {:.3} m", w.name, w.position[0])
-                })
+                .map(|i| named_at(&ws[i.index()].name, ws[i.index()].position[0]))
                 .collect();
             bail!(
                 "--bogie-twist-permille: bogie frame '{}' of vehicle '{}' has {} wheelset(s) ({}): a twist over its wheelbase needs two at different x",
@@ -304,21 +295,11 @@ fn combined_twist(v: &VehicleModel, g_body: f64, g_bogie: f64) -> Result<(Vec<f6
         }
     }
     let frame_x = |g: &Bogie| bodies[g.frame.index()].position[0];
-    let (lo, hi) = bogies
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), g| {
-            (l.min(frame_x(g)), h.max(frame_x(g)))
-        });
+    let (lo, hi) = x_range(bogies.iter().map(frame_x));
     if g_body != 0.0 && hi <= lo {
         let names: Vec<String> = bogies
             .iter()
-            .map(|g| {
-                format!(
-                    "'{}' at x = {:.3} m",
-                    bodies[g.frame.index()].name,
-                    frame_x(g)
-                )
-            })
+            .map(|g| named_at(&bodies[g.frame.index()].name, frame_x(g)))
             .collect();
         bail!(
             "--twist-permille with --bogie-twist-permille: vehicle '{}' has {} bogie frame(s) ({}), none at another x: a twist over the bogie-centre distance needs two bogies at different x",
@@ -362,4 +343,17 @@ fn combined_twist(v: &VehicleModel, g_body: f64, g_bogie: f64) -> Result<(Vec<f6
         }
     }
     Ok((cross, lines))
+}
+
+/// The smallest and largest of `xs` (infinite ends for none).
+fn x_range(xs: impl IntoIterator<Item = f64>) -> (f64, f64) {
+    xs.into_iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+            (l.min(x), h.max(x))
+        })
+}
+
+/// `'name' at x = … m` for a body or wheelset named `name` at `x` \[m\], in the errors.
+fn named_at(name: &str, x: f64) -> String {
+    format!("'{name}' at x = {x:.3} m")
 }

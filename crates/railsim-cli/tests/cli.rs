@@ -1439,9 +1439,9 @@ fn statics_combined_twist_loads_are_the_librarys_on_the_same_rail_heights() {
 }
 
 /// With the same twist over the bogie-centre distance and over the bogies' wheelbases,
-/// c = G (x − x̄_b): the uniform twist G about x̄ = x̄_b, the middle of the end wheelsets, which
-/// on the Manchester vehicle (bogies centred between their wheelsets, symmetric fore and aft)
-/// `--twist-permille` alone applies: the same wheel loads to the printed precision.
+/// c = G (x − x̄_b): the uniform twist G about x̄_b, which is `--twist-permille G` alone wherever
+/// x̄_b equals x̄, the middle of the end wheelsets (on the Manchester vehicle, symmetric fore and
+/// aft): the same wheel loads to the printed precision.
 #[test]
 fn statics_equal_bogie_and_carbody_twists_are_the_uniform_twist() {
     let (code, combined, err) = railsim(&[
@@ -1475,8 +1475,9 @@ fn statics_equal_bogie_and_carbody_twists_are_the_uniform_twist() {
 /// `--bogie-twist-permille` needs bogies: refused (exit code 2, naming the option and the
 /// vehicle) for a vehicle without rigid bodies, for the lone bogie of bogie_two_axle.toml (its
 /// frame is the heaviest body, the carbody), for a frame left with one wheelset (a 500 kg body
-/// at x = 8.22 m over ws2 takes it from bogie_front by the nearest-frame rule), with a
-/// carbody twist on a vehicle whose only bogie frame sits at one x, and out of range.
+/// at x = 8.22 m over ws2 takes it from bogie_front by the nearest-frame rule; accepted when
+/// only the carbody is twisted, G+ = 0), with a carbody twist on a vehicle whose only bogie
+/// frame sits at one x, and out of range.
 #[test]
 fn statics_bogie_twist_needs_bogies_with_a_wheelbase() {
     let dir = common::temp_dir("cli", "statics_bogies");
@@ -1511,6 +1512,17 @@ fn statics_bogie_twist_needs_bogies_with_a_wheelbase() {
     let (code, out, err) = railsim(&["statics", ballast, "--bogie-twist-permille", "7"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("  bogie bogie        x =   0.000 m:"), "{out}");
+    // a bogie left with one wheelset needs no wheelbase when only the carbody twist is asked for
+    let (code, out, err) = railsim(&[
+        "statics",
+        motor,
+        "--twist-permille",
+        "3",
+        "--bogie-twist-permille",
+        "0",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("largest unloading ΔQ/Q0"), "{out}");
     for (args, needle) in [
         (
             vec![

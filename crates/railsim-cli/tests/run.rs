@@ -605,3 +605,38 @@ fn an_assessment_rate_below_one_kilohertz_notes_its_aliasing() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `[assessment] vertical_weighting = "iso2631-4"` is named beside N_MV in the summary (and the
+/// default weighting is not): the bogie of `bogie_two_axle.toml` (its frame the carbody) for 6 s
+/// at 10 m/s on ideal straight track, `polach`.
+#[test]
+fn the_summary_names_iso_2631_4_s_w_b() {
+    let dir = temp_dir("vertical-weighting");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = |name: &str, extra: &str| {
+        let path = dir.join(name);
+        let text = format!(
+            "vehicle = \"{root}/vehicles/bogie_two_axle.toml\"\ntrack = \"{root}/tracks/straight.toml\"\n\
+             speed_kmh = 36\nduration_s = 6\n[contact]\nmodel = \"polach\"\n[initial]\n\
+             lateral_offset_mm = 1.0\n{extra}",
+            root = root().display()
+        );
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_owned()
+    };
+    let iso = scene(
+        "iso.toml",
+        "[assessment]\nvertical_weighting = \"iso2631-4\"\n",
+    );
+    let default = scene("default.toml", "");
+    for (path, named) in [(iso, true), (default, false)] {
+        let (code, out, err) = railsim(&["run", &path, "--no-log", "--quiet"]);
+        assert_eq!(code, 0, "{err}");
+        let line = out
+            .lines()
+            .find(|l| l.contains("EN 12299 N_MV"))
+            .unwrap_or_else(|| panic!("no N_MV in\n{out}"));
+        assert_eq!(line.contains("(W_b of ISO 2631-4)"), named, "{line}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

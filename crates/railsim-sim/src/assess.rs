@@ -859,8 +859,9 @@ pub const W_B_ISO_2631_4: IsoWeighting = IsoWeighting {
 /// Which W_b weights the vertical acceleration in EN 12299's mean comfort N_MV
 /// (`[assessment] vertical_weighting`). Whether EN 12299's annex lists the Q's of the public
 /// implementations ([`W_B`], the default) or ISO 2631-4's ([`W_B_ISO_2631_4`]) could not be
-/// checked against the standard's text; the two differ by −1.5 % at 1 Hz, −4.4 % at 2 Hz,
-/// +8.2 % at 4 Hz and −12 % at 16 Hz (ISO 2631-4's against the default; docs/models/dynamics.md).
+/// checked against the standard's text; ISO 2631-4's differs from the default by −1.5 % at
+/// 1 Hz, −4.4 % at 2 Hz, +8.2 % at 4 Hz and −12 % at 16 Hz (docs/models/dynamics.md, "Carbody
+/// accelerations and ride index").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum VerticalWeighting {
     /// [`W_B`], as EN 12299 is implemented publicly (comfpy, pyridy, MoniRail).
@@ -892,11 +893,9 @@ impl VerticalWeighting {
 
     /// From its name in a scene file; `None` for another name.
     pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "en12299" => Some(VerticalWeighting::En12299),
-            "iso2631-4" => Some(VerticalWeighting::Iso2631_4),
-            _ => None,
-        }
+        [VerticalWeighting::En12299, VerticalWeighting::Iso2631_4]
+            .into_iter()
+            .find(|w| w.name() == name)
     }
 }
 
@@ -967,8 +966,9 @@ impl IsoWeighting {
 /// EN 12299's mean comfort, standard method: N_MV = 6 √(a_x² + a_y² + a_z²) with a the 95th
 /// percentile of the r.m.s. values over 5 s windows of the W_d-weighted longitudinal and
 /// lateral and the vertical acceleration weighted by `w_b` (one of [`VerticalWeighting`]'s;
-/// m/s²). The whole record is weighted first, by the causal filters of [`IsoWeighting::filter`] (started from the steady state of
-/// the first sample), then cut into windows: weighting each window on its own (its periodogram
+/// m/s²). The whole record is weighted first, by the causal filters of
+/// [`IsoWeighting::filter`] (started from the steady state of the first sample), then cut into
+/// windows: weighting each window on its own (its periodogram
 /// times |W|²) treats its ends as steps, and a curve transition's ramp of the quasi-static
 /// lateral acceleration, which the weighting's 0.4 Hz high-pass all but removes, then counted
 /// 0.15 m/s² per m/s² of ramp in its window (the default scene's N_MV at the carbody's centre

@@ -16,7 +16,7 @@ use railsim_track::{RailProfile, RailSection, RailSupport, TrackModel};
 use railsim_vehicle::model::{
     Endpoint, ForceLaw, Member, WheelDefect, WheelProfile, Wheelset, rim_support,
 };
-use railsim_vehicle::{DofKind, VehicleModel};
+use railsim_vehicle::{BOGIE_FRAME_MIN_OFFSET, DofKind, VehicleModel};
 
 use crate::assess::ComfortPoint;
 use crate::error::SimError;
@@ -416,7 +416,7 @@ impl SimModel {
             comfort: None,
             bogies: Vec::new(),
         }
-        .with_comfort_points(&scene.assessment.comfort_points)
+        .with_comfort_points(v, &scene.assessment.comfort_points)
         .with_bogies(v))
     }
 
@@ -447,25 +447,23 @@ impl SimModel {
         self
     }
 
-    /// `self` with [`SimModel::comfort`] resolved from the scene's points (`given`).
-    fn with_comfort_points(mut self, given: &[ComfortPoint]) -> SimModel {
-        let bodies = || {
-            self.members
-                .iter()
-                .enumerate()
-                .filter(|(_, m)| m.kind == MemberKind::Body)
-        };
-        let Some((cb, carbody)) = bodies().max_by(|a, b| a.1.mass.total_cmp(&b.1.mass)) else {
+    /// `self` with [`SimModel::comfort`] resolved from the scene's points (`given`) on `v`'s
+    /// carbody ([`VehicleModel::carbody`]); by default its centre and above every other body at
+    /// least [`BOGIE_FRAME_MIN_OFFSET`] from it along x.
+    fn with_comfort_points(mut self, v: &VehicleModel, given: &[ComfortPoint]) -> SimModel {
+        let Some(cb) = v.carbody().map(|b| b.index()) else {
             return self;
         };
+        let carbody = &self.members[cb];
         let points = if given.is_empty() {
             let mut points = vec![ComfortPoint {
                 name: format!("{} centre", carbody.name),
                 offset: [0.0; 3],
             }];
-            for (i, b) in bodies() {
+            // (rigid bodies are the first members, in the vehicle's order)
+            for (i, b) in self.members[..v.bodies().len()].iter().enumerate() {
                 let dx = b.p0[0] - carbody.p0[0];
-                if i != cb && dx.abs() >= 0.5 {
+                if i != cb && dx.abs() >= BOGIE_FRAME_MIN_OFFSET {
                     points.push(ComfortPoint {
                         name: format!("{} above {}", carbody.name, b.name),
                         offset: [dx, 0.0, 0.0],
