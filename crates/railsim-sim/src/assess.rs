@@ -1100,6 +1100,23 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
 mod tests {
     use super::*;
 
+    /// A run at 30 m/s sampled at `fs` \[Hz\] with one carbody point reading `lateral` and
+    /// `vertical` (and no longitudinal acceleration).
+    fn carbody_run(fs: f64, lateral: Vec<f64>, vertical: Vec<f64>) -> Series {
+        let n = lateral.len();
+        Series {
+            rate_hz: fs,
+            distance: (0..n).map(|i| 30.0 * i as f64 / fs).collect(),
+            comfort: vec![ComfortSeries {
+                name: "p".into(),
+                longitudinal: vec![0.0; n],
+                lateral,
+                vertical,
+            }],
+            ..Default::default()
+        }
+    }
+
     /// `n` samples at `fs` \[Hz\] of `offset` plus a tone of peak `amplitude` at `f` \[Hz\],
     /// faded in over the first 5 s window (a sudden start rings the weightings' high-pass).
     fn faded_tone(fs: f64, n: usize, amplitude: f64, f: f64, offset: f64) -> Vec<f64> {
@@ -1387,17 +1404,7 @@ mod tests {
         let fs = 200.0;
         let n = 4000;
         let vertical = faded_tone(fs, n, 0.2 * 2f64.sqrt(), 4.0, 9.81);
-        let s = Series {
-            rate_hz: fs,
-            distance: (0..n).map(|i| 30.0 * i as f64 / fs).collect(),
-            comfort: vec![ComfortSeries {
-                name: "p".into(),
-                longitudinal: vec![0.0; n],
-                lateral: vec![0.0; n],
-                vertical,
-            }],
-            ..Default::default()
-        };
+        let s = carbody_run(fs, vec![0.0; n], vertical);
         let run = |w: VerticalWeighting| {
             let opts = AssessOptions {
                 vertical_weighting: w,
@@ -1434,17 +1441,7 @@ mod tests {
         let n = 12_000;
         let mut lateral = faded_tone(fs, n, 0.5, 2.0, 0.0);
         lateral[6000] += 5.0;
-        let s = Series {
-            rate_hz: fs,
-            distance: (0..n).map(|i| 30.0 * i as f64 / fs).collect(),
-            comfort: vec![ComfortSeries {
-                name: "p".into(),
-                longitudinal: vec![0.0; n],
-                lateral,
-                vertical: vec![9.81; n],
-            }],
-            ..Default::default()
-        };
+        let s = carbody_run(fs, lateral, vec![9.81; n]);
         let a = assess(&s, &[], &AssessOptions::default());
         let (peak, rms) = a.comfort[0].band_passed[0].unwrap();
         assert!((peak / 0.5 - 1.0).abs() < 0.03, "{peak}");
