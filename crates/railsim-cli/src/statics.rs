@@ -56,19 +56,17 @@ pub struct StaticsArgs {
 
 /// `railsim statics`.
 pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
-    if let Some(g) = a.twist_permille
-        && !(g.is_finite() && g.abs() <= MAX_TWIST_PERMILLE)
-    {
-        bail!(
-            "--twist-permille: expected a number from -{MAX_TWIST_PERMILLE} to {MAX_TWIST_PERMILLE}, found {g}"
-        );
-    }
-    if let Some(g) = a.bogie_twist_permille
-        && !(g.is_finite() && g.abs() <= MAX_TWIST_PERMILLE)
-    {
-        bail!(
-            "--bogie-twist-permille: expected a number from -{MAX_TWIST_PERMILLE} to {MAX_TWIST_PERMILLE}, found {g}"
-        );
+    for (option, value) in [
+        ("--twist-permille", a.twist_permille),
+        ("--bogie-twist-permille", a.bogie_twist_permille),
+    ] {
+        if let Some(g) = value
+            && !(g.is_finite() && g.abs() <= MAX_TWIST_PERMILLE)
+        {
+            bail!(
+                "{option}: expected a number from -{MAX_TWIST_PERMILLE} to {MAX_TWIST_PERMILLE}, found {g}"
+            );
+        }
     }
     if !(a.limit > 0.0 && a.limit <= 1.0) {
         bail!(
@@ -155,30 +153,10 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
         );
     }
     // \[m\] each wheelset's cross-level, left rail up; and the lines that describe the twist
-    let (cross, header): (Vec<f64>, Vec<String>) = match a.bogie_twist_permille {
-        None => {
-            let g = a.twist_permille.unwrap_or(0.0);
-            let xs: Vec<f64> = v.wheelsets().iter().map(|w| w.position[0]).collect();
-            let (lo, hi) = x_range(xs.iter().copied());
-            if hi <= lo {
-                bail!(
-                    "--twist-permille: vehicle '{}' has no two wheelsets at different x: a uniform twist needs a wheelbase",
-                    v.name()
-                );
-            }
-            let mid = 0.5 * (lo + hi);
-            let cross = |x: f64| g * 1e-3 * (x - mid);
-            let header = format!(
-                "on a twist of {g} ‰ (cross-level {:+.2} mm at the front wheelset, {:+.2} mm at the rear):",
-                cross(hi) * 1e3,
-                cross(lo) * 1e3
-            );
-            (xs.into_iter().map(cross).collect(), vec![header])
-        }
-        Some(g_bogie) => {
-            let g_body = a.twist_permille.unwrap_or(0.0);
-            combined_twist(&v, g_body, g_bogie)?
-        }
+    let g_body = a.twist_permille.unwrap_or(0.0);
+    let (cross, header) = match a.bogie_twist_permille {
+        None => uniform_twist(&v, g_body)?,
+        Some(g_bogie) => combined_twist(&v, g_body, g_bogie)?,
     };
     let heights: Vec<[f64; 2]> = cross.iter().map(|&c| [0.5 * c, -0.5 * c]).collect();
     let twisted = v.static_equilibrium_on(&heights)?;
@@ -227,6 +205,28 @@ pub fn run_statics(a: &StaticsArgs) -> Result<ExitCode> {
         "note: linear statics: every element with its stiffness at zero deflection (a bump stop in its clearance carries nothing, friction and series dampers nothing); for nonlinear characteristics run the vehicle slowly over a twist ramp (`railsim run`: the summary's least Q and ΔQ/Q0 per wheel)"
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// \[m\] each wheelset's cross-level (left rail up) on the track twisted uniformly by `g`
+/// \[‰\], c = g (x − x̄) about the middle x̄ of the end wheelsets, and the line that describes
+/// it. Fails when `v` has no two wheelsets at different x.
+fn uniform_twist(v: &VehicleModel, g: f64) -> Result<(Vec<f64>, Vec<String>)> {
+    let xs: Vec<f64> = v.wheelsets().iter().map(|w| w.position[0]).collect();
+    let (lo, hi) = x_range(xs.iter().copied());
+    if hi <= lo {
+        bail!(
+            "--twist-permille: vehicle '{}' has no two wheelsets at different x: a uniform twist needs a wheelbase",
+            v.name()
+        );
+    }
+    let mid = 0.5 * (lo + hi);
+    let cross = |x: f64| g * 1e-3 * (x - mid);
+    let header = format!(
+        "on a twist of {g} ‰ (cross-level {:+.2} mm at the front wheelset, {:+.2} mm at the rear):",
+        cross(hi) * 1e3,
+        cross(lo) * 1e3
+    );
+    Ok((xs.into_iter().map(cross).collect(), vec![header]))
 }
 
 /// The bogies of `v` ([`VehicleModel::bogies`], the rule of the run's assessment); fails,
