@@ -1075,19 +1075,11 @@ fn negative_numbers_reach_the_range_checks() {
 #[test]
 fn the_linear_critical_speed_notes_a_state_that_is_no_equilibrium() {
     let dir = common::temp_dir("cli", "residual");
-    let vehicle = std::fs::read_to_string(common::root().join("vehicles/manchester_vehicle1.toml"))
-        .unwrap()
+    let vehicle = common::vehicle_text("manchester_vehicle1.toml")
         .replace("[[wheelset]]\n", "[[wheelset]]\ntorque_nm = 5000\n");
     assert_eq!(vehicle.matches("torque_nm = 5000").count(), 4);
     let driven = dir.join("driven.toml");
-    std::fs::write(
-        &driven,
-        vehicle.replace(
-            "\"profiles/",
-            &format!("\"{}/vehicles/profiles/", common::root().display()),
-        ),
-    )
-    .unwrap();
+    std::fs::write(&driven, vehicle).unwrap();
     let plain = common::polach_copy(&dir, "manchester_hunting.toml");
     let text = std::fs::read_to_string(&plain).unwrap();
     let vehicle_line = text
@@ -1228,13 +1220,11 @@ fn statics_reports_the_wheel_loads_and_their_unloading_on_a_twist() {
     // the Manchester vehicle with its first wheelset held in roll
     let dir = common::temp_dir("cli", "statics");
     let held = dir.join("held.toml");
-    let text = std::fs::read_to_string(common::root().join("vehicles/manchester_vehicle1.toml"))
-        .unwrap()
-        .replacen("[[wheelset]]\n", "[[wheelset]]\nfrozen = [\"roll\"]\n", 1)
-        .replace(
-            "\"profiles/",
-            &format!("\"{}/vehicles/profiles/", common::root().display()),
-        );
+    let text = common::vehicle_text("manchester_vehicle1.toml").replacen(
+        "[[wheelset]]\n",
+        "[[wheelset]]\nfrozen = [\"roll\"]\n",
+        1,
+    );
     std::fs::write(&held, text).unwrap();
     for (args, needle) in [
         (
@@ -1482,14 +1472,8 @@ fn statics_equal_bogie_and_carbody_twists_are_the_uniform_twist() {
 fn statics_bogie_twist_needs_bogies_with_a_wheelbase() {
     let dir = common::temp_dir("cli", "statics_bogies");
     let absolute = |file: &str, extra: &str| {
-        let text = std::fs::read_to_string(common::root().join("vehicles").join(file))
-            .unwrap()
-            .replace(
-                "\"profiles/",
-                &format!("\"{}/vehicles/profiles/", common::root().display()),
-            );
         let path = dir.join(file);
-        std::fs::write(&path, text + extra).unwrap();
+        std::fs::write(&path, common::vehicle_text(file) + extra).unwrap();
         path
     };
     let motor = absolute(

@@ -43,3 +43,13 @@ pub fn polach_copy(dir: &Path, name: &str) -> PathBuf {
     std::fs::write(&path, text).unwrap();
     path
 }
+
+/// The text of the shipped vehicle `vehicles/<name>` with its profile paths made absolute, to be
+/// changed and written elsewhere.
+pub fn vehicle_text(name: &str) -> String {
+    let text = std::fs::read_to_string(root().join("vehicles").join(name)).unwrap();
+    text.replace(
+        "\"profiles/",
+        &format!("\"{}/vehicles/profiles/", root().display()),
+    )
+}
