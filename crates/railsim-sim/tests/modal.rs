@@ -549,11 +549,7 @@ fn the_modal_equilibrium_carries_a_traction_torque_through_the_suspension() {
     std::fs::create_dir_all(&dir).unwrap();
     let text = std::fs::read_to_string(common::root().join("vehicles/manchester_vehicle1.toml"))
         .unwrap()
-        .replace("[[wheelset]]\n", "[[wheelset]]\ntorque_nm = 5000\n")
-        .replace(
-            "\"profiles/",
-            &format!("\"{}/vehicles/profiles/", common::root().display()),
-        );
+        .replace("[[wheelset]]\n", "[[wheelset]]\ntorque_nm = 5000\n");
     assert_eq!(text.matches("torque_nm = 5000").count(), 4);
     let vehicle = dir.join("driven.toml");
     std::fs::write(&vehicle, text).unwrap();
