@@ -12,7 +12,7 @@ use clap::Args;
 use railsim_ode::Method;
 use railsim_sim::assess::{
     Assessment, CARBODY_BAND, MIN_F0_RECORD, SPERLING_BAND, STABILITY_WINDOW, SUM_Y_WINDOW,
-    VerticalWeighting, default_assessment_rate,
+    SectionReport, SectionZone, VerticalWeighting, default_assessment_rate,
 };
 use railsim_sim::{RunOptions, RunSummary, Scene, SimError, Simulation};
 
@@ -438,6 +438,101 @@ fn print_wheels(a: &Assessment, names: &[String]) -> Result<()> {
 }
 
 /// Per bogie frame: the simplified stability criterion.
+/// The per-section statistics (`[assessment] section_length_m`), per axle and wheel and per
+/// zone of the track: the number of sections, their mean, standard deviation, largest and
+/// estimate, against the quantity's limit.
+fn print_sections(a: &Assessment, names: &[String]) -> Result<()> {
+    let Some(o) = a.sections else {
+        return Ok(());
+    };
+    let l = &a.limits;
+    outln!(
+        "per track section of {} m (the statistic above in each section a wheelset ran through \
+         whole, by zone: off curves (tangent track and transitions), in curves, in curves under \
+         {:.0} m; a section across zones is left out; over a zone's sections: their number, \
+         mean, standard deviation s, largest{}):",
+        o.length,
+        l.small_radius,
+        o.k.map_or_else(String::new, |k| format!(
+            ", estimate mean + k s with k = {k}"
+        ))
+    );
+    let sections = |n: usize| format!("{n} section{}", if n == 1 { "" } else { "s" });
+    // one quantity's zones; `limit` by zone, values scaled to the unit
+    let line = |what: &str,
+                r: &Option<SectionReport>,
+                (scale, unit): (f64, &str),
+                limit: &dyn Fn(SectionZone) -> f64| {
+        let Some(r) = r else {
+            return format!("{what} no whole section");
+        };
+        let v = |x: f64| format!("{:.3}{unit}", x * scale);
+        let mut parts: Vec<String> = r
+            .zones
+            .iter()
+            .map(|(z, st)| {
+                let zone = match z {
+                    SectionZone::OffCurves => "off curves",
+                    SectionZone::Curves => "in curves",
+                    SectionZone::SmallRadius => "in small radii",
+                };
+                let mut out = format!(
+                    "{what} {zone} {}, mean {}, s {}, largest {} ({:.0}-{:.0} m)",
+                    sections(st.values.len()),
+                    v(st.mean),
+                    st.std_dev.map_or_else(|| "-".to_owned(), v),
+                    v(st.largest.value),
+                    st.largest.start,
+                    st.largest.start + o.length
+                );
+                if let Some(e) = st.estimate {
+                    out += &format!(", estimate {}", v(e));
+                }
+                let (top, lim) = (st.estimate.unwrap_or(st.largest.value), limit(*z));
+                out += &format!(
+                    ", limit {}{}",
+                    v(lim),
+                    if top > lim { " EXCEEDED" } else { "" }
+                );
+                out
+            })
+            .collect();
+        if r.mixed > 0 {
+            parts.push(format!(
+                "{what} {} across zones left out",
+                sections(r.mixed)
+            ));
+        }
+        if parts.is_empty() {
+            parts.push(format!("{what} no whole section"));
+        }
+        parts.join("; ")
+    };
+    for ax in &a.axles {
+        let sections = line("(ΣY)2m", &ax.sum_y_2m_sections, (1e-3, " kN"), &|_| {
+            ax.sum_y_limit
+        });
+        outln!("  {}: {sections}", wheelset(names, ax.wheelset));
+    }
+    let yq_limit = |z| {
+        if z == SectionZone::SmallRadius {
+            l.y_over_q_small_radius
+        } else {
+            l.y_over_q
+        }
+    };
+    for w in &a.wheels {
+        let yq = line("(Y/Q)2m", &w.y_over_q_sections, (1.0, ""), &yq_limit);
+        let q = line("Q", &w.q_sections, (1e-3, " kN"), &|_| w.q_limit);
+        outln!(
+            "  {} {}: {yq}; {q}",
+            wheelset(names, w.wheelset),
+            w.side.name()
+        );
+    }
+    Ok(())
+}
+
 fn print_bogies(a: &Assessment) -> Result<()> {
     if a.bogies.is_empty() {
         return Ok(());
@@ -550,6 +645,7 @@ fn print_assessment(a: &Assessment, names: &[String]) -> Result<()> {
         outln!("  {}: {mean}; {rms}", wheelset(names, ax.wheelset));
     }
     print_wheels(a, names)?;
+    print_sections(a, names)?;
     print_bogies(a)?;
     if !a.comfort.is_empty() {
         outln!(

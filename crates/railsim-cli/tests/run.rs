@@ -613,22 +613,12 @@ fn an_assessment_rate_below_one_kilohertz_notes_its_aliasing() {
 fn the_summary_names_iso_2631_4_s_w_b() {
     let dir = temp_dir("vertical-weighting");
     std::fs::create_dir_all(&dir).unwrap();
-    let scene = |name: &str, extra: &str| {
-        let path = dir.join(name);
-        let text = format!(
-            "vehicle = \"{root}/vehicles/bogie_two_axle.toml\"\ntrack = \"{root}/tracks/straight.toml\"\n\
-             speed_kmh = 36\nduration_s = 6\n[contact]\nmodel = \"polach\"\n[initial]\n\
-             lateral_offset_mm = 1.0\n{extra}",
-            root = root().display()
-        );
-        std::fs::write(&path, text).unwrap();
-        path.to_str().unwrap().to_owned()
-    };
-    let iso = scene(
+    let iso = short_bogie_run(
+        &dir,
         "iso.toml",
         "[assessment]\nvertical_weighting = \"iso2631-4\"\n",
     );
-    let default = scene("default.toml", "");
+    let default = short_bogie_run(&dir, "default.toml", "");
     for (path, named) in [(iso, true), (default, false)] {
         let (code, out, err) = railsim(&["run", &path, "--no-log", "--quiet"]);
         assert_eq!(code, 0, "{err}");
@@ -638,5 +628,56 @@ fn the_summary_names_iso_2631_4_s_w_b() {
             .unwrap_or_else(|| panic!("no N_MV in\n{out}"));
         assert_eq!(line.contains("(W_b of ISO 2631-4)"), named, "{line}");
     }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A scene file `name` in `dir`: the two-axle bogie at 36 km/h for 6 s (60 m) on straight
+/// track, `polach`, the leading wheelset 1 mm off centre, with `extra` appended; its path.
+fn short_bogie_run(dir: &std::path::Path, name: &str, extra: &str) -> String {
+    let path = dir.join(name);
+    let text = format!(
+        "vehicle = \"{root}/vehicles/bogie_two_axle.toml\"\ntrack = \"{root}/tracks/straight.toml\"\n\
+         speed_kmh = 36\nduration_s = 6\n[contact]\nmodel = \"polach\"\n[initial]\n\
+         lateral_offset_mm = 1.0\n{extra}",
+        root = root().display()
+    );
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_owned()
+}
+
+#[test]
+fn the_summary_lists_the_per_section_statistics() {
+    let dir = temp_dir("sections");
+    std::fs::create_dir_all(&dir).unwrap();
+    let sections = short_bogie_run(
+        &dir,
+        "sections.toml",
+        "[assessment]\nsection_length_m = 10\nsection_k = 3\n",
+    );
+    let (code, out, err) = railsim(&["run", &sections, "--no-log", "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("per track section of 10 m"), "{out}");
+    assert!(out.contains("estimate mean + k s with k = 3"), "{out}");
+    // the wheelsets run over some 60 m of straight track: at least four whole 10 m sections
+    // each, all off curves, for every axle and wheel
+    let counts: Vec<usize> = out
+        .lines()
+        .flat_map(|l| l.split("; "))
+        .filter_map(|part| {
+            let rest = part.split(" off curves ").nth(1)?;
+            rest.split(' ').next()?.parse().ok()
+        })
+        .collect();
+    // two axles, and for each of four wheels (Y/Q)2m and Q
+    assert_eq!(counts.len(), 2 + 4 * 2, "{out}");
+    assert!(counts.iter().all(|&n| (4..=7).contains(&n)), "{counts:?}");
+    let (code, out, err) = railsim(&[
+        "run",
+        &short_bogie_run(&dir, "plain.toml", ""),
+        "--no-log",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!out.contains("per track section"), "{out}");
     std::fs::remove_dir_all(&dir).ok();
 }

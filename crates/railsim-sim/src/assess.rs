@@ -29,6 +29,10 @@
 //! - **quasi-static wheel forces** Y_qst and Q_qst: per circular curve of the track, the median
 //!   (50 % percentile) of the 20 Hz low-passed Y and Q of each wheel over the samples at which
 //!   its wheelset runs in the curve, against 60 kN and 145 kN (assessed on the outer wheel);
+//! - **per track section** (when asked, [`SectionOptions`]): the (ΣY)2m, (Y/Q)2m and Q
+//!   statistics above in each section of the track a wheelset ran through whole, by zone (off
+//!   curves, in curves, in small radii), and over a zone's sections their mean, standard
+//!   deviation, largest and the estimate `mean + k s`;
 //! - **simplified stability method**: the lateral acceleration of each bogie frame above each
 //!   of its wheelsets (what an accelerometer fixed there measures), band-pass filtered f0 ± 2 Hz,
 //!   its largest magnitude against `12 − m_b/5` m/s² and its sliding r.m.s. over 100 m (every
@@ -236,6 +240,21 @@ pub struct AssessOptions {
     pub rate_hz: Option<f64>,
     /// The W_b of the vertical acceleration in N_MV.
     pub vertical_weighting: VerticalWeighting,
+    /// Statistics per track section as well as over the run; `None`: over the run only.
+    pub sections: Option<SectionOptions>,
+}
+
+/// Statistics per track section (`[assessment] section_length_m`, docs/models/dynamics.md,
+/// "Per-section statistics"): EN 14363 evaluates its statistics (the percentiles of the
+/// processing table) per track section of a test zone and then over the zone's sections.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SectionOptions {
+    /// \[m\] length L of the sections: the track cut at s = j L, j whole, section j covering
+    /// `[j L, (j + 1) L)`.
+    pub length: f64,
+    /// \[-\] k of the estimate `mean + k s` over the sections; `None`: no estimate (the
+    /// value of k is the edition's and the quantity's: none is built in).
+    pub k: Option<f64>,
 }
 
 /// \[Hz\] the lowest assessment rate when a scene sets none, for STRIPES and the half-space: it
@@ -293,6 +312,7 @@ impl Default for AssessOptions {
             limits: Limits::default(),
             rate_hz: None,
             vertical_weighting: VerticalWeighting::default(),
+            sections: None,
         }
     }
 }
@@ -351,6 +371,79 @@ pub struct Extreme {
     pub at: f64,
 }
 
+/// A quantity's statistic in one track section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SectionValue {
+    /// \[m\] track position of the section's start (it ends one section length on).
+    pub start: f64,
+    /// The statistic over the section's values.
+    pub value: f64,
+}
+
+/// The zone of the track a section lies in (EN 14363 evaluates its sections per test zone).
+/// Transitions count with tangent track, as for the (Y/Q)2m zones.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SectionZone {
+    /// Outside circular curves: tangent track and transitions.
+    OffCurves,
+    /// Circular curves of radius at least [`Limits::small_radius`].
+    Curves,
+    /// Circular curves of radius below [`Limits::small_radius`].
+    SmallRadius,
+}
+
+impl SectionZone {
+    /// The zones in the order they are reported.
+    pub const ALL: [SectionZone; 3] = [
+        SectionZone::OffCurves,
+        SectionZone::Curves,
+        SectionZone::SmallRadius,
+    ];
+}
+
+/// A quantity's statistics per track section, by zone ([`SectionOptions`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectionReport {
+    /// Per zone with sections, in the order of [`SectionZone::ALL`].
+    pub zones: Vec<(SectionZone, SectionStatistics)>,
+    /// The whole sections left out because their values lie in more than one zone.
+    pub mixed: usize,
+}
+
+/// A quantity's statistic per track section of one zone and over those sections.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectionStatistics {
+    /// Per section the wheelset ran through whole, in track order.
+    pub values: Vec<SectionValue>,
+    /// The mean of the sections' values.
+    pub mean: f64,
+    /// Their sample standard deviation s (n − 1 in the denominator); `None` for one section.
+    pub std_dev: Option<f64>,
+    /// The section with the largest value.
+    pub largest: SectionValue,
+    /// `mean + k s` with the options' k; `None` without k or with one section.
+    pub estimate: Option<f64>,
+}
+
+impl SectionStatistics {
+    /// The statistics over `values` (none for no value).
+    fn new(values: Vec<SectionValue>, k: Option<f64>) -> Option<Self> {
+        let largest = *values.iter().max_by(|a, b| a.value.total_cmp(&b.value))?;
+        let n = values.len() as f64;
+        let mean = values.iter().map(|v| v.value).sum::<f64>() / n;
+        let std_dev = (values.len() > 1).then(|| {
+            (values.iter().map(|v| (v.value - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+        });
+        Some(SectionStatistics {
+            estimate: k.zip(std_dev).map(|(k, s)| mean + k * s),
+            values,
+            mean,
+            std_dev,
+            largest,
+        })
+    }
+}
+
 /// One axle's track-shift force.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AxleAssessment {
@@ -370,6 +463,9 @@ pub struct AxleAssessment {
     pub sum_y_rms: Option<Extreme>,
     /// The sliding r.m.s. values along the run (for plots and studies).
     pub sum_y_rms_windows: Vec<WindowValue>,
+    /// \[N\] the standard's statistic of (ΣY)2m per track section; `None` without
+    /// [`AssessOptions::sections`] or without a section the wheelset ran through whole.
+    pub sum_y_2m_sections: Option<SectionReport>,
 }
 
 impl AxleAssessment {
@@ -437,6 +533,12 @@ pub struct WheelAssessment {
     pub lifted: (f64, Option<f64>),
     /// Per circular curve it ran in.
     pub quasi_static: Vec<QuasiStaticForces>,
+    /// \[-\] the 99.85 % percentile of (Y/Q)2m per track section (each window in the section
+    /// of the sample at its end); `None` as for `q_sections`.
+    pub y_over_q_sections: Option<SectionReport>,
+    /// \[N\] the 99.85 % percentile of the low-passed Q per track section; `None` without
+    /// [`AssessOptions::sections`] or without a section the wheelset ran through whole.
+    pub q_sections: Option<SectionReport>,
 }
 
 /// One bogie frame's simplified stability criterion at one measuring point.
@@ -499,6 +601,8 @@ pub struct Assessment {
     pub comfort: Vec<Comfort>,
     /// The W_b its N_MV were weighted with.
     pub vertical_weighting: VerticalWeighting,
+    /// The track sections of the per-section statistics, if asked for.
+    pub sections: Option<SectionOptions>,
 }
 
 /// The band-pass around `f0`: f0 ± 2 Hz, the lower edge kept at or above f0 / 2 (a hunting
@@ -527,6 +631,27 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
             .map(|b| b.with_unit_gain_at(f, fs))
     });
     let d = &series.distance;
+    // per wheelset: the circular curve it runs in at each sample
+    let curve_of: Vec<Vec<Option<usize>>> = series
+        .wheelset_position
+        .iter()
+        .map(|position| {
+            position
+                .iter()
+                .map(|&s| {
+                    series
+                        .curves
+                        .iter()
+                        .position(|c| c.s[0] <= s && s <= c.s[1])
+                })
+                .collect()
+        })
+        .collect();
+    let sections = opts.sections.map(|o| Sections {
+        opts: o,
+        small_radius: opts.limits.small_radius,
+        curves: &series.curves,
+    });
     let axles = series
         .sum_y
         .iter()
@@ -538,6 +663,12 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
                 f.apply(&mut low);
             }
             let means = sliding_mean(d, &low, SUM_Y_WINDOW, SUM_Y_STEP);
+            let sum_y_2m_sections = sections.as_ref().and_then(|o| {
+                let at_ends = window_samples(d, &means).into_iter();
+                let items = at_ends.zip(means.iter().map(|w| w.value));
+                let curves = curve_of.get(n).map_or(&[][..], Vec::as_slice);
+                o.report(positions(series, n), curves, items, extreme_percentile)
+            });
             let sum_y_2m = largest(&means, f64::abs);
             let sum_y_2m_percentile = (!means.is_empty()).then(|| {
                 let mut v: Vec<f64> = means.iter().map(|w| w.value).collect();
@@ -560,26 +691,11 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
                 sum_y_2m_percentile,
                 sum_y_rms: largest(&sum_y_rms_windows, |v| v),
                 sum_y_rms_windows,
+                sum_y_2m_sections,
             }
         })
         .collect();
     let top_speed = top_speed(series);
-    // per wheelset: the circular curve it runs in at each sample
-    let curve_of: Vec<Vec<Option<usize>>> = series
-        .wheelset_position
-        .iter()
-        .map(|position| {
-            position
-                .iter()
-                .map(|&s| {
-                    series
-                        .curves
-                        .iter()
-                        .position(|c| c.s[0] <= s && s <= c.s[1])
-                })
-                .collect()
-        })
-        .collect();
     let wheels = series
         .wheels
         .iter()
@@ -587,7 +703,15 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
             let curves = curve_of
                 .get(w.wheelset as usize)
                 .map_or(&[][..], Vec::as_slice);
-            assess_wheel(series, w, curves, lowpass.as_ref(), &opts.limits, top_speed)
+            let limits = (&opts.limits, top_speed);
+            assess_wheel(
+                series,
+                w,
+                curves,
+                lowpass.as_ref(),
+                limits,
+                sections.as_ref(),
+            )
         })
         .collect();
     let bogies = series
@@ -642,6 +766,114 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         alpha: opts.alpha,
         comfort,
         vertical_weighting: opts.vertical_weighting,
+        sections: opts.sections,
+    }
+}
+
+/// \[m\] the track positions of wheelset `n` at the samples (none if not recorded).
+fn positions(series: &Series, n: usize) -> &[f64] {
+    series.wheelset_position.get(n).map_or(&[], Vec::as_slice)
+}
+
+/// The sample at the end of each window of `windows` over the distances `d`: the last at or
+/// before its end.
+fn window_samples(d: &[f64], windows: &[WindowValue]) -> Vec<usize> {
+    let mut i = 0;
+    windows
+        .iter()
+        .map(|m| {
+            while i + 1 < d.len() && d[i + 1] <= m.end {
+                i += 1;
+            }
+            i
+        })
+        .collect()
+}
+
+/// The per-section statistics' settings with what classifies a section's zone.
+struct Sections<'a> {
+    opts: SectionOptions,
+    /// \[m\] [`Limits::small_radius`].
+    small_radius: f64,
+    /// [`Series::curves`].
+    curves: &'a [CurveSection],
+}
+
+impl Sections<'_> {
+    /// A statistic per track section of a wheelset at track positions `pos` at the samples,
+    /// in circular curve `curve_of[i]` at sample `i`. `items` are (sample, value) pairs, each
+    /// value in the section of its sample's position and in its sample's zone; `stat` takes a
+    /// section's values sorted. Only the sections the wheelset ran through whole count, each
+    /// in the zone of all its values (a section with values in two zones is left out);
+    /// `None` without a whole section.
+    fn report(
+        &self,
+        pos: &[f64],
+        curve_of: &[Option<usize>],
+        items: impl IntoIterator<Item = (usize, f64)>,
+        stat: impl Fn(&[f64]) -> f64,
+    ) -> Option<SectionReport> {
+        let length = self.opts.length;
+        let (lo, hi) = pos
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &p| {
+                (a.min(p), b.max(p))
+            });
+        if !(length > 0.0 && hi > lo) {
+            return None;
+        }
+        // the whole sections between the first and the last position: j in [first, first + n)
+        let first = (lo / length).ceil();
+        let n = (hi / length).floor() - first;
+        if n < 1.0 {
+            return None;
+        }
+        let n = n as usize;
+        let mut values = vec![Vec::new(); n];
+        let mut zone: Vec<Option<SectionZone>> = vec![None; n];
+        let mut mixed = vec![false; n];
+        for (i, v) in items {
+            let Some(&p) = pos.get(i) else { continue };
+            let j = (p / length).floor() - first;
+            if !(0.0..n as f64).contains(&j) {
+                continue;
+            }
+            let j = j as usize;
+            let z = self.zone(curve_of.get(i).copied().flatten());
+            mixed[j] |= zone[j].is_some_and(|y| y != z);
+            zone[j] = Some(z);
+            values[j].push(v);
+        }
+        let mut zones = Vec::new();
+        for z in SectionZone::ALL {
+            let in_zone = (0..n)
+                .filter(|&j| zone[j] == Some(z) && !mixed[j])
+                .map(|j| {
+                    let v = &mut values[j];
+                    v.sort_by(f64::total_cmp);
+                    SectionValue {
+                        start: (first + j as f64) * length,
+                        value: stat(v),
+                    }
+                })
+                .collect();
+            if let Some(st) = SectionStatistics::new(in_zone, self.opts.k) {
+                zones.push((z, st));
+            }
+        }
+        Some(SectionReport {
+            zones,
+            mixed: mixed.iter().filter(|&&m| m).count(),
+        })
+    }
+
+    /// The zone of a sample in circular curve `curve` of the series (none: off curves).
+    fn zone(&self, curve: Option<usize>) -> SectionZone {
+        match curve.and_then(|c| self.curves.get(c)) {
+            None => SectionZone::OffCurves,
+            Some(c) if c.radius.abs() < self.small_radius => SectionZone::SmallRadius,
+            Some(_) => SectionZone::Curves,
+        }
     }
 }
 
@@ -682,14 +914,15 @@ fn top_speed(series: &Series) -> f64 {
 }
 
 /// The running-safety and track-loading quantities of wheel `w` (module docs), whose wheelset
-/// runs in curve `curve_of[i]` of `series.curves` at sample `i` (none beyond its length).
+/// runs in curve `curve_of[i]` of `series.curves` at sample `i` (none beyond its length), with
+/// the limits at the run's top speed \[m/s\] and, if given, per track section.
 fn assess_wheel(
     series: &Series,
     w: &WheelSeries,
     curve_of: &[Option<usize>],
     lowpass: Option<&Filter>,
-    limits: &Limits,
-    top_speed: f64,
+    (limits, top_speed): (&Limits, f64),
+    sections: Option<&Sections>,
 ) -> WheelAssessment {
     let low = |x: &[f64]| {
         let mut y = x.to_vec();
@@ -714,19 +947,17 @@ fn assess_wheel(
         .map(|(&y, &q)| if q > 0.0 { y / q } else { 0.0 })
         .collect();
     let means = sliding_mean(d, &yq, SUM_Y_WINDOW, SUM_Y_STEP);
+    let ends = window_samples(d, &means);
+    let pos = positions(series, w.wheelset as usize);
     let mut y_over_q = Vec::new();
     for zone in [false, true] {
         // a window belongs to the zone of the sample at its end
-        let mut values: Vec<WindowValue> = Vec::new();
-        let mut i = 0;
-        for m in &means {
-            while i + 1 < d.len() && d[i + 1] <= m.end {
-                i += 1;
-            }
-            if small(i) == zone {
-                values.push(*m);
-            }
-        }
+        let values: Vec<WindowValue> = means
+            .iter()
+            .zip(&ends)
+            .filter(|&(_, &i)| small(i) == zone)
+            .map(|(m, _)| *m)
+            .collect();
         let Some(largest) = largest(&values, |v| v) else {
             continue;
         };
@@ -749,6 +980,13 @@ fn assess_wheel(
         v.sort_by(f64::total_cmp);
         percentile(&v, PERCENTILES.1)
     });
+    let upper = |v: &[f64]| percentile(v, PERCENTILES.1);
+    let y_over_q_sections = sections.and_then(|o| {
+        let items = ends.iter().copied().zip(means.iter().map(|m| m.value));
+        o.report(pos, curve_of, items, upper)
+    });
+    let q_sections =
+        sections.and_then(|o| o.report(pos, curve_of, q.iter().copied().enumerate(), upper));
     let q_max = q.iter().copied().reduce(f64::max);
     let q_min = q
         .iter()
@@ -802,6 +1040,8 @@ fn assess_wheel(
         lifted,
         q_limit: limits.q_limit(w.static_load, top_speed),
         quasi_static,
+        y_over_q_sections,
+        q_sections,
     }
 }
 
@@ -1607,6 +1847,151 @@ mod tests {
             distance,
             ..Default::default()
         }
+    }
+
+    /// One wheelset at 20 m/s sampled at 40 Hz (0.5 m apart: no 20 Hz low-pass at this rate)
+    /// over 1000 m, 7 m ahead of the reference point (track positions 7 to 1006.5 m), with a
+    /// level per 200 m of track: ΣY 10 (j + 1) kN, Q `q_kn[j]`, Y/Q 0.1 j in section j (the
+    /// left wheel), over a track with circular curves of the given (start, end, radius).
+    fn section_series(q_kn: [f64; 6], curves: &[(f64, f64, f64)]) -> Series {
+        let (fs, v, n) = (40.0, 20.0, 2000);
+        let distance: Vec<f64> = (0..n).map(|i| v * i as f64 / fs).collect();
+        let position: Vec<f64> = distance.iter().map(|d| d + 7.0).collect();
+        let j = |p: f64| (p / 200.0).floor() as usize;
+        let q: Vec<f64> = position.iter().map(|&p| 1e3 * q_kn[j(p)]).collect();
+        Series {
+            rate_hz: fs,
+            sum_y: vec![position.iter().map(|&p| 10e3 * (j(p) + 1) as f64).collect()],
+            wheels: vec![WheelSeries {
+                wheelset: 0,
+                side: Side::Left,
+                static_load: 55e3,
+                y: position
+                    .iter()
+                    .zip(&q)
+                    .map(|(&p, q)| 0.1 * j(p) as f64 * q)
+                    .collect(),
+                q,
+            }],
+            wheelset_position: vec![position],
+            curves: curves
+                .iter()
+                .map(|&(s0, s1, radius)| CurveSection {
+                    s: [s0, s1],
+                    radius,
+                    cant: 0.0,
+                })
+                .collect(),
+            distance,
+            ..Default::default()
+        }
+    }
+
+    /// Per zone: the zone and the (start, value) of each section's statistic.
+    fn zones(r: &Option<SectionReport>) -> Vec<(SectionZone, Vec<(f64, f64)>)> {
+        let r = r.as_ref().expect("a section report");
+        r.zones
+            .iter()
+            .map(|(z, st)| (*z, st.values.iter().map(|v| (v.start, v.value)).collect()))
+            .collect()
+    }
+
+    fn assert_close(got: &[(f64, f64)], want: &[(f64, f64)], tol: f64) {
+        assert_eq!(got.len(), want.len(), "{got:?} against {want:?}");
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                g.0 == w.0 && (g.1 - w.1).abs() < tol,
+                "{got:?} against {want:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn per_section_statistics_are_each_whole_sections_percentiles_by_zone() {
+        use SectionZone::{Curves, OffCurves, SmallRadius};
+        let q_kn = [60.0, 70.0, 50.0, 80.0, 65.0, 55.0];
+        let opts = AssessOptions {
+            sections: Some(SectionOptions {
+                length: 200.0,
+                k: Some(3.0),
+            }),
+            ..Default::default()
+        };
+        // straight track: the whole sections between 7 and 1006.5 m are 200-400, ...,
+        // 800-1000 m (j = 1 to 4), all off curves
+        let a = assess(&section_series(q_kn, &[]), &[110e3], &opts);
+        assert!(!a.lowpass);
+        let sy = zones(&a.axles[0].sum_y_2m_sections);
+        assert_eq!(sy.len(), 1);
+        assert_eq!(sy[0].0, OffCurves);
+        let want = [(200.0, 20e3), (400.0, 30e3), (600.0, 40e3), (800.0, 50e3)];
+        assert_close(&sy[0].1, &want, 1e-6);
+        // mean 35 kN, s = sqrt((15² + 5² + 5² + 15²)/3) kN, estimate mean + 3 s
+        let st = &a.axles[0].sum_y_2m_sections.as_ref().unwrap().zones[0].1;
+        let sd = (500.0f64 / 3.0).sqrt() * 1e3;
+        assert!((st.mean - 35e3).abs() < 1e-6);
+        assert!((st.std_dev.unwrap() - sd).abs() < 1e-6);
+        assert!((st.estimate.unwrap() - (35e3 + 3.0 * sd)).abs() < 1e-6);
+        assert_eq!(st.largest.start, 800.0);
+        // Q per sample: each section's own level, whatever their order
+        let w = &a.wheels[0];
+        let q = zones(&w.q_sections);
+        let want = [(200.0, 70e3), (400.0, 50e3), (600.0, 80e3), (800.0, 65e3)];
+        assert_close(&q[0].1, &want, 1e-6);
+        let st = &w.q_sections.as_ref().unwrap().zones[0].1;
+        assert_eq!((st.largest.start, st.largest.value), (600.0, 80e3));
+        let yq = zones(&w.y_over_q_sections);
+        assert_close(
+            &yq[0].1,
+            &[(200.0, 0.1), (400.0, 0.2), (600.0, 0.3), (800.0, 0.4)],
+            1e-12,
+        );
+        // a curve of 1000 m radius over the third section and one of 200 m over the fourth:
+        // each zone its own sections, a zone of one section without spread or estimate
+        let curves = [(600.0, 799.9, 1000.0), (800.0, 999.9, -200.0)];
+        let a = assess(&section_series(q_kn, &curves), &[110e3], &opts);
+        let w = &a.wheels[0];
+        let q = zones(&w.q_sections);
+        assert_eq!(
+            q.iter().map(|z| z.0).collect::<Vec<_>>(),
+            [OffCurves, Curves, SmallRadius]
+        );
+        assert_close(&q[0].1, &[(200.0, 70e3), (400.0, 50e3)], 1e-6);
+        assert_close(&q[1].1, &[(600.0, 80e3)], 1e-6);
+        assert_close(&q[2].1, &[(800.0, 65e3)], 1e-6);
+        let small = &w.q_sections.as_ref().unwrap().zones[2].1;
+        assert!(small.std_dev.is_none() && small.estimate.is_none());
+        assert_eq!(w.q_sections.as_ref().unwrap().mixed, 0);
+        // a curve that starts inside a section leaves that section out of every zone
+        let a = assess(
+            &section_series(q_kn, &[(650.0, 799.9, 1000.0)]),
+            &[110e3],
+            &opts,
+        );
+        let r = a.wheels[0].q_sections.as_ref().unwrap();
+        assert_eq!(r.mixed, 1);
+        let q = zones(&a.wheels[0].q_sections);
+        assert_eq!(q.len(), 1);
+        assert_close(
+            &q[0].1,
+            &[(200.0, 70e3), (400.0, 50e3), (800.0, 65e3)],
+            1e-6,
+        );
+        // without the option: no section statistics, the rest unchanged
+        let plain = assess(
+            &section_series(q_kn, &[]),
+            &[110e3],
+            &AssessOptions::default(),
+        );
+        assert!(plain.axles[0].sum_y_2m_sections.is_none());
+        assert!(plain.wheels[0].q_sections.is_none());
+        assert!(plain.wheels[0].y_over_q_sections.is_none());
+        let with = assess(&section_series(q_kn, &[]), &[110e3], &opts);
+        assert_eq!(plain.wheels[0].q_percentile, with.wheels[0].q_percentile);
+        assert_eq!(
+            plain.axles[0].sum_y_2m_percentile,
+            with.axles[0].sum_y_2m_percentile
+        );
     }
 
     #[test]

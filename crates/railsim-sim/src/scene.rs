@@ -14,7 +14,7 @@ use railsim_vehicle::{Dof, DofKind, Endpoint, Member, VehicleError, VehicleModel
 use toml::Spanned;
 
 use crate::assess::{
-    AssessOptions, ComfortPoint, DEFAULT_ASSESSMENT_RATE_HZ, STABILITY_HALF_BAND,
+    AssessOptions, ComfortPoint, DEFAULT_ASSESSMENT_RATE_HZ, STABILITY_HALF_BAND, SectionOptions,
     VerticalWeighting, default_assessment_rate, stability_band,
 };
 use crate::error::{Problem, SceneError, SimError, Sink, did_you_mean};
@@ -59,6 +59,10 @@ pub const CONTACT_STEP_RANGE_MM: (f64, f64) = (1e-3, 5.0);
 pub const MAX_LOG_RATE_HZ: f64 = 10_000.0;
 /// \[Hz\] logging rate when the file gives none.
 pub const DEFAULT_LOG_RATE_HZ: f64 = 200.0;
+
+/// \[m\] the range of `[assessment] section_length_m`: from a few 2 m windows' worth of
+/// sliding means up to 100 km.
+const SECTION_LENGTH_RANGE: (f64, f64) = (10.0, 1e5);
 
 /// \[Hz\] the largest `[assessment] rate_hz`.
 pub const MAX_ASSESSMENT_RATE_HZ: f64 = 100e3;
@@ -1024,6 +1028,32 @@ impl Compiler<'_> {
                     ok = false;
                 }
             }
+        }
+        match (&a.section_length_m, &a.section_k) {
+            (Some(l), k) => {
+                let length = self.range(l, "section_length_m", "m", SECTION_LENGTH_RANGE, false);
+                let k = k
+                    .as_ref()
+                    .map(|k| self.range(k, "section_k", "", (0.0, 10.0), true));
+                match (length, k) {
+                    (Some(length), None) => out.sections = Some(SectionOptions { length, k: None }),
+                    (Some(length), Some(Some(k))) => {
+                        out.sections = Some(SectionOptions { length, k: Some(k) })
+                    }
+                    _ => ok = false,
+                }
+            }
+            (None, Some(k)) => {
+                self.err(
+                    &k.span(),
+                    "section_k",
+                    "[assessment] section_k: expected section_length_m beside it (k weighs the \
+                     spread of the per-section statistics), found none"
+                        .into(),
+                );
+                ok = false;
+            }
+            (None, None) => {}
         }
         if let Some(points) = &a.comfort_points {
             if vehicle.is_some_and(|v| v.bodies().is_empty()) {

@@ -251,6 +251,12 @@ pub struct AssessmentSpec {
     /// The W_b of N_MV's vertical acceleration: "en12299" (default) or "iso2631-4".
     #[serde(default)]
     pub vertical_weighting: Option<Spanned<String>>,
+    /// \[m\] length of the track sections of the per-section statistics; default: none.
+    #[serde(default)]
+    pub section_length_m: Option<Spanned<f64>>,
+    /// \[-\] k of the estimate mean + k s over the sections; default: none.
+    #[serde(default)]
+    pub section_k: Option<Spanned<f64>>,
 }
 
 /// One `[[assessment.comfort_points]]` entry: a measuring point on the carbody.
@@ -321,6 +327,8 @@ pub const ASSESSMENT_KEYS: &[&str] = &[
     "y_qst_limit_kn",
     "q_qst_limit_kn",
     "vertical_weighting",
+    "section_length_m",
+    "section_k",
 ];
 
 const SUBTABLES: [(&str, &[&str]); 6] = [

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use railsim_contact::{ContactModelKind, HertzSearch, Tangential};
 use railsim_ode::Method;
-use railsim_sim::assess::VerticalWeighting;
+use railsim_sim::assess::{SectionOptions, VerticalWeighting};
 use railsim_sim::{
     RunLength, Scene, SceneError, Topic, longest_rigid_wheelbase, required_curve_radius,
 };
@@ -845,6 +845,45 @@ fn the_vertical_comfort_weighting_is_read_and_checked() {
             "vertical_weighting: unknown weighting 'iso2631'",
             "did you mean 'iso2631-4'",
             "en12299, iso2631-4",
+        ],
+    );
+}
+
+#[test]
+fn the_per_section_statistics_are_read_and_checked() {
+    let s = compile(&format!(
+        "{GOOD}[assessment]\nsection_length_m = 250\nsection_k = 3\n"
+    ))
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        s.assessment.sections,
+        Some(SectionOptions {
+            length: 250.0,
+            k: Some(3.0)
+        })
+    );
+    let s = compile(&format!("{GOOD}[assessment]\nsection_length_m = 500\n")).unwrap();
+    assert_eq!(
+        s.assessment.sections.map(|o| (o.length, o.k)),
+        Some((500.0, None))
+    );
+    assert_eq!(compile(GOOD).unwrap().assessment.sections, None);
+    let p = problems(&format!(
+        "{GOOD}[assessment]\nsection_length_m = 5\nsection_k = 0\n"
+    ));
+    expect(
+        &p,
+        6,
+        &["section_length_m must lie in [1e1, 1e5] m, found 5"],
+    );
+    expect(&p, 7, &["section_k must lie in (0e0, 1e1], found 0"]);
+    let p = problems(&format!("{GOOD}[assessment]\nsection_k = 3\n"));
+    expect(
+        &p,
+        6,
+        &[
+            "section_k: expected section_length_m beside it",
+            "found none",
         ],
     );
 }
