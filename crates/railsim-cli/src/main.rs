@@ -18,7 +18,7 @@ use railsim_contact::{geometry, pair, pose};
 use railsim_elastic::Material;
 use railsim_profile::conicity::{
     WheelsetTrackSetup, delta_r_interp, equivalent_conicity_harmonic,
-    equivalent_conicity_kinematic, rolling_radius_difference_with_jumps,
+    equivalent_conicity_kinematic, flange_angle, nadal_limit, rolling_radius_difference_with_jumps,
 };
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
 
@@ -974,8 +974,13 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
         flange_back_y: flange_back_y_mm(&a.pair)? * 1e-3,
         r0: r0_mm(&a.pair)? * 1e-3,
     };
-    // Checked before anything is printed. Δr(y) is sampled over ±10 mm, so amplitudes up to
-    // 9.9 mm.
+    // Checked before anything is printed: the friction (for Nadal's limit) and the
+    // amplitudes (Δr(y) is sampled over ±10 mm, so amplitudes up to 9.9 mm).
+    let friction = match &a.pair.friction_by_angle {
+        None => Friction::Constant(a.pair.mu),
+        Some(text) => parse_friction_by_angle(text)?,
+    };
+    friction.check()?;
     let mut amplitudes = Vec::with_capacity(a.amplitudes_mm.len());
     for &amp in &a.amplitudes_mm {
         let amp_m = positive("--amplitudes-mm", amp)? * 1e-3;
@@ -1029,6 +1034,17 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
             Some((lk, l)) => outln!("{amp:>14.2} {h:>12.4} {lk:>12.4} {l:>14.2}"),
             None => outln!("{amp:>14.2} {h:>12.4} {:>12} {:>14}", "-", "-"),
         }
+    }
+    // the flange's climbing limit, with the friction at the flank's angle
+    if let Some(f) = flange_angle(&wheel)? {
+        let mu = friction.at(f.angle);
+        outln!(
+            "flange angle {:.2}° at S = {:.2} mm (the wheel profile's steepest flank, against its \
+             axle); Nadal's limit of Y/Q at μ = {mu}: {:.3}",
+            f.angle.to_degrees(),
+            f.y * 1e3,
+            nadal_limit(f.angle, mu)
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

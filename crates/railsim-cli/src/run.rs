@@ -437,7 +437,6 @@ fn print_wheels(a: &Assessment, names: &[String]) -> Result<()> {
     Ok(())
 }
 
-/// Per bogie frame: the simplified stability criterion.
 /// The per-section statistics (`[assessment] section_length_m`), per axle and wheel and per
 /// zone of the track: the number of sections, their mean, standard deviation, largest and
 /// estimate, against the quantity's limit.
@@ -533,6 +532,7 @@ fn print_sections(a: &Assessment, names: &[String]) -> Result<()> {
     Ok(())
 }
 
+/// Per bogie frame: the simplified stability criterion.
 fn print_bogies(a: &Assessment) -> Result<()> {
     if a.bogies.is_empty() {
         return Ok(());

@@ -268,18 +268,69 @@ fn conicity_reports_the_check_value() {
     assert!((lambda - 0.185).abs() < 0.01, "{line}");
 }
 
-/// Amplitudes are checked before anything is printed: an error leaves standard output empty.
+/// Amplitudes and friction are checked before anything is printed: an error leaves standard
+/// output empty.
 #[test]
 fn conicity_checks_the_amplitudes_before_printing() {
-    for (amp, want) in [
-        ("50", "expected amplitudes up to 9.9 mm, found 50"),
-        ("1e300", "expected amplitudes up to 9.9 mm, found 1e300"),
-        ("0", "expected a positive number, found 0"),
+    for (option, value, want) in [
+        (
+            "--amplitudes-mm",
+            "3,50",
+            "expected amplitudes up to 9.9 mm, found 50",
+        ),
+        (
+            "--amplitudes-mm",
+            "3,1e300",
+            "expected amplitudes up to 9.9 mm, found 1e300",
+        ),
+        (
+            "--amplitudes-mm",
+            "3,0",
+            "expected a positive number, found 0",
+        ),
+        (
+            "--mu",
+            "-1",
+            "mu = -1: expected a friction coefficient from 0.01 to 1",
+        ),
     ] {
-        let (code, out, err) = railsim(&["conicity", "--amplitudes-mm", &format!("3,{amp}")]);
-        assert_eq!(code, 2, "{amp}: {err}");
-        assert!(err.contains(want), "{amp}: {err}");
-        assert!(out.is_empty(), "{amp}: printed before the error:\n{out}");
+        let (code, out, err) = railsim(&["conicity", option, value]);
+        assert_eq!(code, 2, "{value}: {err}");
+        assert!(err.contains(want), "{value}: {err}");
+        assert!(out.is_empty(), "{value}: printed before the error:\n{out}");
+    }
+}
+
+/// The flange angle of S1002 (its 70° flank) and Nadal's limit at the flank's friction.
+#[test]
+fn conicity_reports_the_flange_angle_and_nadals_limit() {
+    for (args, mu) in [
+        (&["conicity"][..], 0.3),
+        (&["conicity", "--mu", "0.36"][..], 0.36),
+        // friction by contact angle: the value at 70°, beyond the table's last angle
+        (
+            &["conicity", "--friction-by-angle", "10:0.3,60:0.5"][..],
+            0.5,
+        ),
+    ] {
+        let (code, out, err) = railsim(args);
+        assert_eq!(code, 0, "{err}");
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("flange angle "))
+            .unwrap_or_else(|| panic!("no flange angle in\n{out}"));
+        let number = |after: &str| -> f64 {
+            let rest = &line[line.find(after).unwrap() + after.len()..];
+            let end = rest.find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'));
+            rest[..end.unwrap_or(rest.len())].parse().unwrap()
+        };
+        let angle = number("flange angle ");
+        assert!((angle - 70.0).abs() < 0.02, "{line}");
+        assert!(line.contains(&format!("at μ = {mu}:")), "{line}");
+        // Nadal: (tan δ - μ) / (1 + μ tan δ); 1.20 at μ = 0.36, 0.95 at 0.5 (vehicle reference)
+        let t = angle.to_radians().tan();
+        let want = (t - mu) / (1.0 + mu * t);
+        assert!((number(": ") - want).abs() < 1e-3, "{line}");
     }
 }
 

@@ -414,3 +414,50 @@ pub fn equivalent_conicity_kinematic(
     }
     None
 }
+
+/// The steepest point of a wheel's flange flank: where a climbing flange bears.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlangeAngle {
+    /// \[rad\] the largest slope angle of the profile between the flange tip and the taping line
+    /// (y = 0), against the wheel's axle: the flange angle δ of Nadal's formula.
+    pub angle: f64,
+    /// \[m\] where on the profile (y = S).
+    pub y: f64,
+}
+
+/// The flange angle of wheel profile `wheel` (profile frame: flange at negative y, z up): the
+/// largest slope angle atan(dz/dy) of its interpolating spline between the flange tip (the
+/// lowest point left of the taping line) and the taping line y = 0, nodes every
+/// [`DEFAULT_DS`] of arc length. `None` for a profile without a flange: no point left of the
+/// taping line, or the lowest of them at the profile's end (a cone), or no rising flank.
+pub fn flange_angle(wheel: &Profile) -> Result<Option<FlangeAngle>, ProfileError> {
+    let curve = ArcCurve::from_profile(wheel, 0.0, DEFAULT_DS)?;
+    let nodes = curve.nodes();
+    let tip = nodes
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.p[0] < 0.0)
+        .min_by(|a, b| a.1.p[1].total_cmp(&b.1.p[1]))
+        .map(|(i, _)| i);
+    let Some(tip) = tip.filter(|&i| i > 0) else {
+        return Ok(None);
+    };
+    Ok(nodes[tip..]
+        .iter()
+        .take_while(|n| n.p[0] <= 0.0)
+        .map(|n| FlangeAngle {
+            angle: n.t[1].atan2(n.t[0]),
+            y: n.p[0],
+        })
+        .max_by(|a, b| a.angle.total_cmp(&b.angle))
+        .filter(|f| f.angle > 0.0))
+}
+
+/// Nadal's limit of the quotient Y/Q of a flange climbing on its rail (Nadal 1896; e.g. Iwnicki
+/// (ed.), *Handbook of Railway Vehicle Dynamics*, 2006, ch. 8): the wheel slides up the rail
+/// when `Y/Q > (tan δ − μ) / (1 + μ tan δ)`, δ the flange angle \[rad\] and μ the friction
+/// coefficient at the flange.
+pub fn nadal_limit(flange_angle: f64, mu: f64) -> f64 {
+    let t = flange_angle.tan();
+    (t - mu) / (1.0 + mu * t)
+}

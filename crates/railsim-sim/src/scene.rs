@@ -1032,14 +1032,13 @@ impl Compiler<'_> {
         match (&a.section_length_m, &a.section_k) {
             (Some(l), k) => {
                 let length = self.range(l, "section_length_m", "m", SECTION_LENGTH_RANGE, false);
-                let k = k
-                    .as_ref()
-                    .map(|k| self.range(k, "section_k", "", (0.0, 10.0), true));
+                // (outer None: a bad k; inner None: no k)
+                let k = match k {
+                    Some(k) => self.range(k, "section_k", "", (0.0, 10.0), true).map(Some),
+                    None => Some(None),
+                };
                 match (length, k) {
-                    (Some(length), None) => out.sections = Some(SectionOptions { length, k: None }),
-                    (Some(length), Some(Some(k))) => {
-                        out.sections = Some(SectionOptions { length, k: Some(k) })
-                    }
+                    (Some(length), Some(k)) => out.sections = Some(SectionOptions { length, k }),
                     _ => ok = false,
                 }
             }

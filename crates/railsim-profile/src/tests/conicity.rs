@@ -164,3 +164,46 @@ fn located_contact_jumps_make_the_conicity_independent_of_the_grid() {
     assert!((0.050..0.057).contains(&located[0]), "{}", located[0]);
     assert!(plain > 1.1 * located[0], "{plain} against {}", located[0]);
 }
+
+#[test]
+fn s1002s_flange_angle_is_its_70_degree_flank() {
+    // EN 13715's S1002: section E, the flange flank, is a straight line of slope 2.7475 =
+    // tan 70.0° over -39.764 <= S < -38.427 mm (contact-theory note §5.1)
+    let f = flange_angle(&s1002()).unwrap().unwrap();
+    assert!(
+        (f.angle.to_degrees() - 70.0).abs() < 0.02,
+        "{}°",
+        f.angle.to_degrees()
+    );
+    assert!((-39.8e-3..=-38.4e-3).contains(&f.y), "at {} mm", f.y * 1e3);
+    // a cone (1:20, the radius growing toward negative y) has no flange
+    let cone = crate::Profile::new(
+        "cone",
+        crate::ProfileKind::Wheel,
+        (0..=40)
+            .map(|i| {
+                let y = -0.06 + i as f64 * 2.5e-3;
+                [y, 0.05 * y]
+            })
+            .collect(),
+    )
+    .unwrap();
+    assert_eq!(flange_angle(&cone).unwrap(), None);
+}
+
+#[test]
+fn nadals_limit_has_its_tabulated_values() {
+    // vehicle reference §6.2, computed there: 70°/0.36 -> 1.20, 70°/0.5 -> 0.95,
+    // 60°/0.36 -> 0.85, 65°/0.36 -> 1.01
+    for (deg, mu, want) in [
+        (70.0f64, 0.36, 1.20),
+        (70.0, 0.5, 0.95),
+        (60.0, 0.36, 0.85),
+        (65.0, 0.36, 1.01),
+    ] {
+        let got = nadal_limit(deg.to_radians(), mu);
+        assert!((got - want).abs() < 0.006, "{deg}°, {mu}: {got}");
+    }
+    // frictionless: the flank's own slope
+    assert!((nadal_limit(70f64.to_radians(), 0.0) - 70f64.to_radians().tan()).abs() < 1e-12);
+}
