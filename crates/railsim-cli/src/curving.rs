@@ -288,7 +288,7 @@ fn print_case(r: &SteadyCurving) -> Result<()> {
 
 /// A text field of a CSV row: quoted (quotes doubled) where it holds a comma, a quote or a line
 /// break (RFC 4180), as it is otherwise.
-fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
+pub(crate) fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
     if text.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", text.replace('"', "\"\"")).into()
     } else {

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use anyhow::Result;
+use anyhow::{Context as _, Result};
 use clap::Args;
 
 use railsim_ode::Method;
@@ -39,6 +39,10 @@ pub struct RunArgs {
     /// No progress line.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Write the per-section statistics (the scene's `[assessment] section_length_m`) to this
+    /// CSV file: one row per quantity, axle or wheel, zone and section.
+    #[arg(long, value_name = "FILE")]
+    pub sections_csv: Option<PathBuf>,
 }
 
 /// The texts a log stores so that it describes itself and can be re-run: the scene, vehicle
@@ -101,6 +105,16 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
     let scene = Scene::from_file(&path)?;
     if let Some(out) = &a.out {
         crate::check_log_out(out, &path, &scene)?;
+    }
+    if let Some(csv) = &a.sections_csv {
+        crate::check_extension("--sections-csv", csv, &["csv"])?;
+        if scene.assessment.sections.is_none() {
+            anyhow::bail!(
+                "--sections-csv: the scene {} sets no [assessment] section_length_m: expected the \
+                 sections' length there (docs/formats/scene.md)",
+                path.display()
+            );
+        }
     }
     if let Some(d) = a.duration_s
         && d > scene.duration() * (1.0 + 1e-12)
@@ -169,6 +183,7 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
                      cover the samples up to the stop:"
                 );
                 print_summary(&s, a.timing)?;
+                write_sections_csv(a.sections_csv.as_deref(), &s)?;
             }
             let note = match e {
                 SimError::Stopped { .. } => stability_note(
@@ -185,7 +200,48 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
         }
     };
     print_summary(&summary, a.timing)?;
+    write_sections_csv(a.sections_csv.as_deref(), &summary)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// `--sections-csv`: the per-section statistics of run `s`, a row per quantity, axle or wheel,
+/// zone and section, values in SI units (N, or 1 for Y/Q).
+fn write_sections_csv(path: Option<&Path>, s: &RunSummary) -> Result<()> {
+    let (Some(path), Some(o)) = (path, s.assessment.sections) else {
+        return Ok(());
+    };
+    let mut text = String::from(
+        "quantity,unit,wheelset,wheelset_name,side,zone,section_start_m,section_end_m,value\n",
+    );
+    let names = &s.wheelset_names;
+    let mut rows = |quantity: &str, unit: &str, ws: u32, side: &str, r: &Option<SectionReport>| {
+        let name = names.get(ws as usize).map_or("", String::as_str);
+        for (zone, st) in r.iter().flat_map(|r| &r.zones) {
+            let zone = match zone {
+                SectionZone::OffCurves => "off_curves",
+                SectionZone::Curves => "curves",
+                SectionZone::SmallRadius => "small_radius",
+            };
+            for v in &st.values {
+                text += &format!(
+                    "{quantity},{unit},{ws},{},{side},{zone},{},{},{}\n",
+                    crate::curving::csv_field(name),
+                    v.start,
+                    v.start + o.length,
+                    v.value
+                );
+            }
+        }
+    };
+    for ax in &s.assessment.axles {
+        rows("sum_y_2m", "N", ax.wheelset, "", &ax.sum_y_2m_sections);
+    }
+    for w in &s.assessment.wheels {
+        let side = w.side.name();
+        rows("y_over_q_2m", "1", w.wheelset, side, &w.y_over_q_sections);
+        rows("q", "N", w.wheelset, side, &w.q_sections);
+    }
+    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
 }
 
 /// A progress callback of a run, `(t, t_end)`: unless `quiet`, calls `show(t, t_end, wall)`

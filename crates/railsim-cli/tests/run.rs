@@ -654,7 +654,16 @@ fn the_summary_lists_the_per_section_statistics() {
         "sections.toml",
         "[assessment]\nsection_length_m = 10\nsection_k = 3\n",
     );
-    let (code, out, err) = railsim(&["run", &sections, "--no-log", "--quiet"]);
+    let csv = dir.join("sections.csv");
+    let csv_arg = csv.to_str().unwrap();
+    let (code, out, err) = railsim(&[
+        "run",
+        &sections,
+        "--no-log",
+        "--quiet",
+        "--sections-csv",
+        csv_arg,
+    ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("per track section of 10 m"), "{out}");
     assert!(out.contains("estimate mean + k s with k = 3"), "{out}");
@@ -671,13 +680,45 @@ fn the_summary_lists_the_per_section_statistics() {
     // two axles, and for each of four wheels (Y/Q)2m and Q
     assert_eq!(counts.len(), 2 + 4 * 2, "{out}");
     assert!(counts.iter().all(|&n| (4..=7).contains(&n)), "{counts:?}");
-    let (code, out, err) = railsim(&[
-        "run",
-        &short_bogie_run(&dir, "plain.toml", ""),
-        "--no-log",
-        "--quiet",
-    ]);
+    // the CSV: a row per section of each, 10 m long, in SI units; its largest (ΣY)2m of the
+    // leading axle is the summary's (in kN, three decimals)
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("quantity,unit,wheelset,wheelset_name,side,zone,section_start_m,section_end_m,value")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), counts.iter().sum::<usize>(), "{text}");
+    for r in &rows {
+        let (a, b): (f64, f64) = (r[6].parse().unwrap(), r[7].parse().unwrap());
+        assert!((b - a - 10.0).abs() < 1e-9 && r[5] == "off_curves", "{r:?}");
+    }
+    let largest = rows
+        .iter()
+        .filter(|r| r[0] == "sum_y_2m" && r[2] == "0")
+        .map(|r| r[8].parse::<f64>().unwrap())
+        .fold(f64::NEG_INFINITY, f64::max);
+    let line = out
+        .lines()
+        .skip_while(|l| !l.starts_with("per track section"))
+        .nth(1)
+        .unwrap();
+    assert!(
+        line.contains(&format!("largest {:.3} kN", largest * 1e-3)),
+        "{largest} N against\n{line}"
+    );
+    let plain = short_bogie_run(&dir, "plain.toml", "");
+    let (code, out, err) = railsim(&["run", &plain, "--no-log", "--quiet"]);
     assert_eq!(code, 0, "{err}");
     assert!(!out.contains("per track section"), "{out}");
+    // a CSV of sections needs the scene's sections, checked before the run
+    let (code, out, err) = railsim(&["run", &plain, "--no-log", "--sections-csv", csv_arg]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("sets no [assessment] section_length_m"),
+        "{err}"
+    );
+    assert!(out.is_empty(), "{out}");
     std::fs::remove_dir_all(&dir).ok();
 }
