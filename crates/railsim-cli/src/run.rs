@@ -210,12 +210,15 @@ fn write_sections_csv(path: Option<&Path>, s: &RunSummary) -> Result<()> {
     let (Some(path), Some(o)) = (path, s.assessment.sections) else {
         return Ok(());
     };
-    let mut text = String::from(
-        "quantity,unit,wheelset,wheelset_name,side,zone,section_start_m,section_end_m,value\n",
-    );
+    let mut text =
+        String::from("quantity,unit,wheelset,name,side,zone,section_start_m,section_end_m,value\n");
     let names = &s.wheelset_names;
-    let mut rows = |quantity: &str, unit: &str, ws: u32, side: &str, r: &Option<SectionReport>| {
-        let name = names.get(ws as usize).map_or("", String::as_str);
+    // `ws` the wheelset's number, `name` its name or a carbody point's
+    let mut rows = |quantity: &str,
+                    unit: &str,
+                    (ws, name): (&str, &str),
+                    side: &str,
+                    r: &Option<SectionReport>| {
         for (zone, st) in r.iter().flat_map(|r| &r.zones) {
             let zone = match zone {
                 SectionZone::OffCurves => "off_curves",
@@ -233,13 +236,29 @@ fn write_sections_csv(path: Option<&Path>, s: &RunSummary) -> Result<()> {
             }
         }
     };
+    let ws = |n: u32| {
+        (
+            n.to_string(),
+            names.get(n as usize).map_or("", String::as_str),
+        )
+    };
     for ax in &s.assessment.axles {
-        rows("sum_y_2m", "N", ax.wheelset, "", &ax.sum_y_2m_sections);
+        let (n, name) = ws(ax.wheelset);
+        rows("sum_y_2m", "N", (&n, name), "", &ax.sum_y_2m_sections);
     }
     for w in &s.assessment.wheels {
-        let side = w.side.name();
-        rows("y_over_q_2m", "1", w.wheelset, side, &w.y_over_q_sections);
-        rows("q", "N", w.wheelset, side, &w.q_sections);
+        let ((n, name), side) = (ws(w.wheelset), w.side.name());
+        rows("y_over_q_2m", "1", (&n, name), side, &w.y_over_q_sections);
+        rows("q", "N", (&n, name), side, &w.q_sections);
+    }
+    for c in &s.assessment.comfort {
+        let at = ("", c.name.as_str());
+        for (k, direction) in ["lateral", "vertical"].into_iter().enumerate() {
+            let max = format!("carbody_{direction}_max");
+            rows(&max, "m/s2", at, "", &c.max_sections[k]);
+            let rms = format!("carbody_{direction}_rms");
+            rows(&rms, "m/s2", at, "", &c.rms_sections[k]);
+        }
     }
     std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
 }
@@ -517,7 +536,7 @@ fn print_sections(a: &Assessment, names: &[String]) -> Result<()> {
     let line = |what: &str,
                 r: &Option<SectionReport>,
                 (scale, unit): (f64, &str),
-                limit: &dyn Fn(SectionZone) -> f64| {
+                limit: &dyn Fn(SectionZone) -> Option<f64>| {
         let Some(r) = r else {
             return format!("{what} no whole section");
         };
@@ -543,12 +562,11 @@ fn print_sections(a: &Assessment, names: &[String]) -> Result<()> {
                 if let Some(e) = st.estimate {
                     out += &format!(", estimate {}", v(e));
                 }
-                let (top, lim) = (st.estimate.unwrap_or(st.largest.value), limit(*z));
-                out += &format!(
-                    ", limit {}{}",
-                    v(lim),
-                    if top > lim { " EXCEEDED" } else { "" }
-                );
+                if let Some(lim) = limit(*z) {
+                    let top = st.estimate.unwrap_or(st.largest.value);
+                    let verdict = if top > lim { " EXCEEDED" } else { "" };
+                    out += &format!(", limit {}{verdict}", v(lim));
+                }
                 out
             })
             .collect();
@@ -565,25 +583,36 @@ fn print_sections(a: &Assessment, names: &[String]) -> Result<()> {
     };
     for ax in &a.axles {
         let sections = line("(ΣY)2m", &ax.sum_y_2m_sections, (1e-3, " kN"), &|_| {
-            ax.sum_y_limit
+            Some(ax.sum_y_limit)
         });
         outln!("  {}: {sections}", wheelset(names, ax.wheelset));
     }
     let yq_limit = |z| {
-        if z == SectionZone::SmallRadius {
+        Some(if z == SectionZone::SmallRadius {
             l.y_over_q_small_radius
         } else {
             l.y_over_q
-        }
+        })
     };
     for w in &a.wheels {
         let yq = line("(Y/Q)2m", &w.y_over_q_sections, (1.0, ""), &yq_limit);
-        let q = line("Q", &w.q_sections, (1e-3, " kN"), &|_| w.q_limit);
+        let q = line("Q", &w.q_sections, (1e-3, " kN"), &|_| Some(w.q_limit));
         outln!(
             "  {} {}: {yq}; {q}",
             wheelset(names, w.wheelset),
             w.side.name()
         );
+    }
+    // the carbody's band-passed accelerations (no limit is built in for them)
+    for c in &a.comfort {
+        let unit = (1.0, " m/s²");
+        let parts = [
+            line("ÿ* max", &c.max_sections[0], unit, &|_| None),
+            line("ÿ* r.m.s.", &c.rms_sections[0], unit, &|_| None),
+            line("z̈* max", &c.max_sections[1], unit, &|_| None),
+            line("z̈* r.m.s.", &c.rms_sections[1], unit, &|_| None),
+        ];
+        outln!("  {}: {}", c.name, parts.join("; "));
     }
     Ok(())
 }

@@ -668,7 +668,7 @@ fn the_summary_lists_the_per_section_statistics() {
     assert!(out.contains("per track section of 10 m"), "{out}");
     assert!(out.contains("estimate mean + k s with k = 3"), "{out}");
     // the wheelsets run over some 60 m of straight track: at least four whole 10 m sections
-    // each, all off curves, for every axle and wheel
+    // each, all off curves, for every axle and wheel and the frame's measuring point
     let counts: Vec<usize> = out
         .lines()
         .flat_map(|l| l.split("; "))
@@ -677,8 +677,9 @@ fn the_summary_lists_the_per_section_statistics() {
             rest.split(' ').next()?.parse().ok()
         })
         .collect();
-    // two axles, and for each of four wheels (Y/Q)2m and Q
-    assert_eq!(counts.len(), 2 + 4 * 2, "{out}");
+    // two axles, for each of four wheels (Y/Q)2m and Q, and at the one measuring point (the
+    // frame's centre) the lateral and vertical acceleration's maximum and r.m.s.
+    assert_eq!(counts.len(), 2 + 4 * 2 + 4, "{out}");
     assert!(counts.iter().all(|&n| (4..=7).contains(&n)), "{counts:?}");
     // the CSV: a row per section of each, 10 m long, in SI units; its largest (ΣY)2m of the
     // leading axle is the summary's (in kN, three decimals)
@@ -686,7 +687,7 @@ fn the_summary_lists_the_per_section_statistics() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("quantity,unit,wheelset,wheelset_name,side,zone,section_start_m,section_end_m,value")
+        Some("quantity,unit,wheelset,name,side,zone,section_start_m,section_end_m,value")
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), counts.iter().sum::<usize>(), "{text}");

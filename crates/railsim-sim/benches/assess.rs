@@ -74,6 +74,7 @@ fn series(seconds: f64) -> Series {
                     .iter()
                     .map(|v| v + 9.81)
                     .collect(),
+                position: Vec::new(),
             })
             .collect(),
     }

@@ -189,6 +189,9 @@ pub struct ComfortSeries {
     pub lateral: Vec<f64>,
     /// \[m/s²\] vertical (carbody z) at each sample.
     pub vertical: Vec<f64>,
+    /// \[m\] the point's track position at each sample (for the per-section statistics; may
+    /// be empty: none).
+    pub position: Vec<f64>,
 }
 
 /// The ride index at one point.
@@ -206,6 +209,12 @@ pub struct Comfort {
     /// EN 12299's mean comfort N_MV by its standard method over the run's 5 s windows (with the
     /// number of windows); `None` for a run shorter than one window.
     pub n_mv: Option<(f64, usize)>,
+    /// \[m/s²\] lateral and vertical: the band-passed maximum (as `band_passed`) per track
+    /// section; `None` without [`AssessOptions::sections`], without a band or without a
+    /// section the point ran through whole.
+    pub max_sections: [Option<SectionReport>; 2],
+    /// \[m/s²\] ... and the band-passed r.m.s. per track section.
+    pub rms_sections: [Option<SectionReport>; 2],
 }
 
 /// A measuring point of the carbody's accelerations.
@@ -635,17 +644,7 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
     let curve_of: Vec<Vec<Option<usize>>> = series
         .wheelset_position
         .iter()
-        .map(|position| {
-            position
-                .iter()
-                .map(|&s| {
-                    series
-                        .curves
-                        .iter()
-                        .position(|c| c.s[0] <= s && s <= c.s[1])
-                })
-                .collect()
-        })
+        .map(|position| curves_at(series, position))
         .collect();
     let sections = opts.sections.map(|o| Sections {
         opts: o,
@@ -729,28 +728,43 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         })
         .collect();
     let carbody_band = Filter::bandpass4(CARBODY_BAND.0, CARBODY_BAND.1, fs).ok();
-    let max_and_rms = |x: &[f64]| {
-        let f = carbody_band.as_ref()?;
+    let band_passed = |x: &[f64]| {
         let mut y = x.to_vec();
-        f.apply(&mut y);
-        let n = y.len().max(1) as f64;
-        let rms = (y.iter().map(|v| v * v).sum::<f64>() / n).sqrt();
+        carbody_band.as_ref()?.apply(&mut y);
+        Some(y)
+    };
+    let rms = |y: &[f64]| (y.iter().map(|v| v * v).sum::<f64>() / y.len().max(1) as f64).sqrt();
+    let max_and_rms = |y: &Option<Vec<f64>>| {
+        let y = y.as_ref()?;
         // the processing table's maximum: the 0.15 % and 99.85 % percentiles
-        y.sort_by(f64::total_cmp);
-        let peak = (!y.is_empty()).then(|| extreme_percentile(&y))?;
-        Some((peak, rms))
+        let mut sorted = y.clone();
+        sorted.sort_by(f64::total_cmp);
+        let peak = (!y.is_empty()).then(|| extreme_percentile(&sorted))?;
+        Some((peak, rms(y)))
     };
     let comfort = series
         .comfort
         .iter()
-        .map(|c| Comfort {
-            name: c.name.clone(),
-            wz: [
-                sperling(&c.lateral, fs, Direction::Lateral),
-                sperling(&c.vertical, fs, Direction::Vertical),
-            ],
-            band_passed: [max_and_rms(&c.lateral), max_and_rms(&c.vertical)],
-            n_mv: mean_comfort(c, fs, &opts.vertical_weighting.weighting()),
+        .map(|c| {
+            let filtered = [band_passed(&c.lateral), band_passed(&c.vertical)];
+            let curves = curves_at(series, &c.position);
+            let per_section = |stat: &dyn Fn(&[f64]) -> f64| {
+                filtered.each_ref().map(|y| {
+                    let (o, y) = (sections.as_ref()?, y.as_ref()?);
+                    o.report(&c.position, &curves, y.iter().copied().enumerate(), stat)
+                })
+            };
+            Comfort {
+                name: c.name.clone(),
+                wz: [
+                    sperling(&c.lateral, fs, Direction::Lateral),
+                    sperling(&c.vertical, fs, Direction::Vertical),
+                ],
+                band_passed: [max_and_rms(&filtered[0]), max_and_rms(&filtered[1])],
+                n_mv: mean_comfort(c, fs, &opts.vertical_weighting.weighting()),
+                max_sections: per_section(&extreme_percentile),
+                rms_sections: per_section(&rms),
+            }
         })
         .collect();
     Assessment {
@@ -768,6 +782,19 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         vertical_weighting: opts.vertical_weighting,
         sections: opts.sections,
     }
+}
+
+/// The circular curve of `series` at each track position of `position` (none off curves).
+fn curves_at(series: &Series, position: &[f64]) -> Vec<Option<usize>> {
+    position
+        .iter()
+        .map(|&s| {
+            series
+                .curves
+                .iter()
+                .position(|c| c.s[0] <= s && s <= c.s[1])
+        })
+        .collect()
 }
 
 /// \[m\] the track positions of wheelset `n` at the samples (none if not recorded).
@@ -1341,20 +1368,86 @@ mod tests {
     use super::*;
 
     /// A run at 30 m/s sampled at `fs` \[Hz\] with one carbody point reading `lateral` and
-    /// `vertical` (and no longitudinal acceleration).
+    /// `vertical` (and no longitudinal acceleration), at track position s = the distance run.
     fn carbody_run(fs: f64, lateral: Vec<f64>, vertical: Vec<f64>) -> Series {
         let n = lateral.len();
+        let distance: Vec<f64> = (0..n).map(|i| 30.0 * i as f64 / fs).collect();
         Series {
             rate_hz: fs,
-            distance: (0..n).map(|i| 30.0 * i as f64 / fs).collect(),
             comfort: vec![ComfortSeries {
                 name: "p".into(),
                 longitudinal: vec![0.0; n],
                 lateral,
                 vertical,
+                position: distance.clone(),
             }],
+            distance,
             ..Default::default()
         }
+    }
+
+    #[test]
+    fn the_carbody_accelerations_have_their_statistics_per_section() {
+        // a lateral tone at 2 Hz (faded in over its first 150 m) whose amplitude doubles from
+        // 300 m on (over 10 m), 30 m/s, 200 Hz, 22 s (660 m); sections of 150 m, 5 s: ten
+        // periods each
+        let (fs, n) = (200.0, 4400);
+        let amplitude = |i: usize| {
+            let s = 30.0 * i as f64 / fs;
+            0.5 * (1.0 + ((s - 300.0) / 10.0).clamp(0.0, 1.0))
+        };
+        let tone = faded_tone(fs, n, 1.0, 2.0, 0.0);
+        let lateral: Vec<f64> = (0..n).map(|i| amplitude(i) * tone[i]).collect();
+        let series = carbody_run(fs, lateral.clone(), vec![9.81; n]);
+        let opts = AssessOptions {
+            sections: Some(SectionOptions {
+                length: 150.0,
+                k: None,
+            }),
+            ..Default::default()
+        };
+        let a = assess(&series, &[], &opts);
+        let c = &a.comfort[0];
+        let (max, rms) = (
+            c.max_sections[0].as_ref().unwrap(),
+            c.rms_sections[0].as_ref().unwrap(),
+        );
+        assert_eq!((max.mixed, max.zones.len()), (0, 1));
+        let values = |r: &SectionReport| -> Vec<(f64, f64)> {
+            r.zones[0]
+                .1
+                .values
+                .iter()
+                .map(|v| (v.start, v.value))
+                .collect()
+        };
+        let (max, rms) = (values(max), values(rms));
+        assert_eq!(
+            max.iter().map(|v| v.0).collect::<Vec<_>>(),
+            [0.0, 150.0, 300.0, 450.0]
+        );
+        // each section's statistic is the whole-run one of its own band-passed samples
+        let mut y = lateral;
+        Filter::bandpass4(CARBODY_BAND.0, CARBODY_BAND.1, fs)
+            .unwrap()
+            .apply(&mut y);
+        for (k, (&(start, m), &(_, r))) in max.iter().zip(&rms).enumerate() {
+            let mut v: Vec<f64> = (0..n)
+                .filter(|&i| (start..start + 150.0).contains(&series.comfort[0].position[i]))
+                .map(|i| y[i])
+                .collect();
+            let own_rms = (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+            v.sort_by(f64::total_cmp);
+            assert!((m - extreme_percentile(&v)).abs() < 1e-12, "section {k}");
+            assert!((r - own_rms).abs() < 1e-12, "section {k}");
+        }
+        // and follows the amplitude: twice as large after the change as before it
+        assert!((rms[3].1 / rms[1].1 - 2.0).abs() < 0.005, "{rms:?}");
+        assert!((max[3].1 / max[1].1 - 2.0).abs() < 0.01, "{max:?}");
+        // without sections: none
+        let plain = assess(&series, &[], &AssessOptions::default());
+        assert!(plain.comfort[0].max_sections.iter().all(Option::is_none));
+        assert_eq!(plain.comfort[0].band_passed, a.comfort[0].band_passed);
     }
 
     /// `n` samples at `fs` \[Hz\] of `offset` plus a tone of peak `amplitude` at `f` \[Hz\],
@@ -1731,6 +1824,7 @@ mod tests {
                 .map(|i| vib[i] + if with_ramp { ramp(i) } else { 0.0 })
                 .collect(),
             vertical: vec![9.81; n],
+            position: Vec::new(),
         };
         let (alone, windows) = mean_comfort(&series(false), fs, &W_B).unwrap();
         assert_eq!(windows, 12);
@@ -1761,6 +1855,7 @@ mod tests {
             longitudinal: vec![0.0; 4000],
             lateral: tone(0.3, 1.0, 0.0),
             vertical: tone(0.2, 8.0, 9.81),
+            position: Vec::new(),
         };
         let (n_mv, windows) = mean_comfort(&c, fs, &W_B).unwrap();
         assert_eq!(windows, 4);

@@ -1450,6 +1450,7 @@ impl LoopState {
         self.series.distance.push(dist);
         if let Some((cb, points)) = &model.comfort {
             let k = &ws.kin[*cb];
+            let carbody_x = ws.track_position + model.members[*cb].p0[0] + model.coord(*cb, 0, x);
             for ((c, d), out) in self
                 .series
                 .comfort
@@ -1461,6 +1462,7 @@ impl LoopState {
                 c.longitudinal.push(f_body[0]);
                 c.lateral.push(f_body[1]);
                 c.vertical.push(f_body[2]);
+                c.position.push(carbody_x + d.offset[0]);
                 *out = f_body;
             }
         }
