@@ -40,7 +40,7 @@ pub struct RunArgs {
     #[arg(long, short)]
     pub quiet: bool,
     /// Write the per-section statistics (the scene's `[assessment] section_length_m`) to this
-    /// CSV file: one row per quantity, axle or wheel, zone and section.
+    /// CSV file: one row per quantity, axle, wheel or carbody point, zone and section.
     #[arg(long, value_name = "FILE")]
     pub sections_csv: Option<PathBuf>,
 }
@@ -183,7 +183,10 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
                      cover the samples up to the stop:"
                 );
                 print_summary(&s, a.timing)?;
-                write_sections_csv(a.sections_csv.as_deref(), &s)?;
+                // (a failed write must not hide why the run stopped)
+                if let Err(w) = write_sections_csv(a.sections_csv.as_deref(), &s) {
+                    eprintln!("warning: --sections-csv: {w:#}");
+                }
             }
             let note = match e {
                 SimError::Stopped { .. } => stability_note(
@@ -204,8 +207,9 @@ pub fn run_scene(a: &RunArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// `--sections-csv`: the per-section statistics of run `s`, a row per quantity, axle or wheel,
-/// zone and section, values in SI units (N, or 1 for Y/Q).
+/// `--sections-csv`: the per-section statistics of run `s`, a row per quantity, axle, wheel or
+/// carbody point, zone and section, values in SI units (N, 1 for Y/Q, m/s² for the carbody's
+/// accelerations).
 fn write_sections_csv(path: Option<&Path>, s: &RunSummary) -> Result<()> {
     let (Some(path), Some(o)) = (path, s.assessment.sections) else {
         return Ok(());
@@ -220,11 +224,7 @@ fn write_sections_csv(path: Option<&Path>, s: &RunSummary) -> Result<()> {
                     side: &str,
                     r: &Option<SectionReport>| {
         for (zone, st) in r.iter().flat_map(|r| &r.zones) {
-            let zone = match zone {
-                SectionZone::OffCurves => "off_curves",
-                SectionZone::Curves => "curves",
-                SectionZone::SmallRadius => "small_radius",
-            };
+            let zone = zone.name();
             for v in &st.values {
                 text += &format!(
                     "{quantity},{unit},{ws},{},{side},{zone},{},{},{}\n",
@@ -512,8 +512,8 @@ fn print_wheels(a: &Assessment, names: &[String]) -> Result<()> {
     Ok(())
 }
 
-/// The per-section statistics (`[assessment] section_length_m`), per axle and wheel and per
-/// zone of the track: the number of sections, their mean, standard deviation, largest and
+/// The per-section statistics (`[assessment] section_length_m`), per axle, wheel and carbody
+/// point and per zone of the track: the number of sections, their mean, standard deviation, largest and
 /// estimate, against the quantity's limit.
 fn print_sections(a: &Assessment, names: &[String]) -> Result<()> {
     let Some(o) = a.sections else {
@@ -521,8 +521,8 @@ fn print_sections(a: &Assessment, names: &[String]) -> Result<()> {
     };
     let l = &a.limits;
     outln!(
-        "per track section of {} m (the statistic above in each section a wheelset ran through \
-         whole, by zone: off curves (tangent track and transitions), in curves, in curves under \
+        "per track section of {} m (the statistic above in each section a wheelset or carbody \
+         point ran through whole, by zone: off curves (tangent track and transitions), in curves, in curves under \
          {:.0} m; a section across zones is left out; over a zone's sections: their number, \
          mean, standard deviation s, largest{}):",
         o.length,

@@ -408,6 +408,15 @@ impl SectionZone {
         SectionZone::Curves,
         SectionZone::SmallRadius,
     ];
+
+    /// Its name in tables: `off_curves`, `curves`, `small_radius`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SectionZone::OffCurves => "off_curves",
+            SectionZone::Curves => "curves",
+            SectionZone::SmallRadius => "small_radius",
+        }
+    }
 }
 
 /// A quantity's statistics per track section, by zone ([`SectionOptions`]).
