@@ -17,7 +17,7 @@ use railsim_contact::{
 use railsim_contact::{geometry, pair, pose};
 use railsim_elastic::Material;
 use railsim_profile::conicity::{
-    WheelsetTrackSetup, delta_r_interp, equivalent_conicity_harmonic,
+    MIN_FLANGE_ANGLE, WheelsetTrackSetup, delta_r_interp, equivalent_conicity_harmonic,
     equivalent_conicity_kinematic, flange_angle, nadal_limit, rolling_radius_difference_with_jumps,
 };
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
@@ -1036,15 +1036,22 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
         }
     }
     // the flange's climbing limit, with the friction at the flank's angle
-    if let Some(f) = flange_angle(&wheel)? {
-        let mu = friction.at(f.angle);
-        outln!(
-            "flange angle {:.2}° at S = {:.2} mm (the wheel profile's steepest flank, against its \
+    match flange_angle(&wheel)? {
+        Some(f) => {
+            let mu = friction.at(f.angle);
+            outln!(
+                "flange angle {:.2}° at S = {:.2} mm (the wheel profile's steepest flank, against its \
              axle); Nadal's limit of Y/Q at μ = {mu}: {:.3}",
-            f.angle.to_degrees(),
-            f.y * 1e3,
-            nadal_limit(f.angle, mu)
-        );
+                f.angle.to_degrees(),
+                f.y * 1e3,
+                nadal_limit(f.angle, mu)
+            );
+        }
+        None => outln!(
+            "no flange angle: the wheel profile has no flank of {:.0}° to 90° between its lowest \
+             point left of the taping line (y = 0) and the taping line",
+            MIN_FLANGE_ANGLE.to_degrees()
+        ),
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -606,12 +606,25 @@ fn print_sections(a: &Assessment, names: &[String]) -> Result<()> {
     // the carbody's band-passed accelerations (no limit is built in for them)
     for c in &a.comfort {
         let unit = (1.0, " m/s²");
-        let parts = [
-            line("ÿ* max", &c.max_sections[0], unit, &|_| None),
-            line("ÿ* r.m.s.", &c.rms_sections[0], unit, &|_| None),
-            line("z̈* max", &c.max_sections[1], unit, &|_| None),
-            line("z̈* r.m.s.", &c.rms_sections[1], unit, &|_| None),
-        ];
+        let mut parts = Vec::new();
+        for (k, axis) in ["ÿ*", "z̈*"].into_iter().enumerate() {
+            if c.band_passed[k].is_none() {
+                parts.push(format!("{axis} - (log rate under 20 Hz)"));
+                continue;
+            }
+            parts.push(line(
+                &format!("{axis} max"),
+                &c.max_sections[k],
+                unit,
+                &|_| None,
+            ));
+            parts.push(line(
+                &format!("{axis} r.m.s."),
+                &c.rms_sections[k],
+                unit,
+                &|_| None,
+            ));
+        }
         outln!("  {}: {}", c.name, parts.join("; "));
     }
     Ok(())

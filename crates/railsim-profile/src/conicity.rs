@@ -425,21 +425,23 @@ pub struct FlangeAngle {
     pub y: f64,
 }
 
-/// The flange angle of wheel profile `wheel` (profile frame: flange at negative y, z up): the
-/// largest slope angle atan(dz/dy) of its interpolating spline between the flange tip (the
-/// lowest point left of the taping line) and the taping line y = 0, nodes every
-/// [`DEFAULT_DS`] of arc length. `None` for a profile without a flange: no point left of the
-/// taping line, or the lowest of them at the profile's end (a cone), or no rising flank.
+/// The flange angle of wheel profile `wheel` (profile frame: flange at negative y, z up, the
+/// taping line at y = 0 as in EN 13715): the largest slope angle atan(dz/dy) of its
+/// interpolating spline between the flange tip (the lowest point left of the taping line) and
+/// the taping line, nodes every [`DEFAULT_DS`] of arc length. `None` for a profile without a
+/// flange: no point left of the taping line, or no flank there as steep as
+/// [`MIN_FLANGE_ANGLE`] (a cone, a tread with a chamfer), or one that overhangs (90° or more:
+/// not a wheel's flank).
 pub fn flange_angle(wheel: &Profile) -> Result<Option<FlangeAngle>, ProfileError> {
     let curve = ArcCurve::from_profile(wheel, 0.0, DEFAULT_DS)?;
     let nodes = curve.nodes();
-    let tip = nodes
+    let Some(tip) = nodes
         .iter()
         .enumerate()
         .filter(|(_, n)| n.p[0] < 0.0)
         .min_by(|a, b| a.1.p[1].total_cmp(&b.1.p[1]))
-        .map(|(i, _)| i);
-    let Some(tip) = tip.filter(|&i| i > 0) else {
+        .map(|(i, _)| i)
+    else {
         return Ok(None);
     };
     Ok(nodes[tip..]
@@ -450,8 +452,12 @@ pub fn flange_angle(wheel: &Profile) -> Result<Option<FlangeAngle>, ProfileError
             y: n.p[0],
         })
         .max_by(|a, b| a.angle.total_cmp(&b.angle))
-        .filter(|f| f.angle > 0.0))
+        .filter(|f| (MIN_FLANGE_ANGLE..std::f64::consts::FRAC_PI_2).contains(&f.angle)))
 }
+
+/// \[rad\] the least slope a flank must reach to count as a flange in [`flange_angle`] (45°;
+/// wheel flanges are built at 60–75°, treads at a few degrees).
+pub const MIN_FLANGE_ANGLE: f64 = std::f64::consts::FRAC_PI_4;
 
 /// Nadal's limit of the quotient Y/Q of a flange climbing on its rail (Nadal 1896; e.g. Iwnicki
 /// (ed.), *Handbook of Railway Vehicle Dynamics*, 2006, ch. 8): the wheel slides up the rail

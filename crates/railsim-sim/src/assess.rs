@@ -30,9 +30,10 @@
 //!   (50 % percentile) of the 20 Hz low-passed Y and Q of each wheel over the samples at which
 //!   its wheelset runs in the curve, against 60 kN and 145 kN (assessed on the outer wheel);
 //! - **per track section** (when asked, [`SectionOptions`]): the (ΣY)2m, (Y/Q)2m and Q
-//!   statistics above in each section of the track a wheelset ran through whole, by zone (off
-//!   curves, in curves, in small radii), and over a zone's sections their mean, standard
-//!   deviation, largest and the estimate `mean + k s`;
+//!   statistics above and the carbody's band-passed accelerations (maximum and r.m.s.) in each
+//!   section of the track a wheelset (or carbody point) ran through whole, by zone (off curves,
+//!   in curves, in small radii), and over a zone's sections their mean, standard deviation,
+//!   largest and the estimate `mean + k s`;
 //! - **simplified stability method**: the lateral acceleration of each bogie frame above each
 //!   of its wheelsets (what an accelerometer fixed there measures), band-pass filtered f0 ± 2 Hz,
 //!   its largest magnitude against `12 − m_b/5` m/s² and its sliding r.m.s. over 100 m (every
@@ -431,7 +432,7 @@ pub struct SectionReport {
 /// A quantity's statistic per track section of one zone and over those sections.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SectionStatistics {
-    /// Per section the wheelset ran through whole, in track order.
+    /// Per section the wheelset (or carbody point) ran through whole, in track order.
     pub values: Vec<SectionValue>,
     /// The mean of the sections' values.
     pub mean: f64,
@@ -756,11 +757,11 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
         .iter()
         .map(|c| {
             let filtered = [band_passed(&c.lateral), band_passed(&c.vertical)];
-            let curves = curves_at(series, &c.position);
+            let curves = sections.as_ref().map(|_| curves_at(series, &c.position));
             let per_section = |stat: &dyn Fn(&[f64]) -> f64| {
                 filtered.each_ref().map(|y| {
-                    let (o, y) = (sections.as_ref()?, y.as_ref()?);
-                    o.report(&c.position, &curves, y.iter().copied().enumerate(), stat)
+                    let (o, y, curves) = (sections.as_ref()?, y.as_ref()?, curves.as_ref()?);
+                    o.report(&c.position, curves, y.iter().copied().enumerate(), stat)
                 })
             };
             Comfort {
@@ -826,6 +827,9 @@ fn window_samples(d: &[f64], windows: &[WindowValue]) -> Vec<usize> {
         .collect()
 }
 
+/// The most track sections [`Sections::report`] takes (10 000 km of 10 m sections).
+const MAX_SECTIONS: f64 = 1e6;
+
 /// The per-section statistics' settings with what classifies a section's zone.
 struct Sections<'a> {
     opts: SectionOptions,
@@ -836,8 +840,8 @@ struct Sections<'a> {
 }
 
 impl Sections<'_> {
-    /// A statistic per track section of a wheelset at track positions `pos` at the samples,
-    /// in circular curve `curve_of[i]` at sample `i`. `items` are (sample, value) pairs, each
+    /// A statistic per track section of a wheelset (or carbody point) at track positions `pos`
+    /// at the samples, in circular curve `curve_of[i]` at sample `i`. `items` are (sample, value) pairs, each
     /// value in the section of its sample's position and in its sample's zone; `stat` takes a
     /// section's values sorted. Only the sections the wheelset ran through whole count, each
     /// in the zone of all its values (a section with values in two zones is left out);
@@ -859,9 +863,11 @@ impl Sections<'_> {
             return None;
         }
         // the whole sections between the first and the last position: j in [first, first + n)
+        // (none for non-finite positions, nor more than MAX_SECTIONS: a length far too short
+        // for the run, which a scene cannot set)
         let first = (lo / length).ceil();
         let n = (hi / length).floor() - first;
-        if n < 1.0 {
+        if !(1.0..=MAX_SECTIONS).contains(&n) {
             return None;
         }
         let n = n as usize;
@@ -1453,6 +1459,10 @@ mod tests {
         // and follows the amplitude: twice as large after the change as before it
         assert!((rms[3].1 / rms[1].1 - 2.0).abs() < 0.005, "{rms:?}");
         assert!((max[3].1 / max[1].1 - 2.0).abs() < 0.01, "{max:?}");
+        // the vertical channel, a constant 1 g, has none left in the band
+        let vertical = c.max_sections[1].as_ref().unwrap();
+        assert_eq!(vertical.zones[0].1.values.len(), 4);
+        assert!(vertical.zones[0].1.largest.value < 1e-9, "{vertical:?}");
         // without sections: none
         let plain = assess(&series, &[], &AssessOptions::default());
         assert!(plain.comfort[0].max_sections.iter().all(Option::is_none));

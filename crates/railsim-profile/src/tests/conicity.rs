@@ -189,6 +189,38 @@ fn s1002s_flange_angle_is_its_70_degree_flank() {
     )
     .unwrap();
     assert_eq!(flange_angle(&cone).unwrap(), None);
+    // a cone with a chamfer rising at its back (its lowest point inside the profile): its
+    // steepest rise, 1:20, is no flange either
+    let chamfered = crate::Profile::new(
+        "chamfered cone",
+        crate::ProfileKind::Wheel,
+        (0..=40)
+            .map(|i| {
+                let y = -0.06 + i as f64 * 2.5e-3;
+                [
+                    y,
+                    0.05 * y + if y < -0.05 { 0.3 * (-0.05 - y) } else { 0.0 },
+                ]
+            })
+            .collect(),
+    )
+    .unwrap();
+    assert_eq!(flange_angle(&chamfered).unwrap(), None);
+    // S1002 cut at its flange tip (S = -49.7 mm): the flank is still found
+    let p = s1002();
+    let cut: Vec<[f64; 2]> = p
+        .points
+        .iter()
+        .copied()
+        .filter(|q| q[0] >= -0.0497)
+        .collect();
+    let cut = crate::Profile::new("cut", crate::ProfileKind::Wheel, cut).unwrap();
+    let f = flange_angle(&cut).unwrap().unwrap();
+    assert!(
+        (f.angle.to_degrees() - 70.0).abs() < 0.02,
+        "{}°",
+        f.angle.to_degrees()
+    );
 }
 
 #[test]
