@@ -332,6 +332,20 @@ fn conicity_reports_the_flange_angle_and_nadals_limit() {
         let want = (t - mu) / (1.0 + mu * t);
         assert!((number(": ") - want).abs() < 1e-3, "{line}");
     }
+    // a 1:20 cone has no flange: said, and no limit
+    let cone = std::env::temp_dir().join(format!("railsim-cone-{}.txt", std::process::id()));
+    let table: String = (0..=100)
+        .map(|i| format!("{} {}\n", -60 + i, 0.05 * f64::from(-60 + i)))
+        .collect();
+    std::fs::write(&cone, table).unwrap();
+    let (code, out, err) = railsim(&["conicity", "--wheel", cone.to_str().unwrap()]);
+    std::fs::remove_file(&cone).ok();
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("no flange angle: the wheel profile has no flank of 45° to 90°"),
+        "{out}"
+    );
+    assert!(!out.contains("Nadal"), "{out}");
 }
 
 /// An error whose text already ends with its cause is printed once, not twice
