@@ -652,7 +652,8 @@ fn the_summary_lists_the_per_section_statistics() {
     let sections = short_bogie_run(
         &dir,
         "sections.toml",
-        "[assessment]\nsection_length_m = 10\nsection_k = 3\n",
+        // (a Q limit between the rear wheelset's largest section and its estimate)
+        "[assessment]\nsection_length_m = 10\nsection_k = 3\nq_limit_kn = 16.3\n",
     );
     let csv = dir.join("sections.csv");
     let csv_arg = csv.to_str().unwrap();
@@ -680,6 +681,33 @@ fn the_summary_lists_the_per_section_statistics() {
     // two axles, for each of four wheels (Y/Q)2m and Q, and at the one measuring point (the
     // frame's centre) the lateral and vertical acceleration's maximum and r.m.s.
     assert_eq!(counts.len(), 2 + 4 * 2 + 4, "{out}");
+    // each part: its estimate is mean + 3 s, and it is EXCEEDED where the estimate is above the
+    // limit (the estimate, not the largest section, is judged)
+    let number = |part: &str, key: &str| -> Option<f64> {
+        let rest = &part[part.find(key)? + key.len()..];
+        rest.split([' ', ',']).next()?.parse().ok()
+    };
+    let mut verdicts = [0; 2];
+    let block = out
+        .lines()
+        .skip_while(|l| !l.starts_with("per track section"))
+        .skip(1);
+    for part in block.take(2 + 4 + 1).flat_map(|l| l.split("; ")) {
+        let (Some(mean), Some(s), Some(estimate)) = (
+            number(part, "mean "),
+            number(part, ", s "),
+            number(part, "estimate "),
+        ) else {
+            continue;
+        };
+        assert!((estimate - (mean + 3.0 * s)).abs() < 2.5e-3, "{part}");
+        if let Some(limit) = number(part, "limit ") {
+            let exceeded = part.ends_with(" EXCEEDED");
+            assert_eq!(exceeded, estimate > limit, "{part}");
+            verdicts[usize::from(exceeded)] += 1;
+        }
+    }
+    assert!(verdicts[0] > 0 && verdicts[1] > 0, "{verdicts:?}\n{out}");
     assert!(counts.iter().all(|&n| (5..=6).contains(&n)), "{counts:?}");
     // the CSV: a row per section of each, 10 m long, in SI units; its largest (ΣY)2m of the
     // leading axle is the summary's (in kN, three decimals)

@@ -2001,6 +2001,14 @@ mod tests {
         }
     }
 
+    #[test]
+    fn a_window_belongs_to_the_last_sample_at_or_before_its_end() {
+        let d = [0.0, 0.5, 1.0, 1.5, 2.0, 2.5];
+        let w = |end: f64| WindowValue { end, value: 0.0 };
+        let windows = [w(1.0), w(1.2), w(1.5), w(2.49), w(2.5), w(9.0)];
+        assert_eq!(window_samples(&d, &windows), [2, 2, 3, 4, 5, 5]);
+    }
+
     /// Per zone: the zone and the (start, value) of each section's statistic.
     fn zones(r: &Option<SectionReport>) -> Vec<(SectionZone, Vec<(f64, f64)>)> {
         let r = r.as_ref().expect("a section report");
