@@ -532,14 +532,20 @@ fn build_pair(a: &PairArgs) -> Result<WheelRailPair> {
         gauge_depth: 0.014,
         inclination: parse_inclination(&a.inclination)?,
         material,
-        friction: match &a.friction_by_angle {
-            None => Friction::Constant(a.mu),
-            Some(text) => parse_friction_by_angle(text)?,
-        },
+        friction: friction(a)?,
         curve_ds: 5e-5,
         smoothing: 0.0,
     };
     Ok(WheelRailPair::new(&spec)?)
+}
+
+/// The friction of the arguments: `--friction-by-angle` if given, else `--mu` (unchecked:
+/// [`Friction::check`]).
+fn friction(a: &PairArgs) -> Result<Friction> {
+    match &a.friction_by_angle {
+        None => Ok(Friction::Constant(a.mu)),
+        Some(text) => parse_friction_by_angle(text),
+    }
 }
 
 /// `--friction-by-angle`: `angle_deg:mu` pairs separated by commas.
@@ -976,10 +982,7 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
     };
     // Checked before anything is printed: the friction (for Nadal's limit) and the
     // amplitudes (Δr(y) is sampled over ±10 mm, so amplitudes up to 9.9 mm).
-    let friction = match &a.pair.friction_by_angle {
-        None => Friction::Constant(a.pair.mu),
-        Some(text) => parse_friction_by_angle(text)?,
-    };
+    let friction = friction(&a.pair)?;
     friction.check()?;
     let mut amplitudes = Vec::with_capacity(a.amplitudes_mm.len());
     for &amp in &a.amplitudes_mm {
