@@ -592,6 +592,12 @@ impl SimModel {
         (d, v, v * dv_dd)
     }
 
+    /// \[m\] member `m`'s track position in state `x` when the frame's reference point is at
+    /// track position `s` \[m\]: `s` plus its initial and current x in the frame.
+    pub fn track_x(&self, m: usize, s: f64, x: &[f64]) -> f64 {
+        s + self.members[m].p0[0] + self.coord(m, 0, x)
+    }
+
     /// A member's coordinate `k` (0..6) in state `x` (0 when frozen).
     pub fn coord(&self, m: usize, k: usize, x: &[f64]) -> f64 {
         self.members[m].pos[k].map_or(0.0, |i| x[i])

@@ -1450,7 +1450,7 @@ impl LoopState {
         self.series.distance.push(dist);
         if let Some((cb, points)) = &model.comfort {
             let k = &ws.kin[*cb];
-            let carbody_x = ws.track_position + model.members[*cb].p0[0] + model.coord(*cb, 0, x);
+            let carbody_x = model.track_x(*cb, ws.track_position, x);
             for ((c, d), out) in self
                 .series
                 .comfort
@@ -1516,8 +1516,11 @@ impl LoopState {
                 w.y.push(y);
                 w.q.push(q);
             }
-            self.series.wheelset_position[number as usize]
-                .push(ws.track_position + model.members[m].p0[0] + model.coord(m, 0, x));
+            self.series.wheelset_position[number as usize].push(model.track_x(
+                m,
+                ws.track_position,
+                x,
+            ));
             let y = model.wheelset_pose(m, x).y;
             smp.lateral[number as usize] = y;
             let ml = &mut self.max_lateral[number as usize];
