@@ -176,35 +176,20 @@ fn s1002s_flange_angle_is_its_70_degree_flank() {
         f.angle.to_degrees()
     );
     assert!((-39.8e-3..=-38.4e-3).contains(&f.y), "at {} mm", f.y * 1e3);
+    // a wheel z(y) sampled every 2.5 mm over -60 ... 40 mm
+    let wheel = |name: &str, z: &dyn Fn(f64) -> f64| {
+        let points = (0..=40)
+            .map(|i| -0.06 + i as f64 * 2.5e-3)
+            .map(|y| [y, z(y)]);
+        crate::Profile::new(name, crate::ProfileKind::Wheel, points.collect()).unwrap()
+    };
     // a cone (1:20, the radius growing toward negative y) has no flange
-    let cone = crate::Profile::new(
-        "cone",
-        crate::ProfileKind::Wheel,
-        (0..=40)
-            .map(|i| {
-                let y = -0.06 + i as f64 * 2.5e-3;
-                [y, 0.05 * y]
-            })
-            .collect(),
-    )
-    .unwrap();
+    let cone = wheel("cone", &|y| 0.05 * y);
     assert_eq!(flange_angle(&cone).unwrap(), None);
     // a cone with a chamfer rising at its back (its lowest point inside the profile): its
     // steepest rise, 1:20, is no flange either
-    let chamfered = crate::Profile::new(
-        "chamfered cone",
-        crate::ProfileKind::Wheel,
-        (0..=40)
-            .map(|i| {
-                let y = -0.06 + i as f64 * 2.5e-3;
-                [
-                    y,
-                    0.05 * y + if y < -0.05 { 0.3 * (-0.05 - y) } else { 0.0 },
-                ]
-            })
-            .collect(),
-    )
-    .unwrap();
+    let chamfer = |y: f64| if y < -0.05 { 0.3 * (-0.05 - y) } else { 0.0 };
+    let chamfered = wheel("chamfered cone", &|y| 0.05 * y + chamfer(y));
     assert_eq!(flange_angle(&chamfered).unwrap(), None);
     // S1002 cut at its flange tip (S = -49.7 mm): the flank is still found
     let p = s1002();
