@@ -7,7 +7,9 @@ use railsim_sim::stability::{growth_at, half_cycles};
 use railsim_sim::{RunOptions, Simulation};
 
 use crate::common;
-use common::{centred_contact, manchester_polach, scene, wickens_reference, wickens_scene};
+use common::{
+    centred_contact, manchester_polach, scene, wickens_reference, wickens_scene, wickens_three_dof,
+};
 
 /// The oscillatory mode whose largest component is `coord`, least damped first.
 fn mode_of<'a>(modes: &'a [Mode], coord: &str) -> &'a Mode {
@@ -99,6 +101,59 @@ fn the_wickens_wheelset_loses_its_damping_where_the_simulation_starts_to_grow() 
             lam.re
         );
     }
+}
+
+#[test]
+fn the_wickens_wheelsets_eigenvalues_match_its_lateral_roll_and_yaw_model() {
+    // A model derived independently of the simulator (common::wickens_three_dof: the cones'
+    // contact kinematics, the roll held by the contact's normal stiffness, the spinning axle's
+    // gyroscopic couples) against the eigenvalues of the full linearised wheelset: the critical
+    // speed, the hunting frequency and the mode's roll and yaw per lateral displacement.
+    let res = linear_critical_speed(
+        &wickens_scene(),
+        &ModalOptions::default(),
+        (250.0, 350.0),
+        4,
+        1e-4,
+        &mut |_| {},
+    )
+    .unwrap();
+    let (vc, mode) = (res.critical_speed, &res.mode);
+    let part = |name: &str| {
+        mode.shape
+            .iter()
+            .find(|(n, _)| n == name)
+            .unwrap_or_else(|| panic!("{name} not in {:?}", mode.shape))
+            .1
+    };
+    assert_eq!(mode.shape[0].0, "ws.y", "{:?}", mode.shape);
+    let (roll, yaw) = (part("ws.roll"), part("ws.yaw"));
+    let model = wickens_three_dof(1e8, 1.0);
+    // the same model with the roll slaved to y (the contact a hundred times stiffer)
+    let stiff = wickens_three_dof(1e8, 100.0);
+    eprintln!(
+        "eigenvalues: {vc:.3} m/s, {:.4} Hz, roll/y {roll:.4}, yaw/y {yaw:.4}; three-DOF model \
+         (kn {:.4e} N/m): {:.3} m/s ({:+.2} %), {:.4} Hz, roll/y {:.4}, yaw/y {:.4}; roll slaved: \
+         {:.3} m/s, {:.4} Hz, roll/y {:.4}",
+        mode.frequency,
+        model.normal_stiffness,
+        model.critical_speed,
+        100.0 * (vc / model.critical_speed - 1.0),
+        model.frequency,
+        model.roll_per_y,
+        model.yaw_per_y,
+        stiff.critical_speed,
+        stiff.frequency,
+        stiff.roll_per_y
+    );
+    assert!((vc / model.critical_speed - 1.0).abs() < 0.005);
+    assert!((mode.frequency / model.frequency - 1.0).abs() < 0.005);
+    assert!((roll / model.roll_per_y - 1.0).abs() < 0.02);
+    assert!((yaw / model.yaw_per_y - 1.0).abs() < 0.02);
+    // the roll's give on the contact matters: slaved, the model is 1.4 % faster and rolls by
+    // 44 % more, outside the bounds above
+    assert!((vc / stiff.critical_speed - 1.0).abs() > 0.01);
+    assert!(stiff.roll_per_y / roll > 1.2);
 }
 
 #[test]

@@ -248,3 +248,199 @@ pub fn wickens_scene() -> Scene {
         "#,
     )
 }
+
+/// The Wickens wheelset (`vehicles/wheelset_springs.toml`, [`wickens_scene`]) reduced to its
+/// lateral displacement y, roll φ and yaw ψ, with the roll held by the contact's own normal
+/// stiffness rather than slaved to y: the check on the eigenvalues of the simulator's full
+/// model (docs/validation.md §11, "Wickens with the roll on the contact").
+pub struct WickensThreeDof {
+    /// \[m/s\] linear critical speed.
+    pub critical_speed: f64,
+    /// \[Hz\] frequency of the hunting mode there.
+    pub frequency: f64,
+    /// \[rad/m\] |φ| / |y| of the hunting mode there.
+    pub roll_per_y: f64,
+    /// \[rad/m\] |ψ| / |y| of the hunting mode there.
+    pub yaw_per_y: f64,
+    /// \[N/m\] the normal contact stiffness of each wheel used (`stiffness_scale` times the
+    /// contact's own).
+    pub normal_stiffness: f64,
+}
+
+/// Coefficients (ascending powers) of the product of two polynomials.
+fn poly_mul(p: &[f64], q: &[f64]) -> Vec<f64> {
+    let mut r = vec![0.0; p.len() + q.len() - 1];
+    for (i, a) in p.iter().enumerate() {
+        for (j, b) in q.iter().enumerate() {
+            r[i + j] += a * b;
+        }
+    }
+    r
+}
+
+/// `p + s q` (ascending powers).
+fn poly_add(p: &[f64], q: &[f64], s: f64) -> Vec<f64> {
+    (0..p.len().max(q.len()))
+        .map(|i| p.get(i).unwrap_or(&0.0) + s * q.get(i).unwrap_or(&0.0))
+        .collect()
+}
+
+/// Whether every root of the polynomial `a` (ascending powers, leading coefficient nonzero)
+/// lies in the open left half-plane: Routh's array, whose first column must keep its sign.
+fn routh_stable(a: &[f64]) -> bool {
+    let c: Vec<f64> = a.iter().rev().copied().collect();
+    let mut prev: Vec<f64> = c.iter().step_by(2).copied().collect();
+    let mut row: Vec<f64> = c.iter().skip(1).step_by(2).copied().collect();
+    for _ in 1..c.len() - 1 {
+        if row[0] * prev[0] <= 0.0 {
+            return false;
+        }
+        let next: Vec<f64> = (0..prev.len() - 1)
+            .map(|k| prev[k + 1] - prev[0] / row[0] * row.get(k + 1).unwrap_or(&0.0))
+            .collect();
+        prev = std::mem::replace(&mut row, next);
+    }
+    row[0] * prev[0] > 0.0
+}
+
+/// [`WickensThreeDof`] with linear creep coefficient `f` \[N\] per wheel (f11 = f22, no spin)
+/// and the contact's normal stiffness times `stiffness_scale` (a large scale approaches the
+/// roll slaved to y, [`Wickens::with_roll`]'s premise).
+///
+/// Derived here (docs/validation.md §11) for a wheelset of pure cones, slope λ = tan δ, on
+/// rails: the rigid contact keeps the normal velocity of each wheel's material point at its
+/// contact zero, which ties the roll to the shift as φ = λk y / b, λk = λ / (1 − r0 λ / b).
+/// On elastic contacts each wheel's interpenetration changes by ±g (λk y / b − φ), g = b cos δ
+/// − r0 sin δ (the normal component of the wheel point's motion), against its normal
+/// stiffness kn. A yawed cone's contact point leads the axle by (r0 tan δ − b) ψ, so the wheel
+/// point's slip along the patch's lateral axis is cos δ ẏ + (r0 cos δ + b sin δ) φ̇ − V ψ /
+/// cos δ; the creep force −f × slip / V along that axis gives the generalised forces by
+/// virtual power. The rolling radius difference is 2 (λ y + β φ), with β = (λe − λ) b / λk so
+/// that the rigid contact's φ = λk y / b gives the rigid geometry's λe (railsim-profile's Δr,
+/// [`cone_effective_conicity`]). The spinning axle (I_y, Ω = V / r0) adds −I_y Ω ψ̇ to the
+/// roll equation and I_y Ω φ̇ to the yaw equation. Left out: gravity's stiffnesses (W λ / b
+/// laterally, 2e-4 of the contact's; its yaw stiffness, 3e-5 of k_ψ), the spin and vertical
+/// freedoms (uncoupled to first order). The critical speed is where Routh's criterion on
+/// det(M s² + D s + K) first fails; the mode there is the null vector of that matrix at s = iω,
+/// ω a common real root of the determinant's real and imaginary parts.
+pub fn wickens_three_dof(f: f64, stiffness_scale: f64) -> WickensThreeDof {
+    let (m, ix, iy, iz) = (1813.0, 1120.0, 112.0, 1120.0);
+    let (ky, kpsi, lambda) = (2.0 * 3.884e6, 2.0 * 31.391e6, 0.15f64);
+    let w = wickens_reference(f);
+    let (r0, b) = (w.r0, w.b);
+    // each wheel's normal stiffness dN/dδ at its static load, from the scene's own contact
+    let delta = lambda.atan();
+    let (cd, sd) = (delta.cos(), delta.sin());
+    let n0 = 0.5 * m * 9.81 / cd;
+    let sim = Simulation::new(&wickens_scene()).unwrap();
+    let mut ws = railsim_contact::ContactWorkspace::new();
+    let vel = WheelsetVelocity {
+        vx: 28.0,
+        spin: 28.0 / r0,
+        ..Default::default()
+    };
+    let mut penetration = |load: f64| {
+        sim.model().wheels[0].contacts[0]
+            .evaluate_with_load(
+                Side::Left,
+                &WheelsetPose::default(),
+                &vel,
+                load,
+                1e-12,
+                &mut ws,
+            )
+            .unwrap();
+        ws.patches[0].penetration
+    };
+    let kn_contact = 2e-3 * n0 / (penetration(1.001 * n0) - penetration(0.999 * n0));
+    let kn = stiffness_scale * kn_contact;
+    let lk = lambda / (1.0 - r0 * lambda / b);
+    let beta = (w.lambda_e - lambda) * b / lk;
+    let g = b * cd - r0 * sd;
+    let kc = 2.0 * kn * g * g;
+    // the roll's lever of the lateral slip, and its share of the creep force's moment
+    let h = r0 * cd + b * sd;
+    // rows y, φ, ψ; each entry [k, d, m] of k + d s + m s²
+    let entries = |v: f64| {
+        let gyro = iy * (v / r0);
+        [
+            [
+                [ky + kc * (lk / b).powi(2), 2.0 * f * cd * cd / v, m],
+                [-kc * lk / b, 2.0 * f * cd * h / v, 0.0],
+                [-2.0 * f, 0.0, 0.0],
+            ],
+            [
+                [-kc * lk / b, 2.0 * f * h * cd / v, 0.0],
+                [kc, 2.0 * f * h * h / v, ix],
+                [-2.0 * f * h / cd, -gyro, 0.0],
+            ],
+            [
+                [2.0 * f * b * lambda / r0, 0.0, 0.0],
+                [2.0 * f * b * beta / r0, gyro, 0.0],
+                [kpsi, 2.0 * f * b * b / v, iz],
+            ],
+        ]
+    };
+    let characteristic = |v: f64| {
+        let e = entries(v);
+        let minor = |i: usize, j: usize, k: usize, l: usize| {
+            poly_add(
+                &poly_mul(&e[i][k], &e[j][l]),
+                &poly_mul(&e[i][l], &e[j][k]),
+                -1.0,
+            )
+        };
+        let d = poly_add(
+            &poly_mul(&e[0][0], &minor(1, 2, 1, 2)),
+            &poly_mul(&e[0][1], &minor(1, 2, 0, 2)),
+            -1.0,
+        );
+        poly_add(&d, &poly_mul(&e[0][2], &minor(1, 2, 0, 1)), 1.0)
+    };
+    let (mut lo, mut hi) = (100.0, 600.0);
+    assert!(routh_stable(&characteristic(lo)) && !routh_stable(&characteristic(hi)));
+    while hi - lo > 1e-9 * hi {
+        let mid = 0.5 * (lo + hi);
+        if routh_stable(&characteristic(mid)) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let v = 0.5 * (lo + hi);
+    let a = characteristic(v);
+    // P(iω) = 0: the imaginary part a1 − a3 ω² + a5 ω⁴ = 0 gives ω², the real part picks the root
+    let (qa, qb, qc) = (a[5], -a[3], a[1]);
+    let disc = (qb * qb - 4.0 * qa * qc).sqrt();
+    let real_part = |w2: f64| a[0] - a[2] * w2 + a[4] * w2 * w2 - a[6] * w2 * w2 * w2;
+    let w2 = [(-qb - disc) / (2.0 * qa), (-qb + disc) / (2.0 * qa)]
+        .into_iter()
+        .filter(|w2| *w2 > 0.0)
+        .min_by(|x, y| real_part(*x).abs().total_cmp(&real_part(*y).abs()))
+        .unwrap();
+    let omega = w2.sqrt();
+    // E(iω) as complex entries (re, im), its null vector the cross product of two rows
+    let e = entries(v);
+    let c: Vec<Vec<(f64, f64)>> = e
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|x| (x[0] - x[2] * w2, x[1] * omega))
+                .collect()
+        })
+        .collect();
+    let mul = |p: (f64, f64), q: (f64, f64)| (p.0 * q.0 - p.1 * q.1, p.0 * q.1 + p.1 * q.0);
+    let cross = |i: usize, j: usize| {
+        let (x, y) = (mul(c[1][i], c[2][j]), mul(c[1][j], c[2][i]));
+        (x.0 - y.0, x.1 - y.1)
+    };
+    let null = [cross(1, 2), cross(2, 0), cross(0, 1)];
+    let abs = |z: (f64, f64)| z.0.hypot(z.1);
+    WickensThreeDof {
+        critical_speed: v,
+        frequency: omega / std::f64::consts::TAU,
+        roll_per_y: abs(null[1]) / abs(null[0]),
+        yaw_per_y: abs(null[2]) / abs(null[0]),
+        normal_stiffness: kn,
+    }
+}
