@@ -795,15 +795,13 @@ pub fn assess(series: &Series, axle_loads: &[f64], opts: &AssessOptions) -> Asse
 }
 
 /// The circular curve of `series` at each track position of `position` (none off curves).
+/// A curve holds the positions from its start up to, not including, its end, as a track
+/// section holds them: a position at a curve's end belongs to what follows, so a section that
+/// starts there is not taken for one across two zones (before stop 45 the end was included).
 fn curves_at(series: &Series, position: &[f64]) -> Vec<Option<usize>> {
     position
         .iter()
-        .map(|&s| {
-            series
-                .curves
-                .iter()
-                .position(|c| c.s[0] <= s && s <= c.s[1])
-        })
+        .map(|&s| series.curves.iter().position(|c| c.s[0] <= s && s < c.s[1]))
         .collect()
 }
 
@@ -2069,8 +2067,11 @@ mod tests {
             1e-12,
         );
         // a curve of 1000 m radius over the third section and one of 200 m over the fourth:
-        // each zone its own sections, a zone of one section without spread or estimate
-        let curves = [(600.0, 799.9, 1000.0), (800.0, 999.9, -200.0)];
+        // each zone its own sections, a zone of one section without spread or estimate; the
+        // curves end where the sections do, and the sample at 800 m, the first curve's end and
+        // the fourth section's start, belongs to the second curve (a closed end made that
+        // section mixed)
+        let curves = [(600.0, 800.0, 1000.0), (800.0, 1000.0, -200.0)];
         let a = assess(&section_series(q_kn, &curves), &[110e3], &opts);
         let w = &a.wheels[0];
         let q = zones(&w.q_sections);
