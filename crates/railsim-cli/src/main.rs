@@ -18,7 +18,8 @@ use railsim_contact::{geometry, pair, pose};
 use railsim_elastic::Material;
 use railsim_profile::conicity::{
     MIN_FLANGE_ANGLE, WheelsetTrackSetup, delta_r_interp, equivalent_conicity_harmonic,
-    equivalent_conicity_kinematic, flange_angle, nadal_limit, rolling_radius_difference_with_jumps,
+    equivalent_conicity_kinematic, flange_angle, flange_dimensions, nadal_limit,
+    rolling_radius_difference_with_jumps,
 };
 use railsim_profile::{Profile, ProfileKind, analytic, read_simpack, read_table_mm};
 
@@ -1054,6 +1055,22 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
             "no flange angle: the wheel profile has no flank of {:.0}° to 90° between its lowest \
              point left of the taping line (y = 0) and the taping line",
             MIN_FLANGE_ANGLE.to_degrees()
+        ),
+    }
+    // the flange's inspection dimensions (EN 15313's definitions)
+    match flange_dimensions(&wheel, setup.flange_back_y)? {
+        Some(d) => outln!(
+            "flange dimensions: Sh {:.2} mm (tip at S = {:.2} mm), Sd {:.2} mm (10 mm from the \
+             taping line, from the flange back at S = {:.2} mm), qR {:.2} mm",
+            d.height * 1e3,
+            d.tip[0] * 1e3,
+            d.thickness * 1e3,
+            setup.flange_back_y * 1e3,
+            d.qr * 1e3
+        ),
+        None => outln!(
+            "no flange dimensions: the wheel profile has no flange over 12 mm high left of the \
+             taping line"
         ),
     }
     Ok(ExitCode::SUCCESS)

@@ -332,6 +332,26 @@ fn conicity_reports_the_flange_angle_and_nadals_limit() {
         let want = (t - mu) / (1.0 + mu * t);
         assert!((number(": ") - want).abs() < 1e-3, "{line}");
     }
+    // S1002's flange dimensions (contact-theory note §5.1): Sh 28.00, Sd 32.50, qR 10.79 mm;
+    // Sd from the flange back the options give
+    for (args, sd) in [
+        (&["conicity"][..], 32.50),
+        (&["conicity", "--flange-back-y-mm", "-71"][..], 33.50),
+    ] {
+        let (code, out, err) = railsim(args);
+        assert_eq!(code, 0, "{err}");
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("flange dimensions: "))
+            .unwrap_or_else(|| panic!("no flange dimensions in\n{out}"));
+        for want in [
+            "Sh 28.00 mm (tip at S = -55.00 mm)".to_string(),
+            format!("Sd {sd:.2} mm"),
+            "qR 10.79 mm".to_string(),
+        ] {
+            assert!(line.contains(&want), "{want} not in {line}");
+        }
+    }
     // a 1:20 cone has no flange: said, and no limit
     let cone = std::env::temp_dir().join(format!("railsim-cone-{}.txt", std::process::id()));
     let table: String = (0..=100)
@@ -346,6 +366,7 @@ fn conicity_reports_the_flange_angle_and_nadals_limit() {
         "{out}"
     );
     assert!(!out.contains("Nadal"), "{out}");
+    assert!(out.contains("no flange dimensions: "), "{out}");
 }
 
 /// An error whose text already ends with its cause is printed once, not twice

@@ -455,6 +455,110 @@ pub fn flange_angle(wheel: &Profile) -> Result<Option<FlangeAngle>, ProfileError
         .filter(|f| (MIN_FLANGE_ANGLE..std::f64::consts::FRAC_PI_2).contains(&f.angle)))
 }
 
+/// A wheel's flange dimensions as the wheel-profile inspection standards define them (EN 15313;
+/// the S1002 values in the shared contact-theory note §5.1, derived from its definition): the
+/// flange height Sh, the flange thickness Sd and the flange-face measure qR, all in \[m\].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlangeDimensions {
+    /// Sh: the flange tip's height above the taping line, z(0) − z(tip) (S1002: 28.0 mm).
+    pub height: f64,
+    /// Sd: from the flange back (the profile's y = `flange_back_y`) to the flange face where it
+    /// lies 10 mm from the taping line toward the tip (S1002: 32.5 mm).
+    pub thickness: f64,
+    /// qR: the lateral distance between that point and the flange face 2 mm from the tip
+    /// (S1002: 10.79 mm); a steep, sharp flange has a small qR.
+    pub qr: f64,
+    /// (y, z) of the flange tip, the lowest point left of the taping line.
+    pub tip: [f64; 2],
+    /// (y, z) of the flange face 10 mm from the taping line toward the tip, where Sd is measured.
+    pub thickness_point: [f64; 2],
+    /// (y, z) of the flange face 2 mm from the tip, qR's other end.
+    pub qr_point: [f64; 2],
+}
+
+/// [`FlangeDimensions`] of wheel profile `wheel` (profile frame as in [`flange_angle`]: flange
+/// at negative y, z up, the taping line at y = 0) whose flange back lies at y = `flange_back_y`
+/// \[m\] (−0.070 for EN 13715 profiles such as S1002: the taping line 70 mm from the wheel's
+/// inner face). The flange-face points are the first crossings of their levels on the way
+/// from the tip to the taping line, on the profile's interpolating spline (to 1e-9 m).
+/// `None` for a profile without a flange of more than 12 mm (no point left of the taping
+/// line, the taping line outside the profile, or a tip too low for the 10 mm and 2 mm levels
+/// to be distinct points of its face).
+pub fn flange_dimensions(
+    wheel: &Profile,
+    flange_back_y: f64,
+) -> Result<Option<FlangeDimensions>, ProfileError> {
+    let curve = ArcCurve::from_profile(wheel, 0.0, DEFAULT_DS)?;
+    let nodes = curve.nodes();
+    let Some(tip) = nodes
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.p[0] < 0.0)
+        .min_by(|a, b| a.1.p[1].total_cmp(&b.1.p[1]))
+        .map(|(i, _)| i)
+    else {
+        return Ok(None);
+    };
+    let Some(s0) = curve.s_at_y(0.0) else {
+        return Ok(None);
+    };
+    let z0 = curve.eval(s0).p[1];
+    let ds = curve.ds();
+    // the tip between the lowest node's neighbours, where the tangent turns level
+    let tip_point = {
+        let (mut lo, mut hi) = (
+            tip.saturating_sub(1) as f64 * ds,
+            (tip + 1).min(nodes.len() - 1) as f64 * ds,
+        );
+        if curve.eval(lo).t[1] < 0.0 && curve.eval(hi).t[1] > 0.0 {
+            while hi - lo > 1e-12 {
+                let mid = 0.5 * (lo + hi);
+                if curve.eval(mid).t[1] < 0.0 {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            curve.eval(0.5 * (lo + hi)).p
+        } else {
+            nodes[tip].p
+        }
+    };
+    let z_tip = tip_point[1];
+    let height = z0 - z_tip;
+    if !(height > 0.012) {
+        return Ok(None);
+    }
+    // the first point from the tip toward the taping line where the face reaches height `z`
+    let face_at = |z: f64| -> Option<[f64; 2]> {
+        let k = (tip..nodes.len() - 1)
+            .take_while(|&k| nodes[k].p[0] <= 0.0)
+            .find(|&k| nodes[k].p[1] < z && nodes[k + 1].p[1] >= z)?;
+        let (mut lo, mut hi) = (k as f64 * ds, (k + 1) as f64 * ds);
+        while hi - lo > 1e-12 {
+            let mid = 0.5 * (lo + hi);
+            if curve.eval(mid).p[1] < z {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(curve.eval(0.5 * (lo + hi)).p)
+    };
+    let (Some(thickness_point), Some(qr_point)) = (face_at(z0 - 0.010), face_at(z_tip + 0.002))
+    else {
+        return Ok(None);
+    };
+    Ok(Some(FlangeDimensions {
+        height,
+        thickness: thickness_point[0] - flange_back_y,
+        qr: thickness_point[0] - qr_point[0],
+        tip: tip_point,
+        thickness_point,
+        qr_point,
+    }))
+}
+
 /// \[rad\] the least slope a flank must reach to count as a flange in [`flange_angle`] (45°;
 /// wheel flanges are built at 60–75°, treads at a few degrees).
 pub const MIN_FLANGE_ANGLE: f64 = std::f64::consts::FRAC_PI_4;

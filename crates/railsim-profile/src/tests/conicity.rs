@@ -209,6 +209,76 @@ fn s1002s_flange_angle_is_its_70_degree_flank() {
 }
 
 #[test]
+fn s1002s_flange_dimensions_are_28_32_5_and_10_79_mm() {
+    // contact-theory note §5.1, derived from the section formulas: the tip at S = -55 mm,
+    // 28.000 mm high; the flange face 10 mm from the taping line at S = -37.500 (R13 root),
+    // 32.50 mm from the flange back at S = -70; 2 mm from the tip at S = -48.294 (R20 corner),
+    // qR 10.79 mm
+    let d = flange_dimensions(&s1002(), -0.070).unwrap().unwrap();
+    eprintln!("S1002: {d:?}");
+    assert!((d.height - 0.028).abs() < 1e-6, "Sh {}", d.height);
+    assert!((d.tip[0] + 0.055).abs() < 0.1e-3, "tip at {:?}", d.tip);
+    assert!((d.thickness - 0.0325).abs() < 5e-6, "Sd {}", d.thickness);
+    assert!((d.thickness_point[0] + 0.0375).abs() < 5e-6);
+    assert!((d.thickness_point[1] + 0.010).abs() < 1e-9);
+    assert!((d.qr - 0.010794).abs() < 5e-6, "qR {}", d.qr);
+    assert!((d.qr_point[1] + 0.026).abs() < 1e-9);
+    // Sd is measured from the flange back where it is given
+    let d2 = flange_dimensions(&s1002(), -0.071).unwrap().unwrap();
+    assert!((d2.thickness - d.thickness - 1e-3).abs() < 1e-12);
+    // A flange built of straight lines and a flat top, sampled every 0.02 mm: tread level
+    // (z = 0) from y = y_f, a 70° flank up to the tip 30 mm high, a flat tip to -55 mm and a
+    // vertical back. Its dimensions by hand: Sh 30, Sd = y_f - 10/tan 70° + 70 mm, qR =
+    // 18/tan 70° mm. A flange worn 3 mm thinner (the flank at y_f = -33 mm against -30): Sd
+    // 3 mm less, Sh and qR the same.
+    let t70 = 70f64.to_radians().tan();
+    for y_f in [-0.030, -0.033] {
+        let z = |y: f64| {
+            if y >= y_f {
+                0.0
+            } else {
+                (-(y_f - y) * t70).max(-0.030)
+            }
+        };
+        let n = ((0.040 + 0.0549) / 2e-5) as usize;
+        let points: Vec<[f64; 2]> = (0..=n)
+            .map(|i| -0.0549 + i as f64 * 2e-5)
+            .map(|y| [y, z(y)])
+            .collect();
+        let wheel =
+            crate::Profile::new("trapezoid flange", crate::ProfileKind::Wheel, points).unwrap();
+        let d = flange_dimensions(&wheel, -0.070).unwrap().unwrap();
+        let sd = y_f - 0.010 / t70 + 0.070;
+        let qr = 0.018 / t70;
+        eprintln!("y_f {y_f}: {d:?}; Sd {sd}, qR {qr} by hand");
+        assert!((d.height - 0.030).abs() < 10e-6, "Sh {}", d.height);
+        assert!(
+            (d.thickness - sd).abs() < 2e-6,
+            "Sd {} against {sd}",
+            d.thickness
+        );
+        assert!((d.qr - qr).abs() < 2e-6, "qR {} against {qr}", d.qr);
+    }
+    // no flange: a cone, and S1002 cut at S = -38 mm (a flange 11 mm high, under the 12 mm
+    // a flange needs)
+    let cone: Vec<[f64; 2]> = (0..=40)
+        .map(|i| -0.06 + i as f64 * 2.5e-3)
+        .map(|y| [y, 0.05 * y])
+        .collect();
+    let cone = crate::Profile::new("cone", crate::ProfileKind::Wheel, cone).unwrap();
+    assert_eq!(flange_dimensions(&cone, -0.070).unwrap(), None);
+    let p = s1002();
+    let low: Vec<[f64; 2]> = p
+        .points
+        .iter()
+        .copied()
+        .filter(|q| q[0] >= -0.0380)
+        .collect();
+    let low = crate::Profile::new("cut", crate::ProfileKind::Wheel, low).unwrap();
+    assert_eq!(flange_dimensions(&low, -0.070).unwrap(), None);
+}
+
+#[test]
 fn nadals_limit_has_its_tabulated_values() {
     // vehicle reference §6.2, computed there: 70°/0.36 -> 1.20, 70°/0.5 -> 0.95,
     // 60°/0.36 -> 0.85, 65°/0.36 -> 1.01
