@@ -526,7 +526,7 @@ pub fn flange_dimensions(
     };
     let z_tip = tip_point[1];
     let height = z0 - z_tip;
-    if !(height > 0.012) {
+    if !height.is_finite() || height <= 0.012 {
         return Ok(None);
     }
     // the first point from the tip toward the taping line where the face reaches height `z`
