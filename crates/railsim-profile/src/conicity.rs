@@ -18,7 +18,7 @@
 //!   of that wheel (positive when the surface rises toward the field side: ≈ +1.4° on the
 //!   S1002 tread, ≈ +70° on the flange flank).
 
-use crate::{ArcCurve, DEFAULT_DS, Profile, ProfileError, place_rail};
+use crate::{ArcCurve, CurvePoint, DEFAULT_DS, Profile, ProfileError, place_rail};
 
 /// Wheelset and track data for the rigid contact geometry.
 #[derive(Clone, Copy, Debug)]
@@ -415,6 +415,17 @@ pub fn equivalent_conicity_kinematic(
     None
 }
 
+/// The node of a wheel profile's flange tip: its lowest left of the taping line (y < 0);
+/// `None` without nodes there.
+fn flange_tip(nodes: &[CurvePoint]) -> Option<usize> {
+    nodes
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.p[0] < 0.0)
+        .min_by(|a, b| a.1.p[1].total_cmp(&b.1.p[1]))
+        .map(|(i, _)| i)
+}
+
 /// The steepest point of a wheel's flange flank: where a climbing flange bears.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FlangeAngle {
@@ -435,13 +446,7 @@ pub struct FlangeAngle {
 pub fn flange_angle(wheel: &Profile) -> Result<Option<FlangeAngle>, ProfileError> {
     let curve = ArcCurve::from_profile(wheel, 0.0, DEFAULT_DS)?;
     let nodes = curve.nodes();
-    let Some(tip) = nodes
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| n.p[0] < 0.0)
-        .min_by(|a, b| a.1.p[1].total_cmp(&b.1.p[1]))
-        .map(|(i, _)| i)
-    else {
+    let Some(tip) = flange_tip(nodes) else {
         return Ok(None);
     };
     Ok(nodes[tip..]
@@ -490,13 +495,7 @@ pub fn flange_dimensions(
 ) -> Result<Option<FlangeDimensions>, ProfileError> {
     let curve = ArcCurve::from_profile(wheel, 0.0, DEFAULT_DS)?;
     let nodes = curve.nodes();
-    let Some(tip) = nodes
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| n.p[0] < 0.0)
-        .min_by(|a, b| a.1.p[1].total_cmp(&b.1.p[1]))
-        .map(|(i, _)| i)
-    else {
+    let Some(tip) = flange_tip(nodes) else {
         return Ok(None);
     };
     let Some(s0) = curve.s_at_y(0.0) else {
