@@ -157,6 +157,44 @@ fn the_wickens_wheelsets_eigenvalues_match_its_lateral_roll_and_yaw_model() {
 }
 
 #[test]
+fn a_yawed_cones_contact_leads_the_axle_and_slips_laterally_by_the_yaw_over_cos_delta() {
+    // The kinematics the lateral-roll-yaw model rests on (common::wickens_three_dof), read at
+    // the contact of the Wickens scene's cones (λ = tan δ = 0.15) on UIC60 1:40: a wheelset
+    // yawed by ψ and rolling freely (Ω = V / r0) has its contact lead the axle by
+    // (r0 tan δ - b) ψ, and its wheel point slips along the patch's lateral axis by -V ψ / cos δ.
+    use railsim_contact::{Side, WheelsetPose, WheelsetVelocity};
+    let w = wickens_reference(1e8);
+    let (r0, b) = (w.r0, w.b);
+    let sim = Simulation::new(&wickens_scene()).unwrap();
+    let mut ws = railsim_contact::ContactWorkspace::new();
+    let (v, psi, delta) = (28.0, 1e-4, 0.15f64.atan());
+    let vel = WheelsetVelocity {
+        vx: v,
+        spin: v / r0,
+        ..Default::default()
+    };
+    let pose = WheelsetPose {
+        yaw: psi,
+        ..Default::default()
+    };
+    sim.model().wheels[0].contacts[0]
+        .evaluate_with_load(Side::Left, &pose, &vel, 8992.0, 1e-12, &mut ws)
+        .unwrap();
+    let p = &ws.patches[0];
+    let lead = (r0 * delta.tan() - b) * psi;
+    eprintln!(
+        "ψ = {psi}: lead {:.4e} m against {lead:.4e}; η = {:.6e} against {:.6e}; angle {:.5}",
+        p.point_track[0],
+        p.creepages.eta,
+        -psi / delta.cos(),
+        p.contact_angle
+    );
+    assert!((p.contact_angle - delta).abs() < 1e-4);
+    assert!((p.point_track[0] / lead - 1.0).abs() < 1e-3);
+    assert!((p.creepages.eta * delta.cos() / -psi - 1.0).abs() < 1e-3);
+}
+
+#[test]
 fn the_manchester_vehicles_linear_critical_speed_is_a_bogie_hunting_mode_that_the_simulation_confirms()
  {
     // Polach's contact (smooth in the pose at the difference steps' scale): the critical speed
