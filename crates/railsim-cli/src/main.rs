@@ -1057,7 +1057,7 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
             MIN_FLANGE_ANGLE.to_degrees()
         ),
     }
-    // the flange's inspection dimensions (EN 15313's definitions)
+    // the flange's inspection dimensions (Sh, Sd, qR; contact-theory note §5.1)
     match flange_dimensions(&wheel, setup.flange_back_y)? {
         Some(d) => outln!(
             "flange dimensions: Sh {:.2} mm (tip at S = {:.2} mm), Sd {:.2} mm (10 mm from the \
@@ -1069,8 +1069,8 @@ fn run_conicity(a: &ConicityArgs) -> Result<ExitCode> {
             d.qr * 1e3
         ),
         None => outln!(
-            "no flange dimensions: the wheel profile has no flange over 12 mm high left of the \
-             taping line"
+            "no flange dimensions: the wheel profile reaches no flange tip over 12 mm high \
+             between its ends left of the taping line (y = 0), or does not reach y = 0"
         ),
     }
     Ok(ExitCode::SUCCESS)

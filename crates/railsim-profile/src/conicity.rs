@@ -460,9 +460,10 @@ pub fn flange_angle(wheel: &Profile) -> Result<Option<FlangeAngle>, ProfileError
         .filter(|f| (MIN_FLANGE_ANGLE..std::f64::consts::FRAC_PI_2).contains(&f.angle)))
 }
 
-/// A wheel's flange dimensions as the wheel-profile inspection standards define them (EN 15313;
-/// the S1002 values in the shared contact-theory note §5.1, derived from its definition): the
-/// flange height Sh, the flange thickness Sd and the flange-face measure qR, all in \[m\].
+/// A wheel's flange dimensions, the flange height Sh, the flange thickness Sd and the
+/// flange-face measure qR, all in \[m\]: the wheel-inspection measures of UIC 510-2 and
+/// EN 15313 (their naming recalled, not verified here), with the definitions and the S1002
+/// values of the shared contact-theory note §5.1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FlangeDimensions {
     /// Sh: the flange tip's height above the taping line, z(0) − z(tip) (S1002: 28.0 mm).
@@ -482,20 +483,26 @@ pub struct FlangeDimensions {
 }
 
 /// [`FlangeDimensions`] of wheel profile `wheel` (profile frame as in [`flange_angle`]: flange
-/// at negative y, z up, the taping line at y = 0) whose flange back lies at y = `flange_back_y`
-/// \[m\] (−0.070 for EN 13715 profiles such as S1002: the taping line 70 mm from the wheel's
-/// inner face). The flange-face points are the first crossings of their levels on the way
-/// from the tip to the taping line, on the profile's interpolating spline (to 1e-9 m).
-/// `None` for a profile without a flange of more than 12 mm (no point left of the taping
-/// line, the taping line outside the profile, or a tip too low for the 10 mm and 2 mm levels
-/// to be distinct points of its face).
+/// at negative y, z up, the taping line at y = 0, from which the heights are taken) whose
+/// flange back lies at y = `flange_back_y` \[m\] (−0.070 for EN 13715 profiles such as S1002:
+/// the taping line 70 mm from the wheel's inner face; it moves only where Sd is counted from).
+/// The tip is the profile's lowest point left of the taping line, refined to where the
+/// interpolating spline's tangent turns level (on a flat top, the spline's lowest point). The
+/// face points are where the face first reaches their levels on the way from the taping line
+/// toward the tip (the outermost material there, as a gauge's finger finds it), bisected on
+/// the spline to 1e-12 m of arc length. `None` for a profile without such a flange: no point
+/// left of the taping line, the taping line outside the profile, the lowest point at an end of
+/// the profile (cut short of its tip, or a cone), or a tip 12 mm high or less (the 10 mm and
+/// 2 mm levels not distinct points of its face).
 pub fn flange_dimensions(
     wheel: &Profile,
     flange_back_y: f64,
 ) -> Result<Option<FlangeDimensions>, ProfileError> {
     let curve = ArcCurve::from_profile(wheel, 0.0, DEFAULT_DS)?;
     let nodes = curve.nodes();
-    let Some(tip) = flange_tip(nodes) else {
+    // a tip inside the profile: its lowest point left of the taping line at one of its ends is
+    // a profile cut short of its tip (or a cone), whose dimensions would be wrong
+    let Some(tip) = flange_tip(nodes).filter(|&k| k > 0 && k + 1 < nodes.len()) else {
         return Ok(None);
     };
     let Some(s0) = curve.s_at_y(0.0) else {
@@ -528,10 +535,13 @@ pub fn flange_dimensions(
     if !height.is_finite() || height <= 0.012 {
         return Ok(None);
     }
-    // the first point from the tip toward the taping line where the face reaches height `z`
+    // where the face first reaches level `z` on the way from the taping line toward the tip:
+    // the outermost material at that level, which a gauge's finger touches (a lip on the face
+    // counts, a hollow behind it does not)
+    let k0 = ((s0 / ds) as usize).min(nodes.len() - 2);
     let face_at = |z: f64| -> Option<[f64; 2]> {
-        let k = (tip..nodes.len() - 1)
-            .take_while(|&k| nodes[k].p[0] <= 0.0)
+        let k = (tip..=k0)
+            .rev()
             .find(|&k| nodes[k].p[1] < z && nodes[k + 1].p[1] >= z)?;
         let (mut lo, mut hi) = (k as f64 * ds, (k + 1) as f64 * ds);
         while hi - lo > 1e-12 {

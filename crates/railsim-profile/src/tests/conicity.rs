@@ -259,8 +259,8 @@ fn s1002s_flange_dimensions_are_28_32_5_and_10_79_mm() {
         );
         assert!((d.qr - qr).abs() < 2e-6, "qR {} against {qr}", d.qr);
     }
-    // no flange: a cone, and S1002 cut at S = -38 mm (a flange 11 mm high, under the 12 mm
-    // a flange needs)
+    // no flange: a cone (its lowest point at its end), and S1002 cut short of its tip, on the
+    // face (-38, -45 mm) or just before the tip (-54 mm): the cut end is no tip
     let cone: Vec<[f64; 2]> = (0..=40)
         .map(|i| -0.06 + i as f64 * 2.5e-3)
         .map(|y| [y, 0.05 * y])
@@ -268,14 +268,56 @@ fn s1002s_flange_dimensions_are_28_32_5_and_10_79_mm() {
     let cone = crate::Profile::new("cone", crate::ProfileKind::Wheel, cone).unwrap();
     assert_eq!(flange_dimensions(&cone, -0.070).unwrap(), None);
     let p = s1002();
-    let low: Vec<[f64; 2]> = p
-        .points
-        .iter()
-        .copied()
-        .filter(|q| q[0] >= -0.0380)
+    for cut_at in [-0.038, -0.045, -0.054] {
+        let cut: Vec<[f64; 2]> = p
+            .points
+            .iter()
+            .copied()
+            .filter(|q| q[0] >= cut_at)
+            .collect();
+        let cut = crate::Profile::new("cut", crate::ProfileKind::Wheel, cut).unwrap();
+        assert_eq!(
+            flange_dimensions(&cut, -0.070).unwrap(),
+            None,
+            "cut at {cut_at}"
+        );
+    }
+    // heights from the taping line's own level: the profile 5 mm higher measures the same
+    let raised: Vec<[f64; 2]> = p.points.iter().map(|q| [q[0], q[1] + 0.005]).collect();
+    let raised = crate::Profile::new("raised", crate::ProfileKind::Wheel, raised).unwrap();
+    let r = flange_dimensions(&raised, -0.070).unwrap().unwrap();
+    assert!((r.height - d.height).abs() < 1e-9 && (r.thickness - d.thickness).abs() < 1e-9);
+    assert!((r.qr - d.qr).abs() < 1e-9);
+    // a lip on the face (a dip of z to 11 mm below the taping line, 2.5 mm outside the face's
+    // 10 mm point): Sd is taken at the outermost material at the 10 mm level, in the lip, the
+    // point a gauge's finger coming from the tread touches; the lip's crossing by dense sampling
+    let y_f = -0.030;
+    let y_lip = y_f - 0.010 / t70 + 0.0025;
+    let lip = |y: f64| {
+        let base = if y >= y_f {
+            0.0
+        } else {
+            (-(y_f - y) * t70).max(-0.030)
+        };
+        base - 0.011 * (-((y - y_lip) / 0.4e-3).powi(2)).exp()
+    };
+    let n = ((0.040 + 0.0549) / 2e-5) as usize;
+    let points: Vec<[f64; 2]> = (0..=n)
+        .map(|i| -0.0549 + i as f64 * 2e-5)
+        .map(|y| [y, lip(y)])
         .collect();
-    let low = crate::Profile::new("cut", crate::ProfileKind::Wheel, low).unwrap();
-    assert_eq!(flange_dimensions(&low, -0.070).unwrap(), None);
+    let lipped = crate::Profile::new("lip", crate::ProfileKind::Wheel, points).unwrap();
+    let l = flange_dimensions(&lipped, -0.070).unwrap().unwrap();
+    let outermost = (0..=600_000)
+        .map(|i| -i as f64 * 1e-7)
+        .find(|&y| lip(y) <= -0.010)
+        .unwrap();
+    eprintln!(
+        "lip: Sd point {:?}, outermost {outermost}",
+        l.thickness_point
+    );
+    assert!(outermost > y_f - 0.010 / t70 + 1e-3);
+    assert!((l.thickness_point[0] - outermost).abs() < 5e-6);
 }
 
 #[test]
