@@ -132,9 +132,9 @@ fn the_wickens_wheelsets_eigenvalues_match_its_lateral_roll_and_yaw_model() {
     // the same model with the roll slaved to y (the contact a hundred times stiffer)
     let stiff = wickens_three_dof(1e8, 100.0);
     eprintln!(
-        "eigenvalues: {vc:.3} m/s, {:.4} Hz, roll/y {roll:.4}, yaw/y {yaw:.4}; three-DOF model \
-         (kn {:.4e} N/m): {:.3} m/s ({:+.2} %), {:.4} Hz, roll/y {:.4}, yaw/y {:.4}; roll slaved: \
-         {:.3} m/s, {:.4} Hz, roll/y {:.4}",
+        "eigenvalues: {vc:.3} m/s, {:.4} Hz, roll/y {roll:.5}, yaw/y {yaw:.5}; three-DOF model \
+         (kn {:.4e} N/m): {:.3} m/s ({:+.3} %), {:.4} Hz, roll/y {:.5}, yaw/y {:.5}; roll slaved: \
+         {:.3} m/s, {:.4} Hz, roll/y {:.4}, yaw/y {:.4}",
         mode.frequency,
         model.normal_stiffness,
         model.critical_speed,
@@ -144,15 +144,18 @@ fn the_wickens_wheelsets_eigenvalues_match_its_lateral_roll_and_yaw_model() {
         model.yaw_per_y,
         stiff.critical_speed,
         stiff.frequency,
-        stiff.roll_per_y
+        stiff.roll_per_y,
+        stiff.yaw_per_y
     );
-    assert!((vc / model.critical_speed - 1.0).abs() < 0.005);
-    assert!((mode.frequency / model.frequency - 1.0).abs() < 0.005);
-    assert!((roll / model.roll_per_y - 1.0).abs() < 0.02);
-    assert!((yaw / model.yaw_per_y - 1.0).abs() < 0.02);
-    // the roll's give on the contact matters: slaved, the model is 1.4 % faster and rolls by
-    // 44 % more, outside the bounds above
-    assert!((vc / stiff.critical_speed - 1.0).abs() > 0.01);
+    // (they agree to 3e-6 in speed, 1.3e-5 in frequency and 1.3e-4 in the ratios; the
+    // critical speed's search stops at 1e-4)
+    assert!((vc / model.critical_speed - 1.0).abs() < 5e-4);
+    assert!((mode.frequency / model.frequency - 1.0).abs() < 5e-4);
+    assert!((roll / model.roll_per_y - 1.0).abs() < 1e-3);
+    assert!((yaw / model.yaw_per_y - 1.0).abs() < 1e-3);
+    // the roll's give on the contact matters: slaved, the model is 1.1 % faster and rolls by
+    // 43 % more, far outside the bounds above
+    assert!((vc / stiff.critical_speed - 1.0).abs() > 0.005);
     assert!(stiff.roll_per_y / roll > 1.2);
 }
 
@@ -178,7 +181,7 @@ fn a_yawed_cones_contact_leads_the_axle_and_slips_laterally_by_the_yaw_over_cos_
         ..Default::default()
     };
     sim.model().wheels[0].contacts[0]
-        .evaluate_with_load(Side::Left, &pose, &vel, 8992.0, 1e-12, &mut ws)
+        .evaluate_with_load(Side::Left, &pose, &vel, 0.5 * 1813.0 * 9.81, 1e-12, &mut ws)
         .unwrap();
     let p = &ws.patches[0];
     let lead = (r0 * delta.tan() - b) * psi;

@@ -315,9 +315,12 @@ fn routh_stable(a: &[f64]) -> bool {
 /// stiffness kn. A yawed cone's contact point leads the axle by (r0 tan δ − b) ψ, so the wheel
 /// point's slip along the patch's lateral axis is cos δ ẏ + (r0 cos δ + b sin δ) φ̇ − V ψ /
 /// cos δ; the creep force −f × slip / V along that axis gives the generalised forces by
-/// virtual power. The rolling radius difference is 2 (λ y + β φ), with β = (λe − λ) b / λk so
-/// that the rigid contact's φ = λk y / b gives the rigid geometry's λe (railsim-profile's Δr,
-/// [`cone_effective_conicity`]). The spinning axle (I_y, Ω = V / r0) adds −I_y Ω ψ̇ to the
+/// virtual power. The rolling radius difference is 2 (λ cos²δ y + β φ): a shift at fixed roll
+/// keeps the normals, so the deepest point stays put on the rail and moves along the cone by
+/// y cos δ (the rest, y sin δ, is interpenetration); β = (λe − λ cos²δ) b / λk so that the rigid
+/// contact's φ = λk y / b gives the rigid geometry's λe (railsim-profile's Δr,
+/// [`cone_effective_conicity`]). kn is dN/dδ at the static load, the contact given its vertical
+/// load (half the weight) and N = Fz / cos δ. The spinning axle (I_y, Ω = V / r0) adds −I_y Ω ψ̇ to the
 /// roll equation and I_y Ω φ̇ to the yaw equation. Left out: gravity's stiffnesses (W λ / b
 /// laterally, 2e-4 of the contact's; its yaw stiffness, 3e-5 of k_ψ), the spin and vertical
 /// freedoms (uncoupled to first order). The critical speed is where Routh's criterion on
@@ -331,7 +334,8 @@ pub fn wickens_three_dof(f: f64, stiffness_scale: f64) -> WickensThreeDof {
     // each wheel's normal stiffness dN/dδ at its static load, from the scene's own contact
     let delta = lambda.atan();
     let (cd, sd) = (delta.cos(), delta.sin());
-    let n0 = 0.5 * m * 9.81 / cd;
+    // the load the contact is given is vertical: half the weight, N = fz / cos δ
+    let fz = 0.5 * m * 9.81;
     let sim = Simulation::new(&wickens_scene()).unwrap();
     let mut ws = railsim_contact::ContactWorkspace::new();
     let vel = WheelsetVelocity {
@@ -352,10 +356,14 @@ pub fn wickens_three_dof(f: f64, stiffness_scale: f64) -> WickensThreeDof {
             .unwrap();
         ws.patches[0].penetration
     };
-    let kn_contact = 2e-3 * n0 / (penetration(1.001 * n0) - penetration(0.999 * n0));
+    let kn_contact = 2e-3 * fz / cd / (penetration(1.001 * fz) - penetration(0.999 * fz));
     let kn = stiffness_scale * kn_contact;
     let lk = lambda / (1.0 - r0 * lambda / b);
-    let beta = (w.lambda_e - lambda) * b / lk;
+    // the rolling radius: a shift at fixed roll keeps the normals, so the deepest point stays
+    // put on the rail and moves along the cone by y cos δ (the rest, y sin δ, is
+    // interpenetration): λ cos²δ per unit shift; the roll's part β makes up the rigid λe
+    let lambda_y = lambda * cd * cd;
+    let beta = (w.lambda_e - lambda_y) * b / lk;
     let g = b * cd - r0 * sd;
     let kc = 2.0 * kn * g * g;
     // the roll's lever of the lateral slip, and its share of the creep force's moment
@@ -375,7 +383,7 @@ pub fn wickens_three_dof(f: f64, stiffness_scale: f64) -> WickensThreeDof {
                 [-2.0 * f * h / cd, -gyro, 0.0],
             ],
             [
-                [2.0 * f * b * lambda / r0, 0.0, 0.0],
+                [2.0 * f * b * lambda_y / r0, 0.0, 0.0],
                 [2.0 * f * b * beta / r0, gyro, 0.0],
                 [kpsi, 2.0 * f * b * b / v, iz],
             ],
