@@ -192,9 +192,23 @@ pub fn run_curving(a: &CurvingArgs) -> Result<ExitCode> {
             })
             .collect()
         };
+    // a case that fails is reported and the others go on (before stop 45 the first failure
+    // ended the command and the cases after it were lost); any failure makes the exit code 2
     let mut done = Vec::new();
+    let mut failed = 0;
     for ((radius, kmh, _), r) in cases.iter().zip(results) {
-        let r = r.context("railsim curving")?;
+        let r = match r {
+            Ok(r) => r,
+            Err(e) => {
+                let e = anyhow::Error::from(e);
+                eprintln!(
+                    "railsim curving: R {radius} m, {kmh} km/h: failed: {}",
+                    crate::message(&e)
+                );
+                failed += 1;
+                continue;
+            }
+        };
         if let CurvingSolution::QuasiStatic {
             iterations,
             residual,
@@ -209,9 +223,23 @@ pub fn run_curving(a: &CurvingArgs) -> Result<ExitCode> {
         done.push(r);
     }
     let results = done;
-    if let Some(p) = &a.csv {
+    if let Some(p) = &a.csv
+        && !results.is_empty()
+    {
         std::fs::write(p, csv(&results)?).with_context(|| format!("writing {}", p.display()))?;
         outln!("cases written to {}", p.display());
+    }
+    if failed > 0 {
+        eprintln!(
+            "railsim curving: {failed} of {} case(s) failed (above){}",
+            cases.len(),
+            if results.is_empty() {
+                ""
+            } else {
+                "; the others are in the table"
+            }
+        );
+        return Ok(ExitCode::from(2));
     }
     // a case in which the vehicle did not settle is reported, and makes the exit code 1
     let unsteady = results
@@ -239,7 +267,7 @@ fn outer_inner(r: &SteadyCurving) -> (usize, usize) {
 fn print_case(r: &SteadyCurving) -> Result<()> {
     let c = &r.case;
     let cb = r.carbody_lateral.map_or_else(String::new, |a| {
-        format!("; carbody centre reads {:.3} m/s² laterally", a)
+        format!("; carbody comfort point 0 (its centre by default) reads {a:.3} m/s² laterally")
     });
     outln!(
         "R = {} m, cant {} mm, {} km/h: uncompensated {:.3} m/s² (cant deficiency {:.0} mm){cb}",

@@ -774,13 +774,20 @@ fn curving_quasi_static_solves_a_case_and_reports_one_without_a_steady_state() {
         "{out}"
     );
     assert!(out.contains("Y/Q outer"), "{out}");
-    // R = 150 m at 120 km/h, 6.1 m/s² uncompensated: no steady state
+    // R = 150 m at 120 km/h, 6.7 m/s² uncompensated: no steady state, said, and the case after
+    // it (R = 600 m) still solved and printed; exit code 2
     let mut args = base.to_vec();
-    args[7] = "150";
+    args[7] = "150,600";
     args.extend(["--speed-kmh", "120"]);
-    let (code, _, err) = railsim(&args);
+    let (code, out, err) = railsim(&args);
     assert_eq!(code, 2, "{err}");
+    assert!(err.contains("R 150 m, 120 km/h: failed: "), "{err}");
     assert!(err.contains("time integration"), "{err}");
+    assert!(err.contains("1 of 2 case(s) failed"), "{err}");
+    assert!(
+        out.contains("R 600 m, 120 km/h: quasi-static solution") && !out.contains("R 150 m, 120"),
+        "{out}"
+    );
 }
 
 /// Several curving cases share the threads case by case: the table is the same, in the same

@@ -54,6 +54,19 @@ pub struct CurveCase {
     pub speed: f64,
 }
 
+/// \[m\] the distance run (the rearmost wheelset's) at which a case's steady state is solved and
+/// reported: halfway through the settling distance, and at least [`STEADY_MARGIN`] into the
+/// circular curve, so that no wheelset's frame sits on the transition's end, where the
+/// curvature's rate jumps (with `settle` 0 the rearmost wheelset stood exactly there before
+/// stop 45, and its forces moved by some 50 N).
+fn steady_at(curve_start: f64, run: &CurvingRun) -> f64 {
+    curve_start + (0.5 * run.settle).max(STEADY_MARGIN)
+}
+
+/// \[m\] the least distance into the circular curve of [`steady_at`] (the curve is at least
+/// the vehicle's length and `END_MARGIN` longer than needed, so it still holds the vehicle).
+const STEADY_MARGIN: f64 = 1.0;
+
 /// Lengths of a curving run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CurvingRun {
@@ -118,8 +131,9 @@ pub struct SteadyCurving {
     pub wheelsets: Vec<WheelsetMeans>,
     /// The wheelsets' names in the vehicle file, in the same order.
     pub wheelset_names: Vec<String>,
-    /// \[m/s²\] mean lateral reading of an accelerometer at the carbody's centre (carbody axes,
-    /// positive to the left); `None` for a vehicle without rigid bodies.
+    /// \[m/s²\] mean lateral reading of an accelerometer at the carbody's first comfort point
+    /// (its centre, unless the scene's `[assessment] comfort_points` sets the points; carbody
+    /// axes, positive to the left); `None` for a vehicle without rigid bodies.
     pub carbody_lateral: Option<f64>,
     /// Samples averaged (1 for a quasi-static solution).
     pub samples: usize,
@@ -401,7 +415,7 @@ pub fn steady_curving(
     Ok(means.result(
         &study,
         case,
-        curve_start + 0.5 * run.settle,
+        steady_at(curve_start, run),
         carbody,
         CurvingSolution::Run(Box::new(summary)),
     ))
@@ -496,7 +510,7 @@ pub(crate) fn steady_state(
     qs: &QuasiStatic,
 ) -> Result<SteadyState, SimError> {
     let (study, curve_start) = curving_scene(scene, case, run)?;
-    let at = curve_start + 0.5 * run.settle;
+    let at = steady_at(curve_start, run);
     let sim = Simulation::new(&study)?;
     let fail = |message: String| SimError::Study {
         message: format!(
@@ -577,7 +591,7 @@ fn continuation(
                 .ok()
                 .and_then(|(study, c)| {
                     let psim = Simulation::new(&study).ok()?;
-                    let tp = (c + 0.5 * run.settle) / case.speed;
+                    let tp = steady_at(c, run) / case.speed;
                     newton_steady(&psim, tp, x.as_deref(), qs).ok()
                 })
         };
@@ -759,7 +773,7 @@ fn case_continuation(
 ) -> Option<(Vec<f64>, usize)> {
     let (study, curve_start) = curving_scene(scene, case, run).ok()?;
     let sim = Simulation::new(&study).ok()?;
-    let t = (curve_start + 0.5 * run.settle) / case.speed;
+    let t = steady_at(curve_start, run) / case.speed;
     continuation(scene, case, run, qs, &sim, t).map(|(x, it, _)| (x, it))
 }
 

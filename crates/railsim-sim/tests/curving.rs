@@ -253,7 +253,7 @@ fn the_quasi_static_solution_is_the_steady_state_of_the_time_integration() {
 /// 0.64 mm after the default 100 m of settling; after 600 m it has settled (0.025 mm) to the
 /// quasi-static solution (`railsim curving --model polach --radius-m 300 --speed-kmh 120
 /// --settle-m 600`: leading wheelset 6.31 mm and 5.40 mrad out, as here). A case without a
-/// steady state (R = 150 m at 120 km/h, 6.1 m/s²) is an error that points to the time
+/// steady state (R = 150 m at 120 km/h, 6.7 m/s²) is an error that points to the time
 /// integration.
 #[test]
 fn the_quasi_static_solution_continues_in_curvature_and_reports_curves_without_a_steady_state() {
@@ -468,5 +468,40 @@ fn stripes_converges_in_flange_contact_at_the_default_and_a_finer_step() {
                 "{step}"
             );
         }
+    }
+}
+
+/// The steady state is solved at least 1 m into the circular curve: with no settling distance
+/// the rearmost wheelset's frame stood exactly on the transition's end (where the curvature's
+/// rate jumps) and its forces moved by some 50 N; now `settle` 0 and 2 m solve the same point
+/// (`curving::steady_at`) and agree, on tracks whose curves differ in length by 2 m.
+#[test]
+fn the_steady_state_is_solved_inside_the_curve_whatever_the_settling_distance() {
+    let c = CurveCase {
+        radius: 600.0,
+        cant: 0.1,
+        left: true,
+        speed: 80.0 / 3.6,
+    };
+    let scene = polach_scene();
+    let solve = |settle: f64| {
+        let run = CurvingRun {
+            settle,
+            ..CurvingRun::default()
+        };
+        quasi_static_curving(&scene, &c, &run, &QuasiStatic::default())
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let (a, b) = (solve(0.0), solve(2.0));
+    for (x, y) in a.wheelsets.iter().zip(&b.wheelsets) {
+        eprintln!(
+            "ΣY {:.2} / {:.2} N, y {:.4} / {:.4} mm",
+            x.sum_y,
+            y.sum_y,
+            x.lateral * 1e3,
+            y.lateral * 1e3
+        );
+        assert!((x.sum_y - y.sum_y).abs() < 1.0, "{x:?}\n{y:?}");
+        assert!((x.lateral - y.lateral).abs() < 1e-7);
     }
 }

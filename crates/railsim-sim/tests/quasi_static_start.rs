@@ -246,7 +246,7 @@ fn an_out_of_round_vehicle_starts_in_the_curve_from_its_quasi_static_state() {
     }
 }
 
-/// R = 150 m, 100 mm cant at 120 km/h (6.1 m/s² uncompensated; the curving study finds no
+/// R = 150 m, 100 mm cant at 120 km/h (6.7 m/s² uncompensated; the curving study finds no
 /// steady state there either): the start is an error that says so and what to do instead.
 #[test]
 fn a_curve_without_a_steady_state_is_an_error() {
