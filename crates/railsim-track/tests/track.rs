@@ -1277,3 +1277,37 @@ length_m = 100\n"
     let same = text.replace("cant_mm = 100\n", "");
     assert!(compile(&same).is_ok());
 }
+
+/// The ERRI B176 level spectra against the second public form of the same set, SIMPACK's
+/// b0 / (a0 + a2 Ω² + Ω⁴) as tabulated in docs/models/track.md (b0 = A Ω_c², a0 = Ω_r² Ω_c²,
+/// a2 = Ω_r² + Ω_c², each given to seven digits): a wrong constant, Ω taken as a frequency in
+/// cycles per metre, or a factor of 2 fails it. The cross level is the docs' reading (i): the
+/// angle's spectrum (A_v / b²) Ω_c² Ω² / (…(Ω² + Ω_s²)) times (2b)², independent of b.
+#[test]
+fn the_erri_spectra_are_simpacks_tabulated_form() {
+    let (a0, a2) = (0.000_288_55, 0.680_389_5);
+    for (spectrum, b0_lateral, b0_vertical) in [
+        (Spectrum::ErriB176Low, 1.440_846e-7, 2.741_619e-7),
+        (Spectrum::ErriB176High, 4.164_787e-7, 7.343_623e-7),
+    ] {
+        for omega in [0.05f64, 0.2, 0.8246, 2.0] {
+            let simpack = |b0: f64| b0 / (a0 + a2 * omega * omega + omega.powi(4));
+            for (channel, b0) in [
+                (Channel::Lateral, b0_lateral),
+                (Channel::Vertical, b0_vertical),
+            ] {
+                let s = spectrum.psd(channel, omega);
+                assert!(
+                    (s / simpack(b0) - 1.0).abs() < 2e-6,
+                    "{spectrum:?} {channel:?} at {omega} rad/m: {s} against {}",
+                    simpack(b0)
+                );
+            }
+            // cross level: 4 S_v Ω² / (Ω² + Ω_s²), Ω_s = 0.4380 rad/m
+            let cross = spectrum.psd(Channel::CrossLevel, omega);
+            let want =
+                4.0 * simpack(b0_vertical) * omega * omega / (omega * omega + 0.438f64.powi(2));
+            assert!((cross / want - 1.0).abs() < 2e-6, "{cross} against {want}");
+        }
+    }
+}
