@@ -1950,3 +1950,86 @@ fn a_wheelset_following_a_skewed_rail_does_not_slip_laterally() {
     assert!(eta < 1e-9, "{eta}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The cross level and the gauge reach the rails with their documented signs and sizes
+/// (docs/formats/track.md): on the free wheelset of λ = 0.2 cones, held in y and yaw (on the cant
+/// it would slide toward the low rail), a cross level of +5 mm (the left rail above the right),
+/// ramped in over 20 m, rolls it left side up by 5 mm over the 1.5 m cant base plus its cones'
+/// share (to 0.1 %), and a gauge 5 mm wide lets it sink by λ × 2.5 mm without rolling (to 2 %).
+/// Written after the stop-45 audit checked these signs by hand; a left/right swap, a sign error
+/// in either channel or the gauge taken for the cant base fails it.
+#[test]
+fn cross_level_rolls_the_wheelset_left_side_up_and_a_wider_gauge_lets_it_sink() {
+    let dir = std::env::temp_dir().join(format!("railsim-crosslevel-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // (z change, roll) at 45 m of a plateau of cross level and gauge [mm], in over 5-25 m and
+    // out over 70-90 m (the data end at zero)
+    let run = |cross_level: f64, gauge: f64| {
+        let mut csv = String::from("distance_m,lateral_mm,vertical_mm,cross_level_mm,gauge_mm\n");
+        for k in 0..=200 {
+            let s = 0.5 * k as f64;
+            let ramp = ((s - 5.0) / 20.0).min((90.0 - s) / 20.0).clamp(0.0, 1.0);
+            csv.push_str(&format!(
+                "{s},0,0,{:.6},{:.6}\n",
+                cross_level * ramp,
+                gauge * ramp
+            ));
+        }
+        std::fs::write(dir.join("plateau.csv"), csv).unwrap();
+        let track = dir.join("plateau.toml");
+        std::fs::write(
+            &track,
+            "gauge_mm = 1435\nrail_inclination = \"1:40\"\n\
+             rail_profile = { left = \"uic60\", right = \"uic60\" }\n\
+             [[segment]]\ntype = \"tangent\"\nlength_m = 100\n\
+             [irregularities]\ntype = \"measured\"\nfile = \"plateau.csv\"\n",
+        )
+        .unwrap();
+        let s = scene(&format!(
+            "vehicle = \"scenes/vehicles/wheelset_free_cone.toml\"\ntrack = \"{}\"\n\
+             speed_kmh = 18\nduration_s = 9\nfreeze = [\"ws.y\", \"ws.yaw\"]\n\
+             [contact]\nmodel = \"polach\"\n",
+            track.display()
+        ));
+        let mut sim = Simulation::new(&s).unwrap();
+        let names = sim.model().state_names.clone();
+        let at = |n: &str| names.iter().position(|x| x == n).unwrap();
+        let (iz, iroll) = (at("ws.z"), at("ws.roll"));
+        let z0 = sim.initial_state()[iz];
+        let mut last = None;
+        sim.run(
+            &s,
+            &RunOptions {
+                no_log: true,
+                ..Default::default()
+            },
+            &mut |_, _| {},
+            &mut |sample: &Sample| last = Some(sample.x.clone()),
+        )
+        .unwrap();
+        let x = last.unwrap();
+        let (dz, roll) = (x[iz] - z0, x[iroll]);
+        eprintln!(
+            "cross level {cross_level} mm, gauge {gauge} mm: z {:+.4} mm, roll {:.4e} rad",
+            dz * 1e3,
+            roll
+        );
+        (dz, roll)
+    };
+    // The rails roll by θ = 5 mm / 1.5 m about the track's centre line; the wheelset, held at
+    // y = 0 of the track frame, sits r0 θ toward the high rail from where the rolled rails
+    // would centre it, so its cones add the roll λe r0 θ / b of that shift.
+    let theta = 5e-3 / 1.5;
+    let lambda_e = common::cone_effective_conicity(0.2);
+    let (r0, b) = (0.46, 0.75);
+    let (_, roll) = run(5.0, 0.0);
+    let want = theta * (1.0 + lambda_e * r0 / b);
+    eprintln!("roll {roll:.5e} against θ (1 + λe r0 / b) = {want:.5e} (λe {lambda_e:.4})");
+    assert!((roll / want - 1.0).abs() < 0.01, "roll {roll}");
+    // 2.5 mm more gauge on each side: each rail's contact point moves out with it, 2.5 mm
+    // further out on the cone, whose radius there is λ × 2.5 mm = 0.5 mm smaller
+    let (dz, roll) = run(0.0, 5.0);
+    assert!((dz + 0.2 * 2.5e-3).abs() < 0.01e-3, "z {dz}");
+    assert!(roll.abs() < 1e-6, "roll {roll}");
+    std::fs::remove_dir_all(&dir).ok();
+}
