@@ -1861,6 +1861,28 @@ mod tests {
     }
 
     #[test]
+    fn sperling_hears_the_end_of_the_record() {
+        // 23.6 s at 1 kHz (the default scene's record): a 2 Hz tone of 0.1 m/s² throughout and
+        // a 1.5 Hz tone of 0.3 m/s² only after 16.5 s. Before stop 45 Welch's segments (16 384
+        // samples, half-overlapping from the start) ended at 16.4 s, and Wz was the first
+        // tone's alone (found by the stop's audit).
+        let fs = 1000.0;
+        let n = 23_600;
+        let tone =
+            |f: f64, a: f64, i: usize| a * (2.0 * std::f64::consts::PI * f * i as f64 / fs).sin();
+        let first: Vec<f64> = (0..n).map(|i| tone(2.0, 0.1, i)).collect();
+        let tail: Vec<f64> = (0..n)
+            .map(|i| tone(2.0, 0.1, i) + if i >= 16_500 { tone(1.5, 0.3, i) } else { 0.0 })
+            .collect();
+        let (w1, w2) = (
+            sperling(&first, fs, Direction::Lateral).unwrap(),
+            sperling(&tail, fs, Direction::Lateral).unwrap(),
+        );
+        eprintln!("Wz: first tone alone {w1:.3}, with the tail {w2:.3}");
+        assert!(w2 > w1 + 0.1, "{w2} against {w1}");
+    }
+
+    #[test]
     fn mean_comfort_of_tones_follows_the_weightings() {
         // 0.3 m/s² r.m.s. lateral at 1 Hz, 0.2 m/s² r.m.s. vertical at 8 Hz, 20 s at 200 Hz
         // (faded in over the first window: a sudden start rings the weighting's high-pass)

@@ -455,8 +455,8 @@ impl Spectrum {
 
 /// Welch's estimate of the one-sided power spectral density of `x` (sample rate `fs`): the mean
 /// of the Hann-windowed periodograms of segments of `segment` samples (a power of two; shorter
-/// signals use the largest power of two they hold), overlapping by half, each segment's mean
-/// removed; scaled so that its integral is the signal's variance (Welch, *IEEE Trans. Audio
+/// signals use the largest power of two they hold), spread evenly over the whole record and
+/// overlapping by at least half, each segment's mean removed; scaled so that its integral is the signal's variance (Welch, *IEEE Trans. Audio
 /// Electroacoustics* 15, 1967). `None` for fewer than 16 samples.
 pub fn welch_psd(x: &[f64], fs: f64, segment: usize) -> Option<Spectrum> {
     if x.len() < 16 || !(fs > 0.0 && segment >= 16) {
@@ -473,10 +473,18 @@ pub fn welch_psd(x: &[f64], fs: f64, segment: usize) -> Option<Spectrum> {
     let w2: f64 = w.iter().map(|v| v * v).sum();
     let mut psd = vec![0.0; l / 2 + 1];
     let (mut re, mut im) = (vec![0.0; l], vec![0.0; l]);
-    let hop = l / 2;
-    let mut segments = 0usize;
-    let mut start = 0usize;
-    while start + l <= x.len() {
+    // segment starts spread evenly from the first sample to the last segment ending on the
+    // last sample, at most half a segment apart (overlap at least half): the whole record
+    // counts (before stop 45 the starts stepped by half a segment from 0 and the tail that no
+    // whole step reached, up to a third of a 23.6 s run, was left out)
+    let spare = x.len() - l;
+    let segments = spare.div_ceil(l / 2) + 1;
+    for k in 0..segments {
+        let start = if segments > 1 {
+            ((k * spare) as f64 / (segments - 1) as f64).round() as usize
+        } else {
+            0
+        };
         let seg = &x[start..start + l];
         let mean = seg.iter().sum::<f64>() / l as f64;
         for i in 0..l {
@@ -487,8 +495,6 @@ pub fn welch_psd(x: &[f64], fs: f64, segment: usize) -> Option<Spectrum> {
         for (k, p) in psd.iter_mut().enumerate() {
             *p += re[k] * re[k] + im[k] * im[k];
         }
-        segments += 1;
-        start += hop;
     }
     let scale = 1.0 / (fs * w2 * segments as f64);
     let last = psd.len() - 1;
