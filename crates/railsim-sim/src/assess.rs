@@ -1307,8 +1307,9 @@ pub fn sperling_weight(f: f64, direction: Direction) -> f64 {
 /// `0.896 (a³ F(f) / f)^0.1` written with the weighting B); for a spectrum, its spectral form
 /// Wz = (2 ∫ B² G df)^0.15 with G the one-sided spectral density in (cm/s²)²/Hz over 0.5–30 Hz,
 /// i.e. 4.42 (∫ B² G df)^0.15 with G in (m/s²)²/Hz (the form of comfpy's `weighting.py` and
-/// `sperling.m`: for one tone both forms agree). G by Welch's method over segments of about
-/// 10 s. `None` for a signal shorter than 2 s.
+/// `sperling.m`: for one tone both forms agree). G by Welch's method over segments of a power of
+/// two of samples, 10.24–20.5 s (or the record, if shorter), spread over the whole record.
+/// `None` for a signal shorter than 2 s.
 pub fn sperling(a: &[f64], fs: f64, direction: Direction) -> Option<f64> {
     if (a.len() as f64) < 2.0 * fs {
         return None;
