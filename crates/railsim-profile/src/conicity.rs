@@ -510,25 +510,13 @@ pub fn flange_dimensions(
     };
     let z0 = curve.eval(s0).p[1];
     let ds = curve.ds();
-    // the tip between the lowest node's neighbours, where the tangent turns level
-    let tip_point = {
-        let (mut lo, mut hi) = (
-            tip.saturating_sub(1) as f64 * ds,
-            (tip + 1).min(nodes.len() - 1) as f64 * ds,
-        );
-        if curve.eval(lo).t[1] < 0.0 && curve.eval(hi).t[1] > 0.0 {
-            while hi - lo > 1e-12 {
-                let mid = 0.5 * (lo + hi);
-                if curve.eval(mid).t[1] < 0.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            curve.eval(0.5 * (lo + hi)).p
-        } else {
-            nodes[tip].p
-        }
+    // the tip between the lowest node's neighbours (both inside the profile), where the
+    // tangent turns level
+    let (lo, hi) = ((tip - 1) as f64 * ds, (tip + 1) as f64 * ds);
+    let tip_point = if curve.eval(lo).t[1] < 0.0 && curve.eval(hi).t[1] > 0.0 {
+        bisect(&curve, lo, hi, |c| c.t[1] < 0.0)
+    } else {
+        nodes[tip].p
     };
     let z_tip = tip_point[1];
     let height = z0 - z_tip;
@@ -543,16 +531,9 @@ pub fn flange_dimensions(
         let k = (tip..=k0)
             .rev()
             .find(|&k| nodes[k].p[1] < z && nodes[k + 1].p[1] >= z)?;
-        let (mut lo, mut hi) = (k as f64 * ds, (k + 1) as f64 * ds);
-        while hi - lo > 1e-12 {
-            let mid = 0.5 * (lo + hi);
-            if curve.eval(mid).p[1] < z {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        Some(curve.eval(0.5 * (lo + hi)).p)
+        Some(bisect(&curve, k as f64 * ds, (k + 1) as f64 * ds, |c| {
+            c.p[1] < z
+        }))
     };
     let (Some(thickness_point), Some(qr_point)) = (face_at(z0 - 0.010), face_at(z_tip + 0.002))
     else {
@@ -566,6 +547,25 @@ pub fn flange_dimensions(
         thickness_point,
         qr_point,
     }))
+}
+
+/// The point of `curve` where `before` turns false between arc lengths `lo` (true) and `hi`
+/// (false), bisected to 1e-12 m of arc length.
+fn bisect(
+    curve: &ArcCurve,
+    mut lo: f64,
+    mut hi: f64,
+    before: impl Fn(&CurvePoint) -> bool,
+) -> [f64; 2] {
+    while hi - lo > 1e-12 {
+        let mid = 0.5 * (lo + hi);
+        if before(&curve.eval(mid)) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    curve.eval(0.5 * (lo + hi)).p
 }
 
 /// \[rad\] the least slope a flank must reach to count as a flange in [`flange_angle`] (45°;

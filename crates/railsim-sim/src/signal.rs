@@ -456,8 +456,9 @@ impl Spectrum {
 /// Welch's estimate of the one-sided power spectral density of `x` (sample rate `fs`): the mean
 /// of the Hann-windowed periodograms of segments of `segment` samples (a power of two; shorter
 /// signals use the largest power of two they hold), spread evenly over the whole record and
-/// overlapping by at least half, each segment's mean removed; scaled so that its integral is the signal's variance (Welch, *IEEE Trans. Audio
-/// Electroacoustics* 15, 1967). `None` for fewer than 16 samples.
+/// overlapping by at least half, each segment's mean removed; scaled so that its integral is
+/// the signal's variance (Welch, *IEEE Trans. Audio Electroacoustics* 15, 1967). `None` for
+/// fewer than 16 samples.
 pub fn welch_psd(x: &[f64], fs: f64, segment: usize) -> Option<Spectrum> {
     if x.len() < 16 || !(fs > 0.0 && segment >= 16) {
         return None;
