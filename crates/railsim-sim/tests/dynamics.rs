@@ -1903,6 +1903,36 @@ fn a_body_crossing_a_kink_of_the_track_keeps_its_absolute_motion() {
     assert!(absolute.abs() < 0.02 * v * phi_rate, "{absolute}");
 }
 
+/// A straight UIC60 1:40 track of `length` \[m\] with measured irregularities, written to `dir`
+/// as `<name>.toml` and `<name>.csv` from rows (distance \[m\], lateral, vertical, cross level,
+/// gauge \[mm\]); the track file's path.
+fn measured_straight(
+    dir: &std::path::Path,
+    name: &str,
+    length: f64,
+    rows: impl Iterator<Item = [f64; 5]>,
+) -> std::path::PathBuf {
+    let mut csv = String::from("distance_m,lateral_mm,vertical_mm,cross_level_mm,gauge_mm\n");
+    for [s, lateral, vertical, cross_level, gauge] in rows {
+        csv.push_str(&format!(
+            "{s},{lateral:.6},{vertical:.6},{cross_level:.6},{gauge:.6}\n"
+        ));
+    }
+    std::fs::write(dir.join(format!("{name}.csv")), csv).unwrap();
+    let track = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &track,
+        format!(
+            "gauge_mm = 1435\nrail_inclination = \"1:40\"\n\
+             rail_profile = {{ left = \"uic60\", right = \"uic60\" }}\n\
+             [[segment]]\ntype = \"tangent\"\nlength_m = {length}\n\
+             [irregularities]\ntype = \"measured\"\nfile = \"{name}.csv\"\n"
+        ),
+    )
+    .unwrap();
+    track
+}
+
 /// An alignment irregularity turns the rail as well as moving it: a wheelset that follows a
 /// skewed rail (the alignment ramping at 0.2 mm/m from s = 0 to 100 m, then back), centred on
 /// it, yawed by its slope and moving sideways at V × slope, has no lateral slip. The free
@@ -1913,22 +1943,11 @@ fn a_wheelset_following_a_skewed_rail_does_not_slip_laterally() {
     let dir = std::env::temp_dir().join(format!("railsim-skew-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let slope = 2e-4;
-    let mut csv = String::from("distance_m,lateral_mm,vertical_mm,cross_level_mm,gauge_mm\n");
-    for k in 0..=400 {
+    let rows = (0..=400).map(|k| {
         let s = 0.5 * k as f64;
-        let lateral = slope * s.min(200.0 - s) * 1e3;
-        csv.push_str(&format!("{s},{lateral:.6},0,0,0\n"));
-    }
-    std::fs::write(dir.join("skew.csv"), csv).unwrap();
-    let track = dir.join("skew.toml");
-    std::fs::write(
-        &track,
-        "gauge_mm = 1435\nrail_inclination = \"1:40\"\n\
-         rail_profile = { left = \"uic60\", right = \"uic60\" }\n\
-         [[segment]]\ntype = \"tangent\"\nlength_m = 300\n\
-         [irregularities]\ntype = \"measured\"\nfile = \"skew.csv\"\n",
-    )
-    .unwrap();
+        [s, slope * s.min(200.0 - s) * 1e3, 0.0, 0.0, 0.0]
+    });
+    let track = measured_straight(&dir, "skew", 300.0, rows);
     let v = 10.0;
     let s = scene(&format!(
         "vehicle = \"vehicles/wheelset_free.toml\"\ntrack = \"{}\"\n\
@@ -1965,26 +1984,12 @@ fn cross_level_rolls_the_wheelset_left_side_up_and_a_wider_gauge_lets_it_sink() 
     // (z change, roll) at 45 m of a plateau of cross level and gauge [mm], in over 5-25 m and
     // out over 70-90 m (the data end at zero)
     let run = |cross_level: f64, gauge: f64| {
-        let mut csv = String::from("distance_m,lateral_mm,vertical_mm,cross_level_mm,gauge_mm\n");
-        for k in 0..=200 {
+        let rows = (0..=200).map(|k| {
             let s = 0.5 * k as f64;
             let ramp = ((s - 5.0) / 20.0).min((90.0 - s) / 20.0).clamp(0.0, 1.0);
-            csv.push_str(&format!(
-                "{s},0,0,{:.6},{:.6}\n",
-                cross_level * ramp,
-                gauge * ramp
-            ));
-        }
-        std::fs::write(dir.join("plateau.csv"), csv).unwrap();
-        let track = dir.join("plateau.toml");
-        std::fs::write(
-            &track,
-            "gauge_mm = 1435\nrail_inclination = \"1:40\"\n\
-             rail_profile = { left = \"uic60\", right = \"uic60\" }\n\
-             [[segment]]\ntype = \"tangent\"\nlength_m = 100\n\
-             [irregularities]\ntype = \"measured\"\nfile = \"plateau.csv\"\n",
-        )
-        .unwrap();
+            [s, 0.0, 0.0, cross_level * ramp, gauge * ramp]
+        });
+        let track = measured_straight(&dir, "plateau", 100.0, rows);
         let s = scene(&format!(
             "vehicle = \"scenes/vehicles/wheelset_free_cone.toml\"\ntrack = \"{}\"\n\
              speed_kmh = 18\nduration_s = 9\nfreeze = [\"ws.y\", \"ws.yaw\"]\n\
